@@ -1,0 +1,47 @@
+"""kinplan: kinematic motion planning for URDF robot arms.
+
+Robots (:func:`load_robot`, :func:`planar_arm`) with Pinocchio kinematics, joint-space
+trajectories (:mod:`kinplan.trajectory`), Cartesian paths (the :mod:`cartesian` package) and
+MeshCat playback (:mod:`kinplan.viewer`).
+"""
+
+from __future__ import annotations
+
+import logging
+
+from kinplan.errors import (
+    FrameError,
+    InfeasibleError,
+    InputError,
+    KinplanError,
+    RobotNotFoundError,
+    URDFError,
+)
+from kinplan.ik import IKResult
+from kinplan.robot import Robot, load_robot, planar_arm
+
+logging.getLogger(__name__).addHandler(logging.NullHandler())
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "FrameError",
+    "IKResult",
+    "InfeasibleError",
+    "InputError",
+    "KinplanError",
+    "Robot",
+    "RobotNotFoundError",
+    "URDFError",
+    "load_robot",
+    "planar_arm",
+]
+
+
+def __getattr__(name: str):
+    # Submodules imported on first use: `kinplan.trajectory`, `kinplan.viewer`, `kinplan.plot`.
+    if name in ("trajectory", "viewer", "plot", "program", "cli"):
+        import importlib
+
+        return importlib.import_module(f"kinplan.{name}")
+    raise AttributeError(f"module 'kinplan' has no attribute {name!r}")

@@ -1,0 +1,181 @@
+"""Numerical inverse kinematics on Pinocchio: Levenberg–Marquardt with adaptive damping.
+
+The solver minimises the tool-pose error e = [p* − p; log(R* Rᵀ)] (world-aligned, at the tip)
+with steps (JᵀJ + λI) Δq = Jᵀe, where λ = ½‖e‖² + λ₀ (Sugihara's error-dependent damping):
+Gauss–Newton close to the solution (quadratic convergence), gradient-like far from it and near
+singularities. Every iterate is clamped into the joint limits. One Pinocchio pass
+(``computeJointJacobians``) per iteration gives both the tool pose and its Jacobian; the 6×6 (or
+nq×nq) system is solved by a Cholesky factorisation.
+
+When the attempt from the seed fails, the solver restarts from configurations of a Halton
+sequence spread over the joint limits (deterministic: the same input gives the same answer).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import eigenpy
+import numpy as np
+import pinocchio as pin
+
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+_PRIMES = (2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61, 67, 71)
+
+
+@dataclass
+class IKResult:
+    """Outcome of an inverse-kinematics solve.
+
+    Attributes:
+        q: Best joint configuration found [rad or m], within the joint limits.
+        success: Whether both errors are within the requested tolerances.
+        position_error: Tool position error ‖p* − p(q)‖ [m].
+        rotation_error: Tool rotation error, the angle of R* R(q)ᵀ [rad] (0 for position-only).
+        iterations: Solver iterations over all attempts.
+        attempts: Number of starts (1 = the seed; more = random restarts were needed).
+    """
+
+    q: np.ndarray
+    success: bool
+    position_error: float
+    rotation_error: float
+    iterations: int
+    attempts: int = 1
+
+
+def halton(index: int, dim: int) -> np.ndarray:
+    """Point ``index`` (≥ 1) of the Halton low-discrepancy sequence in [0, 1)^dim."""
+    out = np.empty(dim)
+    for k in range(dim):
+        base = _PRIMES[k % len(_PRIMES)]
+        f, r, i = 1.0, 0.0, index
+        while i > 0:
+            f /= base
+            r += f * (i % base)
+            i //= base
+        out[k] = r
+    return out
+
+
+class IKSolver:
+    """Damped least-squares IK for one tool frame of a Pinocchio model.
+
+    Owns its own ``pin.Data`` and reuses it for every solve.
+
+    Args:
+        model: The (reduced, serial) Pinocchio model.
+        frame_id: Tool frame index in ``model``.
+        lower: Lower joint limits [rad or m].
+        upper: Upper joint limits [rad or m].
+    """
+
+    def __init__(self, model: pin.Model, frame_id: int, lower: np.ndarray, upper: np.ndarray):
+        self.model = model
+        self.data = model.createData()
+        self.frame_id = frame_id
+        self.lower = lower
+        self.upper = upper
+        self.nq = model.nq
+        self._eye = np.eye(model.nq)
+
+    def errors(self, q: np.ndarray, position: np.ndarray, rotation: np.ndarray | None):
+        """Position error [m] and rotation error [rad] of configuration ``q``."""
+        pin.forwardKinematics(self.model, self.data, q)
+        pose = pin.updateFramePlacement(self.model, self.data, self.frame_id)
+        perr = float(np.linalg.norm(position - pose.translation))
+        rerr = (
+            0.0 if rotation is None else float(np.linalg.norm(pin.log3(rotation @ pose.rotation.T)))
+        )
+        return perr, rerr
+
+    def descend(
+        self,
+        q: np.ndarray,
+        position: np.ndarray,
+        rotation: np.ndarray | None,
+        position_tolerance: float,
+        rotation_tolerance: float,
+        max_iterations: int,
+    ) -> tuple[np.ndarray, bool, float, float, int]:
+        """Iterate from ``q`` (not modified) until converged, stalled or out of iterations.
+
+        Returns:
+            (q, converged, position_error, rotation_error, iterations)
+        """
+        model, data, fid = self.model, self.data, self.frame_id
+        lower, upper, eye = self.lower, self.upper, self._eye
+        q = np.clip(q, lower, upper)
+        best_cost = np.inf
+        stalled = 0
+        perr = rerr = np.inf
+        for it in range(1, max_iterations + 1):
+            pin.computeJointJacobians(model, data, q)
+            pose = pin.updateFramePlacement(model, data, fid)
+            ep = position - pose.translation
+            perr = float(np.sqrt(ep @ ep))
+            if rotation is None:
+                e = ep
+                rerr = 0.0
+                J = pin.getFrameJacobian(model, data, fid, _LWA).reshape(6, -1)[:3]
+            else:
+                er = pin.log3(rotation @ pose.rotation.T)
+                rerr = float(np.sqrt(er @ er))
+                e = np.concatenate((ep, er))
+                J = pin.getFrameJacobian(model, data, fid, _LWA).reshape(6, -1)
+            if perr <= position_tolerance and rerr <= rotation_tolerance:
+                return q, True, perr, rerr, it - 1
+            cost = 0.5 * float(e @ e)
+            if cost < 0.999 * best_cost:
+                best_cost, stalled = cost, 0
+            else:
+                stalled += 1
+                if stalled >= 8:
+                    break
+            damping = cost + 1e-9
+            dq = eigenpy.LLT(J.T @ J + damping * eye).solve(J.T @ e)
+            step = float(np.max(np.abs(dq)))
+            if step > 0.8:
+                dq *= 0.8 / step
+            q = np.clip(q + dq, lower, upper)
+        perr, rerr = self.errors(q, position, rotation)
+        ok = perr <= position_tolerance and rerr <= rotation_tolerance
+        return q, ok, perr, rerr, it
+
+    def solve(
+        self,
+        position: np.ndarray,
+        rotation: np.ndarray | None,
+        q_seed: np.ndarray,
+        position_tolerance: float = 1e-6,
+        rotation_tolerance: float = 1e-6,
+        max_iterations: int = 60,
+        max_restarts: int = 40,
+    ) -> IKResult:
+        """Solve from ``q_seed``, then from Halton restarts until one attempt converges.
+
+        Args:
+            position: Target tool position in the world frame [m].
+            rotation: Target tool rotation (3×3) in the world frame, or ``None``: position only.
+            q_seed: Start configuration.
+            position_tolerance: Accepted position error [m].
+            rotation_tolerance: Accepted rotation error [rad].
+            max_iterations: Iterations per attempt.
+            max_restarts: Restarts after the seeded attempt fails.
+        """
+        best = None
+        total = 0
+        span = self.upper - self.lower
+        for attempt in range(max_restarts + 1):
+            start = q_seed if attempt == 0 else self.lower + span * halton(attempt, self.nq)
+            q, ok, perr, rerr, its = self.descend(
+                start, position, rotation, position_tolerance, rotation_tolerance, max_iterations
+            )
+            total += its
+            score = perr + rerr
+            if best is None or score < best[0]:
+                best = (score, q, perr, rerr)
+            if ok:
+                return IKResult(q, True, perr, rerr, total, attempt + 1)
+        _, q, perr, rerr = best
+        return IKResult(q, False, perr, rerr, total, max_restarts + 1)

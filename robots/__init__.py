@@ -1,0 +1,1 @@
+"""Bundled robot descriptions (URDF files), installed as package data of ``kinplan.robots``."""

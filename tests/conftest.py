@@ -1,0 +1,29 @@
+"""Shared fixtures: robots are loaded once per test session (loading parses the URDF)."""
+
+from __future__ import annotations
+
+import functools
+
+import pytest
+
+import kinplan
+
+
+@functools.cache
+def cached_robot(name: str) -> kinplan.Robot:
+    return kinplan.load_robot(name)
+
+
+@pytest.fixture(scope="session")
+def planar_2r() -> kinplan.Robot:
+    return cached_robot("planar_2r")
+
+
+@pytest.fixture(scope="session")
+def ur5() -> kinplan.Robot:
+    return cached_robot("ur5")
+
+
+@pytest.fixture(scope="session")
+def panda() -> kinplan.Robot:
+    return cached_robot("panda")

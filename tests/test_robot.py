@@ -1,0 +1,200 @@
+"""Robot loading and kinematics, checked against independent answers.
+
+* planar 2R: closed-form FK, IK (both elbow branches) and manipulability l1·l2·|sin θ2|;
+* every bundled and example arm: FK against yourdfpy (a second URDF reader) to 1e-9;
+* Jacobians against central finite differences to 1e-5.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+import yourdfpy
+
+import kinplan
+from tests.conftest import cached_robot
+
+ARMS = ["planar_2r", "ur3", "ur5", "ur10", "panda"]
+
+
+def fk_2r(q, l1=1.0, l2=1.0):
+    return np.array(
+        [l1 * np.cos(q[0]) + l2 * np.cos(q[0] + q[1]), l1 * np.sin(q[0]) + l2 * np.sin(q[0] + q[1])]
+    )
+
+
+def ik_2r(x, y, elbow_up: bool, l1=1.0, l2=1.0):
+    """Closed-form 2R IK; elbow_up=True gives θ2 > 0."""
+    c2 = (x * x + y * y - l1 * l1 - l2 * l2) / (2 * l1 * l2)
+    t2 = np.arccos(c2) * (1 if elbow_up else -1)
+    t1 = np.arctan2(y, x) - np.arctan2(l2 * np.sin(t2), l1 + l2 * np.cos(t2))
+    return np.array([t1, t2])
+
+
+def test_planar_2r_fk_matches_closed_form(planar_2r):
+    rng = np.random.default_rng(1)
+    for _ in range(50):
+        q = planar_2r.random_configuration(rng)
+        pose = planar_2r.fk(q)
+        np.testing.assert_allclose(pose.translation[:2], fk_2r(q), atol=1e-12)
+        assert pose.translation[2] == 0.0
+        np.testing.assert_allclose(pose.rotation, pin.utils.rotate("z", q.sum()), atol=1e-12)
+
+
+def test_planar_2r_lecture_pose(planar_2r):
+    pose = planar_2r.fk(np.radians([30, 30]))
+    np.testing.assert_allclose(
+        pose.translation, [1.3660254037844386, 1.3660254037844386, 0], atol=1e-12
+    )
+
+
+def test_lecture_via_point_ik_stays_on_seed_branch(planar_2r):
+    res = planar_2r.ik(np.array([0.0, 1.366, 0.0]), q_seed=np.radians([30, 30]))
+    assert res.success
+    np.testing.assert_allclose(np.degrees(res.q), [43.08, 93.84], atol=0.005)
+    np.testing.assert_allclose(res.q, ik_2r(0.0, 1.366, elbow_up=True), atol=1e-6)
+
+
+@pytest.mark.parametrize("elbow_up", [True, False])
+def test_planar_2r_ik_both_branches(planar_2r, elbow_up):
+    rng = np.random.default_rng(2)
+    for _ in range(30):
+        r, phi = rng.uniform(0.2, 1.9), rng.uniform(-np.pi, np.pi)
+        x, y = r * np.cos(phi), r * np.sin(phi)
+        expected = ik_2r(x, y, elbow_up)
+        expected = (expected + np.pi) % (2 * np.pi) - np.pi
+        seed = expected + rng.uniform(-0.15, 0.15, 2)
+        res = planar_2r.ik(np.array([x, y, 0.0]), q_seed=np.clip(seed, -np.pi, np.pi))
+        assert res.success, res
+        np.testing.assert_allclose(fk_2r(res.q), [x, y], atol=1e-6)
+        np.testing.assert_allclose(res.q, expected, atol=1e-5)
+
+
+def test_planar_manipulability_is_l1_l2_sin_theta2():
+    arm = kinplan.planar_arm([1.0, 0.25])
+    for t2 in np.linspace(-3, 3, 13):
+        q = np.array([0.3, t2])
+        assert arm.manipulability(q) == pytest.approx(0.25 * abs(np.sin(t2)), abs=1e-12)
+
+
+def test_6d_manipulability_is_sqrt_det(ur5):
+    q = np.array([0.1, -1.2, 1.4, -0.5, 1.2, 0.3])
+    J = ur5.jacobian(q)
+    assert ur5.manipulability(q) == pytest.approx(np.sqrt(np.linalg.det(J @ J.T)), rel=1e-9)
+
+
+@pytest.mark.parametrize("name", ARMS + ["planar_3r"])
+def test_fk_matches_yourdfpy(name):
+    robot = kinplan.planar_arm([0.7, 0.5, 0.3]) if name == "planar_3r" else cached_robot(name)
+    urdf = yourdfpy.URDF.load(
+        str(robot.urdf_path), load_meshes=False, build_collision_scene_graph=False
+    )
+    rng = np.random.default_rng(3)
+    for _ in range(25):
+        q = robot.random_configuration(rng)
+        cfg = {j: 0.0 for j in urdf.actuated_joint_names}
+        cfg.update(zip(robot.joint_names, q))
+        urdf.update_cfg(cfg)
+        expected = urdf.get_transform(frame_to=robot.tip_frame, frame_from=robot.base_frame)
+        np.testing.assert_allclose(robot.fk(q).homogeneous, expected, atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ARMS)
+def test_jacobian_matches_finite_differences(name):
+    robot = cached_robot(name)
+    rng = np.random.default_rng(4)
+    h = 1e-6
+    for _ in range(5):
+        q = robot.random_configuration(rng)
+        J = robot.jacobian(q)
+        pose = robot.fk(q)
+        J_fd = np.empty_like(J)
+        for k in range(robot.nq):
+            dq = np.zeros(robot.nq)
+            dq[k] = h
+            plus, minus = robot.fk(q + dq), robot.fk(q - dq)
+            J_fd[:3, k] = (plus.translation - minus.translation) / (2 * h)
+            J_fd[3:, k] = (
+                pin.log3(plus.rotation @ pose.rotation.T)
+                - pin.log3(minus.rotation @ pose.rotation.T)
+            ) / (2 * h)
+        np.testing.assert_allclose(J, J_fd, atol=1e-5)
+
+
+def test_fk_returns_a_new_object(ur5):
+    a = ur5.fk(np.zeros(6))
+    b = ur5.fk(np.full(6, 0.5))
+    assert not np.allclose(a.translation, b.translation)
+    np.testing.assert_allclose(a.translation, ur5.fk(np.zeros(6)).translation)
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda", "ur3", "ur10"])
+def test_ik_round_trip_from_random_configurations(name):
+    robot = cached_robot(name)
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        target = robot.fk(robot.random_configuration(rng))
+        res = robot.ik(target, q_seed=robot.random_configuration(rng))
+        assert res.success, res
+        assert res.position_error < 1e-6 and res.rotation_error < 1e-6
+        assert robot.within_limits(res.q)
+        reached = robot.fk(res.q)
+        np.testing.assert_allclose(reached.translation, target.translation, atol=1e-6)
+        assert np.linalg.norm(pin.log3(reached.rotation @ target.rotation.T)) < 1e-6
+
+
+def test_ik_near_seed_returns_seed_branch(ur5):
+    rng = np.random.default_rng(6)
+    for _ in range(10):
+        q = ur5.random_configuration(rng) * 0.5
+        res = ur5.ik(ur5.fk(q), q_seed=q + rng.uniform(-0.05, 0.05, 6))
+        assert res.success and res.attempts == 1
+        np.testing.assert_allclose(res.q, q, atol=1e-5)
+
+
+def test_ik_position_only_on_redundant_and_planar(panda):
+    res = panda.ik(np.array([0.4, 0.2, 0.5]), position_only=True)
+    assert res.success and res.rotation_error == 0.0
+    np.testing.assert_allclose(panda.fk(res.q).translation, [0.4, 0.2, 0.5], atol=1e-6)
+
+
+def test_ik_unreachable_reports_failure_with_best_q():
+    arm = kinplan.planar_arm([1.0, 0.25])
+    res = arm.ik(np.array([0.3, 0.0, 0.0]))  # inside the hole r < 0.75
+    assert not res.success
+    assert res.position_error == pytest.approx(0.45, abs=1e-4)  # the closest point is r = 0.75
+    assert arm.within_limits(res.q)
+
+
+def test_ik_is_deterministic(panda):
+    target = panda.fk(np.array([0.5, 0.3, -0.2, -1.8, 0.4, 2.0, 0.1]))
+    a = panda.ik(target, q_seed=np.zeros(7))
+    b = panda.ik(target, q_seed=np.zeros(7))
+    np.testing.assert_array_equal(a.q, b.q)
+
+
+def test_bundled_planar_2r_is_the_generator_output(planar_2r):
+    from kinplan.planar import planar_arm_urdf
+
+    assert planar_2r.urdf_path.read_text() == planar_arm_urdf([1.0, 1.0], name="planar_2r")
+    assert planar_2r.link_lengths == [1.0, 1.0]
+    np.testing.assert_allclose(planar_2r.upper, [np.pi, np.pi])
+    np.testing.assert_allclose(planar_2r.velocity_limit, [2 * np.pi] * 2)
+
+
+def test_contract_attributes(ur5, panda, planar_2r):
+    assert ur5.nq == 6 and ur5.tip_frame == "tool0" and ur5.base_frame == "world"
+    assert panda.nq == 7 and panda.base_frame == "panda_link0"
+    assert not any("finger" in j for j in panda.joint_names)
+    assert planar_2r.joint_names == ["joint1", "joint2"] and planar_2r.tip_frame == "tip"
+    for robot in (ur5, panda, planar_2r):
+        assert robot.urdf_path.is_file()
+        assert robot.lower.shape == robot.upper.shape == robot.velocity_limit.shape == (robot.nq,)
+
+
+def test_load_by_path_and_custom_tip(ur5):
+    robot = kinplan.load_robot(ur5.urdf_path, tip="wrist_3_link")
+    assert robot.nq == 6 and robot.tip_frame == "wrist_3_link"
+    short = kinplan.load_robot("ur5", tip="forearm_link")
+    assert short.nq == 3
