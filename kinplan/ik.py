@@ -97,14 +97,22 @@ class IKSolver:
         position_tolerance: float,
         rotation_tolerance: float,
         max_iterations: int,
+        clamp: bool = True,
     ) -> tuple[np.ndarray, bool, float, float, int]:
         """Iterate from ``q`` (not modified) until converged, stalled or out of iterations.
+
+        On convergence ``self.data`` holds the kinematics and joint Jacobians at the returned q.
+
+        Args:
+            clamp: Keep every iterate within the joint limits (False: ignore the limits, to tell
+                a limit problem from an unreachable target).
 
         Returns:
             (q, converged, position_error, rotation_error, iterations)
         """
         model, data, fid = self.model, self.data, self.frame_id
-        lower, upper, eye = self.lower, self.upper, self._eye
+        eye = self._eye
+        lower, upper = (self.lower, self.upper) if clamp else (-np.inf, np.inf)
         q = np.clip(q, lower, upper)
         best_cost = np.inf
         stalled = 0

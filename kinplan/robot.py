@@ -145,7 +145,7 @@ class Robot:
             raise URDFError(f"joints {bad} of {urdf_path.name} have no valid position limits")
         self.data = self.model.createData()
         self._ik = IKSolver(self.model, self.tip_id, self.lower, self.upper)
-        self._task_rank = self._generic_ranks()
+        self._task = self._task_structure()
         self.link_lengths = self._planar_link_lengths()
 
     def __repr__(self) -> str:
@@ -191,18 +191,26 @@ class Robot:
         J = pin.computeFrameJacobian(self.model, self.data, q, self.tip_id, _LWA)
         return J.reshape(6, self.nq).copy()  # eigenpy gives a 1-D array when nq == 1
 
-    def _generic_ranks(self) -> dict[bool, int]:
-        """Rank of the position-only and full task Jacobian at a generic configuration."""
+    def _task_structure(self) -> dict[bool, tuple[np.ndarray, int]]:
+        """Task rows and rank of the position-only and full tool Jacobian.
+
+        A row is part of the task when it is non-zero at some generic configuration (a planar
+        arm in the xy-plane drops z, and the rotations about x and y); the rank is that of the
+        remaining rows at a generic configuration.
+        """
         rng = np.random.default_rng(7)
-        ranks = {True: 0, False: 0}
-        for _ in range(3):
-            J = self.jacobian(self.random_configuration(rng))
-            for position_only in (True, False):
-                rows = J[:3] if position_only else J
-                s = np.linalg.svd(rows, compute_uv=False)
-                rank = int(np.sum(s > 1e-9 * max(1.0, s[0])))
-                ranks[position_only] = max(ranks[position_only], rank)
-        return ranks
+        jacobians = [self.jacobian(self.random_configuration(rng)) for _ in range(3)]
+        structure = {}
+        for position_only in (True, False):
+            candidates = np.arange(3 if position_only else 6)
+            used = np.max([np.abs(J[candidates]).max(axis=1) for J in jacobians], axis=0)
+            rows = candidates[used > 1e-12]
+            rank = 0
+            for J in jacobians:
+                sv = np.linalg.svd(J[rows], compute_uv=False) if rows.size else np.zeros(0)
+                rank = max(rank, int(np.sum(sv > 1e-9 * max(1.0, sv.max(initial=0.0)))))
+            structure[position_only] = (rows, rank)
+        return structure
 
     def _planar_link_lengths(self) -> list[float] | None:
         """Link lengths [m] if the arm is planar (revolute about parallel z axes, links in the
@@ -232,9 +240,13 @@ class Robot:
         total = float(sum(self.link_lengths))
         return max(0.0, 2.0 * max(self.link_lengths) - total), total
 
+    def task_rows(self, position_only: bool) -> np.ndarray:
+        """Rows of the tool Jacobian the arm acts on ([0, 1] for a planar arm's position)."""
+        return self._task[position_only][0]
+
     def task_rank(self, position_only: bool) -> int:
         """How many independent tool motions the arm has (2 for a planar arm's position)."""
-        return self._task_rank[position_only]
+        return self._task[position_only][1]
 
     def default_position_only(self) -> bool:
         """Position only for arms that cannot control a full 6-D pose (fewer than 6 joints)."""
@@ -253,8 +265,8 @@ class Robot:
         """
         if position_only is None:
             position_only = self.default_position_only()
-        J = self.jacobian(q)
-        return manipulability_of(J[:3] if position_only else J, self._task_rank[position_only])
+        rows, rank = self._task[position_only]
+        return manipulability_of(self.jacobian(q)[rows], rank)
 
     # ------------------------------------------------------------------ inverse kinematics
     def ik(
@@ -306,11 +318,19 @@ class Robot:
 
 
 def manipulability_of(J: np.ndarray, rank: int) -> float:
-    """Product of the ``rank`` largest singular values of ``J`` (0 when rank is 0)."""
+    """Product of the ``rank`` largest singular values of ``J`` (0 when rank is 0).
+
+    When ``rank`` is the smaller dimension of J this is sqrt(det(J Jᵀ)) (wide or square J) or
+    sqrt(det(Jᵀ J)) (tall J), computed from the smaller Gram matrix.
+    """
+    rows, cols = J.shape
     if rank == 0:
         return 0.0
-    s = np.linalg.svd(J, compute_uv=False)
-    return float(np.prod(s[:rank]))
+    if rank == min(rows, cols):
+        gram = J @ J.T if rows <= cols else J.T @ J
+        return float(np.sqrt(max(np.linalg.det(gram), 0.0)))
+    sv = np.linalg.svd(J, compute_uv=False)
+    return float(np.prod(sv[:rank]))
 
 
 def parse_target(

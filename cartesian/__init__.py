@@ -1,0 +1,37 @@
+"""Cartesian paths for the tool and their following by a robot arm.
+
+Paths (:class:`Line`, :class:`Arc`, :func:`Circle`, :func:`Polyline`, :class:`PathSequence`,
+:class:`FunctionPath`) are parametrised by the path-length fraction s ∈ [0, 1]. :func:`follow`
+times a path and solves IK at every sample with reachability and singularity monitoring;
+:func:`check_reachability` is the fast geometric pre-check.
+"""
+
+from __future__ import annotations
+
+from cartesian.follow import CartesianPlan, Event, Reachability, check_reachability, follow
+from cartesian.paths import (
+    Arc,
+    Circle,
+    CircularArc,
+    FunctionPath,
+    Line,
+    Path,
+    PathSequence,
+    Polyline,
+)
+
+__all__ = [
+    "Arc",
+    "CartesianPlan",
+    "Circle",
+    "CircularArc",
+    "Event",
+    "FunctionPath",
+    "Line",
+    "Path",
+    "PathSequence",
+    "Polyline",
+    "Reachability",
+    "check_reachability",
+    "follow",
+]

@@ -1,0 +1,574 @@
+"""Following a Cartesian path: IK at every sample, with reachability and singularity monitoring.
+
+:func:`follow` times the path with a 1-D profile, solves IK at every sample warm-started from the
+previous one (so the arm stays on its branch), derives joint velocities and accelerations from the
+timed path (q̇ = J⁺ẋ, q̈ = J⁺(ẍ − J̇q̇)), and stops at the first sample that is unreachable,
+beyond a joint limit, needs a branch flip ("jump"), is near a singularity or too fast for a
+joint. The plan says where and why (:class:`Event`) and how much of the path was achieved.
+:func:`check_reachability` runs the same monitoring on the geometry alone, before any timing.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pinocchio as pin
+
+from cartesian.paths import Path
+from cartesian.timing import PathTiming, time_path
+from kinplan.errors import InputError
+from kinplan.robot import Robot, manipulability_of
+
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+KINDS = ("unreachable", "joint_limit", "jump", "singular", "velocity_limit")
+#: Default singularity threshold, as a share of the arm's median manipulability.
+SINGULAR_FRACTION = 0.05
+
+
+@dataclass
+class Event:
+    """Why a plan stopped.
+
+    Attributes:
+        kind: "unreachable", "joint_limit", "jump", "singular" or "velocity_limit".
+        t: Time of the offending sample [s] (0 for a geometric check).
+        s: Path fraction of the offending sample [-].
+        index: Index of the offending sample.
+        message: What happened, where, and what to do about it.
+        position: Target tool position of the offending sample [m].
+        joint: The joint concerned (limits, speeds, jumps), if any.
+        value: The offending value (joint position [rad], speed [rad/s], manipulability).
+        limit: The limit it broke.
+    """
+
+    kind: str
+    t: float
+    s: float
+    index: int
+    message: str
+    position: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    joint: str | None = None
+    value: float | None = None
+    limit: float | None = None
+
+
+@dataclass
+class CartesianPlan:
+    """A timed, monitored Cartesian motion.
+
+    Attributes:
+        t: Sample times [s], shape (N,) (only the samples achieved before a failure).
+        q: Joint positions, shape (N, nq).
+        qd: Joint velocities [rad/s], shape (N, nq).
+        qdd: Joint accelerations [rad/s²], shape (N, nq).
+        s: Path fraction of each sample.
+        ok: True when the whole path was planned without event.
+        status: "ok" or the kind of the first event.
+        fraction: Path fraction achieved before the first failure (1.0 when ok).
+        events: The events at the offending sample (empty when ok).
+        max_deviation: Largest tool distance from the path over the samples [m].
+        min_manipulability: Smallest manipulability over the samples.
+        duration: Duration of the planned (timed) motion [s].
+        path: The Cartesian path.
+        position_only: Whether the tool orientation was ignored.
+        singular_threshold: Manipulability below which a sample counts as singular.
+        tool_positions: Achieved tool positions (FK of q) [m], shape (N, 3).
+        manipulability: Manipulability of each sample, shape (N,).
+        retimed: Whether the time law was slowed down to respect the joint speed limits.
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    s: np.ndarray
+    ok: bool
+    status: str
+    fraction: float
+    events: list[Event]
+    max_deviation: float
+    min_manipulability: float
+    duration: float
+    path: Path
+    position_only: bool
+    singular_threshold: float
+    tool_positions: np.ndarray
+    manipulability: np.ndarray
+    retimed: bool = False
+
+    def __repr__(self) -> str:
+        text = (
+            f"CartesianPlan({self.status}, {len(self.t)} samples, {self.duration:.3f} s, "
+            f"fraction {self.fraction:.3f}, max deviation {self.max_deviation:.2e} m"
+        )
+        return text + (f": {self.events[0].message})" if self.events else ")")
+
+    def summary(self) -> str:
+        """One line: status, and the first event's message when there is one."""
+        if self.ok:
+            return f"ok: {len(self.t)} samples, {self.duration:.3f} s"
+        return f"{self.status} at s = {self.events[0].s:.3f}: {self.events[0].message}"
+
+
+@dataclass
+class Reachability:
+    """Result of :func:`check_reachability` (geometric: no timing).
+
+    Attributes:
+        ok: Whether every sampled point of the path is reachable continuously.
+        status: "ok" or the kind of the first event.
+        fraction: Path fraction reached before the first failure (1.0 when ok).
+        events: The events at the first failing point.
+        s: Path fractions checked (up to the failure).
+        q: Joint positions at those points (IK checks; empty for an analytic check).
+    """
+
+    ok: bool
+    status: str
+    fraction: float
+    events: list[Event]
+    s: np.ndarray
+    q: np.ndarray
+
+
+# ------------------------------------------------------------------------------------------
+class _Tracker:
+    """Warm-started IK along a path plus the monitoring quantities, on the robot's IK data."""
+
+    def __init__(
+        self,
+        robot: Robot,
+        position_only: bool,
+        tolerance: float,
+        rotation_tolerance: float,
+        singular_threshold: float,
+        velocity_scale: float,
+        jump_tolerance: float,
+    ):
+        self.robot = robot
+        self.solver = robot._ik
+        self.model, self.data, self.fid = robot.model, robot._ik.data, robot.tip_id
+        self.position_only = position_only
+        self.rows, self.rank = robot.task_rows(position_only), robot.task_rank(position_only)
+        self.tolerance, self.rotation_tolerance = tolerance, rotation_tolerance
+        self.singular_threshold = singular_threshold
+        self.speed_limit = robot.velocity_limit * velocity_scale
+        self.jump_tolerance = jump_tolerance
+        self._zeros = np.zeros(robot.nq)
+
+    def solve(self, guess, position, rotation, iterations: int = 12):
+        return self.solver.descend(
+            guess, position, rotation, self.tolerance, self.rotation_tolerance, iterations
+        )
+
+    def jacobian(self) -> np.ndarray:
+        """Task rows of the tool Jacobian at the last converged q (no new kinematics pass)."""
+        return pin.getFrameJacobian(self.model, self.data, self.fid, _LWA).reshape(6, -1)[self.rows]
+
+    def tool_position(self) -> np.ndarray:
+        return self.data.oMf[self.fid].translation.copy()
+
+    def bias_acceleration(self, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        """J̇q̇: the tool's classical acceleration at zero joint acceleration (task rows)."""
+        pin.forwardKinematics(self.model, self.data, q, qd, self._zeros)
+        acc = pin.getFrameClassicalAcceleration(self.model, self.data, self.fid, _LWA)
+        return acc.vector[self.rows]
+
+    def singular_event(self, k, t, s, J, position) -> tuple[float, Event | None]:
+        """Manipulability of the task Jacobian J, and a "singular" event when it is too small."""
+        m = manipulability_of(J, self.rank)
+        if m >= self.singular_threshold:
+            return m, None
+        return m, Event(
+            "singular", float(t), float(s), k,
+            f"near a singularity at {_where(position)}: manipulability {m:.3g} is below "
+            f"{self.singular_threshold:.3g}; keep the path away from the workspace boundary and "
+            "from aligned joint axes",
+            position, value=m, limit=self.singular_threshold,
+        )  # fmt: skip
+
+    def jump_event(self, k, t, s, q, q_prev, rate, rate_prev, h, position) -> Event | None:
+        """A "jump" event when q moved more than its rates explain over the step h."""
+        if q_prev is None:
+            return None
+        step = q - q_prev - 0.5 * (rate + rate_prev) * h
+        j = int(np.argmax(np.abs(step)))
+        if abs(step[j]) <= self.jump_tolerance:
+            return None
+        name = self.robot.joint_names[j]
+        return Event(
+            "jump", float(t), float(s), k,
+            f"joint {name} jumps by {q[j] - q_prev[j]:.3f} rad at {_where(position)} (a branch "
+            "flip); use a smaller dt or another start configuration",
+            position, name, float(q[j] - q_prev[j]), self.jump_tolerance,
+        )  # fmt: skip
+
+    def speed_event(self, k, t, s, qd, position) -> Event | None:
+        """A "velocity_limit" event when a joint speed exceeds its (scaled) limit."""
+        over = np.abs(qd) / self.speed_limit
+        j = int(np.argmax(over))
+        if over[j] <= 1.0:
+            return None
+        name = self.robot.joint_names[j]
+        return Event(
+            "velocity_limit", float(t), float(s), k,
+            f"joint {name} would need {abs(qd[j]):.3f} rad/s, above its limit "
+            f"{self.speed_limit[j]:.3f} rad/s, at {_where(position)}; slow the tool down or "
+            "use retime=True",
+            position, name, float(qd[j]), float(self.speed_limit[j]),
+        )  # fmt: skip
+
+    def diagnose(self, k, t, s, guess, q_prev, position, rotation) -> Event:
+        """Why sample k has no continuous IK solution: joint_limit, jump or unreachable."""
+        robot = self.robot
+        q, converged, *_ = self.solver.descend(
+            guess, position, rotation, self.tolerance, self.rotation_tolerance, 60, clamp=False
+        )
+        where = _where(position)
+        if converged:
+            over = np.maximum(robot.lower - q, q - robot.upper)
+            j = int(np.argmax(over))
+            bound = robot.upper[j] if q[j] > robot.upper[j] else robot.lower[j]
+            side = "upper" if q[j] > robot.upper[j] else "lower"
+            return Event(
+                "joint_limit", t, s, k,
+                f"joint {robot.joint_names[j]} would need {q[j]:.4f}, beyond its {side} limit "
+                f"{bound:.4f} at {where}; move the path or start from another configuration",
+                position, robot.joint_names[j], float(q[j]), float(bound),
+            )  # fmt: skip
+        target = position if rotation is None else pin.SE3(rotation, position)
+        if q_prev is not None:
+            res = robot.ik(target, q_seed=q_prev, position_only=rotation is None)
+            if res.success:
+                j = int(np.argmax(np.abs(res.q - q_prev)))
+                return Event(
+                    "jump", t, s, k,
+                    f"{where} is reachable only on another branch: joint {robot.joint_names[j]} "
+                    f"would jump from {q_prev[j]:.3f} to {res.q[j]:.3f}; split the path or choose "
+                    "another start configuration",
+                    position, robot.joint_names[j], float(res.q[j] - q_prev[j]),
+                )  # fmt: skip
+        res = robot.ik(target, q_seed=guess, position_only=rotation is None)
+        return Event(
+            "unreachable", t, s, k,
+            f"{where} is out of reach (closest tool position {res.position_error:.4f} m away, "
+            f"rotation error {res.rotation_error:.3f} rad); shorten or move the path",
+            position,
+        )  # fmt: skip
+
+
+def _where(position: np.ndarray) -> str:
+    return "(" + ", ".join(f"{x:.4f}" for x in position) + ") m"
+
+
+def _least_squares(J: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """J⁺ b for a full-rank J: least squares (tall/square) or minimum norm (wide)."""
+    rows, cols = J.shape
+    if rows >= cols:
+        return np.linalg.solve(J.T @ J, J.T @ b)
+    return J.T @ np.linalg.solve(J @ J.T, b)
+
+
+def reference_manipulability(robot: Robot, position_only: bool) -> float:
+    """Median manipulability over a fixed low-discrepancy set of configurations (cached)."""
+    cache = robot.__dict__.setdefault("_reference_manipulability", {})
+    if position_only not in cache:
+        from kinplan.ik import halton
+
+        span = robot.upper - robot.lower
+        values = [
+            robot.manipulability(robot.lower + span * halton(i, robot.nq), position_only)
+            for i in range(1, 257)
+        ]
+        cache[position_only] = float(np.median(values))
+    return cache[position_only]
+
+
+def _resolve_position_only(robot: Robot, path: Path, position_only: bool | None) -> bool:
+    if position_only is None:
+        return robot.default_position_only() or not path.has_orientation
+    if not position_only and not path.has_orientation:
+        raise InputError("the path has no orientation (built from 3-vectors); use position_only")
+    return bool(position_only)
+
+
+def _targets(path: Path, s: np.ndarray, position_only: bool):
+    positions = path.position(s)
+    rotations = None if position_only else path.rotation(s)
+    return positions, rotations
+
+
+# ------------------------------------------------------------------------------------------
+def follow(
+    robot: Robot,
+    path: Path,
+    duration: float | None = None,
+    speed: float | None = None,
+    profile: str = "trapezoid",
+    dt: float = 0.01,
+    q_seed=None,
+    position_only: bool | None = None,
+    *,
+    acceleration: float | None = None,
+    singular_threshold: float | None = None,
+    velocity_scale: float = 1.0,
+    jump_tolerance: float = 0.05,
+    tolerance: float = 1e-7,
+    rotation_tolerance: float = 1e-7,
+    retime: bool = False,
+) -> CartesianPlan:
+    """Plan the tool along ``path``: timed, IK at every sample, monitored.
+
+    Args:
+        robot: The arm.
+        path: The Cartesian path (:class:`~cartesian.Line`, :class:`~cartesian.Arc`, ...).
+        duration: Motion duration [s]; or
+        speed: Tool cruise speed [m/s].
+        profile: 1-D time law: "trapezoid" (default), "quintic" or "cubic".
+        dt: Sampling period [s]; samples at 0, dt, ..., the last exactly at the end.
+        q_seed: Start configuration guess (the IK of the path start stays on its branch).
+        position_only: Ignore the tool orientation; default: when the arm has fewer than 6
+            joints or the path was built from 3-vectors.
+        acceleration: Tool acceleration of the trapezoid [m/s²] (default: cruise in 0.25 s).
+        singular_threshold: Manipulability under which a sample is singular; default 5 % of
+            the arm's median manipulability over its joint space.
+        velocity_scale: Fraction of the robot's joint speed limits allowed.
+        jump_tolerance: Largest joint step [rad] beyond what the joint velocities explain.
+        tolerance: Tool position tolerance of every sample [m].
+        rotation_tolerance: Tool rotation tolerance of every sample [rad].
+        retime: Instead of stopping at a joint speed limit (near a singularity), slow the path
+            parameter down where needed, keeping the exact path; ``duration`` becomes longer.
+
+    Returns:
+        CartesianPlan; an event stops it at the first offending sample.
+    """
+    position_only = _resolve_position_only(robot, path, position_only)
+    seed = robot.neutral() if q_seed is None else robot.check_q(q_seed, "q_seed")
+    if not (np.isfinite(velocity_scale) and velocity_scale > 0):
+        raise InputError(f"velocity_scale must be > 0, got {velocity_scale!r}")
+    if singular_threshold is None:
+        singular_threshold = SINGULAR_FRACTION * reference_manipulability(robot, position_only)
+    tracker = _Tracker(
+        robot, position_only, tolerance, rotation_tolerance, singular_threshold,
+        velocity_scale, jump_tolerance,
+    )  # fmt: skip
+    timing = time_path(path.length, duration, speed, acceleration, profile, dt)
+    retimed = False
+    if retime:
+        from cartesian.retime import retime_for_speed_limits
+
+        new_timing = retime_for_speed_limits(tracker, path, timing, seed, dt)
+        retimed = new_timing is not timing
+        timing = new_timing
+    plan = _track(tracker, path, timing, seed)
+    plan.retimed = retimed
+    return plan
+
+
+def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -> CartesianPlan:
+    robot = tracker.robot
+    position_only = tracker.position_only
+    rows = tracker.rows
+    t, s, sd, sdd = timing.t, timing.s, timing.sd, timing.sdd
+    n, nq = len(t), robot.nq
+
+    positions, rotations = _targets(path, s, position_only)
+    dp, ddp = path.position_derivatives(s)
+    xd = np.zeros((n, 6))
+    xdd = np.zeros((n, 6))
+    xd[:, :3] = dp * sd[:, None]
+    xdd[:, :3] = ddp * (sd**2)[:, None] + dp * sdd[:, None]
+    if not position_only:
+        w, dw = path.angular_rates(s)
+        xd[:, 3:] = w * sd[:, None]
+        xdd[:, 3:] = dw * (sd**2)[:, None] + w * sdd[:, None]
+    xd, xdd = xd[:, rows], xdd[:, rows]
+
+    q_out = np.empty((n, nq))
+    qd_out = np.empty((n, nq))
+    qdd_out = np.empty((n, nq))
+    tool = np.empty((n, 3))
+    manip = np.empty(n)
+    events: list[Event] = []
+    q_prev = qd_prev = qdd_prev = None
+    done = 0
+    for k in range(n):
+        rotation = None if rotations is None else rotations[k]
+        if k == 0:
+            target = positions[0] if rotation is None else pin.SE3(rotation, positions[0])
+            first = robot.ik(
+                target, q_seed=seed, position_only=rotation is None,
+                position_tolerance=tracker.tolerance, rotation_tolerance=tracker.rotation_tolerance,
+            )  # fmt: skip
+            guess = first.q if first.success else seed
+        else:
+            h = t[k] - t[k - 1]
+            guess = q_prev + qd_prev * h + 0.5 * qdd_prev * h**2
+        q, ok, *_ = tracker.solve(guess, positions[k], rotation)
+        if not ok:
+            events.append(tracker.diagnose(k, t[k], s[k], guess, q_prev, positions[k], rotation))
+            break
+        J = tracker.jacobian()
+        m, event = tracker.singular_event(k, t[k], s[k], J, positions[k])
+        qd = None
+        if event is None:
+            tool[k] = tracker.tool_position()
+            qd = _least_squares(J, xd[k])
+            h = t[k] - t[k - 1] if k else 0.0
+            event = tracker.jump_event(k, t[k], s[k], q, q_prev, qd, qd_prev, h, positions[k])
+        event = event or tracker.speed_event(k, t[k], s[k], qd, positions[k])
+        if event is not None:
+            events.append(event)
+            break
+        qdd = _least_squares(J, xdd[k] - tracker.bias_acceleration(q, qd))
+        q_out[k], qd_out[k], qdd_out[k], manip[k] = q, qd, qdd, m
+        q_prev, qd_prev, qdd_prev = q, qd, qdd
+        done = k + 1
+
+    ok = not events
+    deviation = np.linalg.norm(tool[:done] - positions[:done], axis=1)
+    return CartesianPlan(
+        t=t[:done].copy(),
+        q=q_out[:done],
+        qd=qd_out[:done],
+        qdd=qdd_out[:done],
+        s=s[:done].copy(),
+        ok=ok,
+        status="ok" if ok else events[0].kind,
+        fraction=1.0 if ok else (float(s[done - 1]) if done else 0.0),
+        events=events,
+        max_deviation=float(deviation.max()) if done else 0.0,
+        min_manipulability=float(manip[:done].min()) if done else 0.0,
+        duration=float(timing.duration),
+        path=path,
+        position_only=position_only,
+        singular_threshold=float(tracker.singular_threshold),
+        tool_positions=tool[:done],
+        manipulability=manip[:done],
+    )
+
+
+# ------------------------------------------------------------------------------------------
+def check_reachability(
+    robot: Robot,
+    path: Path,
+    q_seed=None,
+    position_only: bool | None = None,
+    *,
+    resolution: float = 0.005,
+    singular_threshold: float | None = None,
+) -> Reachability:
+    """Fast pre-check: does the path stay in the workspace, continuously, away from singularities?
+
+    Planar arms use their analytic workspace (the annulus r_min ≤ r ≤ r_max about the first
+    joint, in its plane); other arms solve warm-started IK at points every ``resolution`` metres
+    (at least 50 points), reporting unreachable points, joint limits, branch jumps and
+    singularities. No timing, so no velocity check.
+
+    Args:
+        robot: The arm.
+        path: The path.
+        q_seed: Start configuration guess.
+        position_only: As in :func:`follow`.
+        resolution: Spacing of the checked points along the path [m].
+        singular_threshold: As in :func:`follow`.
+    """
+    position_only = _resolve_position_only(robot, path, position_only)
+    count = max(50, int(np.ceil(path.length / resolution)) + 1)
+    s = np.linspace(0.0, 1.0, count)
+    reach = robot.planar_reach()
+    if reach is not None and position_only:
+        return _planar_check(robot, path, s, reach)
+    seed = robot.neutral() if q_seed is None else robot.check_q(q_seed, "q_seed")
+    if singular_threshold is None:
+        singular_threshold = SINGULAR_FRACTION * reference_manipulability(robot, position_only)
+    tracker = _Tracker(robot, position_only, 1e-7, 1e-7, singular_threshold, 1.0, 0.1)
+    geometry = trace_geometry(tracker, path, s, seed)
+    done = len(geometry.q)
+    return Reachability(
+        ok=not geometry.events,
+        status=geometry.events[0].kind if geometry.events else "ok",
+        fraction=1.0 if not geometry.events else (float(s[done - 1]) if done else 0.0),
+        events=geometry.events,
+        s=s[:done],
+        q=geometry.q,
+    )
+
+
+def _planar_check(robot: Robot, path: Path, s: np.ndarray, reach) -> Reachability:
+    """Analytic check of a planar arm: annulus about the first joint, in its plane."""
+    base = robot.model.jointPlacements[1]
+    local = (path.position(s) - base.translation) @ base.rotation  # in the first joint's frame
+    r = np.hypot(local[:, 0], local[:, 1])
+    r_min, r_max = reach
+    bad = (r < r_min - 1e-9) | (r > r_max + 1e-9) | (np.abs(local[:, 2]) > 1e-9)
+    if not bad.any():
+        return Reachability(True, "ok", 1.0, [], s, np.empty((0, robot.nq)))
+    k = int(np.argmax(bad))
+    position = path.position(s[k : k + 1])[0]
+    if abs(local[k, 2]) > 1e-9:
+        why = f"it is {local[k, 2]:.4f} m off the arm's plane"
+    elif r[k] < r_min:
+        why = f"its distance to the first joint, {r[k]:.4f} m, is inside the hole r < {r_min:.4f} m"
+    else:
+        why = f"its distance to the first joint, {r[k]:.4f} m, exceeds the reach {r_max:.4f} m"
+    event = Event(
+        "unreachable", 0.0, float(s[k]), k, f"{_where(position)} is out of reach: {why}", position
+    )
+    fraction = float(s[k - 1]) if k else 0.0
+    return Reachability(False, "unreachable", fraction, [event], s[:k], np.empty((0, robot.nq)))
+
+
+@dataclass
+class Geometry:
+    """Joint solutions along path fractions, up to the first event (used for retiming)."""
+
+    q: np.ndarray
+    dq_ds: np.ndarray
+    events: list[Event]
+
+
+def trace_geometry(tracker: _Tracker, path: Path, s: np.ndarray, seed: np.ndarray) -> Geometry:
+    """Warm-started IK at path fractions ``s`` with joint-limit/jump/singularity checks.
+
+    Also returns dq/ds = J⁺ dx/ds at every solved point.
+    """
+    robot = tracker.robot
+    positions, rotations = _targets(path, s, tracker.position_only)
+    dp, _ = path.position_derivatives(s)
+    dx = np.zeros((len(s), 6))
+    dx[:, :3] = dp
+    if not tracker.position_only:
+        dx[:, 3:] = path.angular_rates(s)[0]
+    dx = dx[:, tracker.rows]
+    qs, dqs, events = [], [], []
+    q_prev = None
+    for k in range(len(s)):
+        rotation = None if rotations is None else rotations[k]
+        if k == 0:
+            target = positions[0] if rotation is None else pin.SE3(rotation, positions[0])
+            first = robot.ik(target, q_seed=seed, position_only=rotation is None)
+            guess = first.q if first.success else seed
+        else:
+            guess = q_prev + dqs[-1] * (s[k] - s[k - 1])
+        q, ok, *_ = tracker.solve(guess, positions[k], rotation)
+        if not ok:
+            events.append(tracker.diagnose(k, 0.0, s[k], guess, q_prev, positions[k], rotation))
+            break
+        J = tracker.jacobian()
+        _, event = tracker.singular_event(k, 0.0, s[k], J, positions[k])
+        dq = None
+        if event is None:
+            dq = _least_squares(J, dx[k])
+            h = s[k] - s[k - 1] if k else 0.0
+            rate_prev = dqs[-1] if dqs else None
+            event = tracker.jump_event(k, 0.0, s[k], q, q_prev, dq, rate_prev, h, positions[k])
+        if event is not None:
+            events.append(event)
+            break
+        qs.append(q)
+        dqs.append(dq)
+        q_prev = q
+    nq = robot.nq
+    return Geometry(np.array(qs).reshape(-1, nq), np.array(dqs).reshape(-1, nq), events)

@@ -1,0 +1,458 @@
+"""Tool paths in Cartesian space, parametrised by the path-length fraction s ∈ [0, 1].
+
+Every path gives, vectorised over an array of s:
+
+* ``position(s)`` (N, 3) [m] and its derivatives ``position_derivatives(s)`` (dp/ds, d²p/ds²);
+* ``rotation(s)`` (N, 3, 3) and ``angular_rates(s)`` (ω_s = dω/dṡ and its derivative, world frame)
+  when the path carries an orientation; a path built from 3-vectors is position-only.
+
+s is proportional to arc length (s = u / length), so a constant ṡ is a constant tool speed.
+Orientation moves by geodesic interpolation (slerp) from the start to the end rotation.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import numpy as np
+import pinocchio as pin
+
+from kinplan.errors import InputError
+
+_FD_STEP = 1e-5  # [-] step in s for the finite-difference fallbacks
+
+
+def _as_point(value, what: str) -> tuple[np.ndarray, np.ndarray | None]:
+    """(position, rotation or None) from an SE3, a 4×4 matrix or a 3-vector."""
+    if isinstance(value, pin.SE3):
+        position, rotation = np.array(value.translation), np.array(value.rotation)
+    else:
+        arr = np.asarray(value, dtype=float)
+        if arr.shape == (3,):
+            position, rotation = arr.copy(), None
+        elif arr.shape == (4, 4):
+            position, rotation = arr[:3, 3].copy(), arr[:3, :3].copy()
+        else:
+            raise InputError(
+                f"{what} must be a pinocchio.SE3, a 4×4 pose or a position 3-vector [m]; "
+                f"got shape {arr.shape}"
+            )
+    if not np.all(np.isfinite(position)) or (
+        rotation is not None and not np.all(np.isfinite(rotation))
+    ):
+        raise InputError(f"{what} must be finite, got {position}")
+    return position, rotation
+
+
+def _points(values: Sequence, names: Sequence[str]) -> tuple[list[np.ndarray], list | None]:
+    """Positions and rotations of several path points; all poses or all positions."""
+    parsed = [_as_point(v, n) for v, n in zip(values, names)]
+    rotations = [r for _, r in parsed]
+    if all(r is None for r in rotations):
+        return [p for p, _ in parsed], None
+    if any(r is None for r in rotations):
+        raise InputError(
+            f"give {', '.join(names)} either all as poses (SE3) or all as positions (3-vectors); "
+            "a path is position-only or fully oriented"
+        )
+    return [p for p, _ in parsed], rotations
+
+
+def _as_s(s) -> np.ndarray:
+    arr = np.atleast_1d(np.asarray(s, dtype=float))
+    if arr.ndim != 1:
+        raise InputError(
+            f"s must be a number or a 1-D array of path fractions, got shape {arr.shape}"
+        )
+    return arr
+
+
+def _rodrigues(vectors: np.ndarray) -> np.ndarray:
+    """Rotation matrices exp([v]×) for rotation vectors of shape (N, 3)."""
+    theta = np.linalg.norm(vectors, axis=1)
+    small = theta < 1e-12
+    safe = np.where(small, 1.0, theta)
+    k = vectors / safe[:, None]
+    K = np.zeros((len(vectors), 3, 3))
+    K[:, 0, 1], K[:, 0, 2] = -k[:, 2], k[:, 1]
+    K[:, 1, 0], K[:, 1, 2] = k[:, 2], -k[:, 0]
+    K[:, 2, 0], K[:, 2, 1] = -k[:, 1], k[:, 0]
+    sin = np.where(small, 0.0, np.sin(theta))[:, None, None]
+    cos = np.where(small, 0.0, 1.0 - np.cos(theta))[:, None, None]
+    return np.eye(3) + sin * K + cos * (K @ K)
+
+
+class Slerp:
+    """Geodesic interpolation R(s) = R0 exp(s v), v = log(R0ᵀ R1); ω = R0 v ṡ in the world."""
+
+    def __init__(self, start: np.ndarray, end: np.ndarray):
+        self.start = np.array(start, dtype=float)
+        self.end = np.array(end, dtype=float)
+        self.local_axis = pin.log3(self.start.T @ self.end)
+        self.world_rate = self.start @ self.local_axis  # [rad per unit s], constant
+
+    @property
+    def angle(self) -> float:
+        """Rotation angle from start to end [rad]."""
+        return float(np.linalg.norm(self.local_axis))
+
+    def __call__(self, s: np.ndarray) -> np.ndarray:
+        return self.start @ _rodrigues(np.outer(s, self.local_axis))
+
+    def rates(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        n = len(s)
+        return np.tile(self.world_rate, (n, 1)), np.zeros((n, 3))
+
+
+class Path:
+    """Base class of tool paths: s ∈ [0, 1] is the fraction of the path length.
+
+    Attributes:
+        length: Path length [m].
+        has_orientation: Whether the path prescribes the tool rotation.
+    """
+
+    length: float = 0.0
+    has_orientation: bool = False
+    _fd_step: float = _FD_STEP  # [-] finite-difference step in s
+
+    # -- to implement -------------------------------------------------------------------
+    def position(self, s) -> np.ndarray:
+        """Tool positions (N, 3) [m] in the world frame at path fractions ``s``."""
+        raise NotImplementedError
+
+    def _rotation(self, s: np.ndarray) -> np.ndarray:
+        raise NotImplementedError
+
+    # -- shared -------------------------------------------------------------------------
+    def rotation(self, s) -> np.ndarray | None:
+        """Tool rotations (N, 3, 3) in the world frame, or None for a position-only path."""
+        if not self.has_orientation:
+            return None
+        return self._rotation(np.clip(_as_s(s), 0.0, 1.0))
+
+    def position_derivatives(self, s) -> tuple[np.ndarray, np.ndarray]:
+        """(dp/ds, d²p/ds²), each (N, 3) [m]; central finite differences unless overridden."""
+        s = _as_s(s)
+        h = self._fd_step
+        lo, hi = np.clip(s - h, 0, 1), np.clip(s + h, 0, 1)
+        mid = 0.5 * (lo + hi)
+        p_lo, p_mid, p_hi = self.position(lo), self.position(mid), self.position(hi)
+        width = (hi - lo)[:, None]
+        first = (p_hi - p_lo) / width
+        second = 4.0 * (p_hi - 2.0 * p_mid + p_lo) / width**2
+        return first, second
+
+    def angular_rates(self, s) -> tuple[np.ndarray, np.ndarray]:
+        """(ω_s, dω_s/ds), each (N, 3) in the world frame: ω = ω_s ṡ [rad/s]."""
+        s = _as_s(s)
+        if not self.has_orientation:
+            zeros = np.zeros((len(s), 3))
+            return zeros, zeros
+        h = self._fd_step
+        lo, hi = np.clip(s - h, 0, 1), np.clip(s + h, 0, 1)
+        mid = 0.5 * (lo + hi)
+        r_lo, r_mid, r_hi = self._rotation(lo), self._rotation(mid), self._rotation(hi)
+        width = hi - lo
+        w_lo = np.array([pin.log3(b @ a.T) for a, b in zip(r_lo, r_mid)]) / (0.5 * width)[:, None]
+        w_hi = np.array([pin.log3(b @ a.T) for a, b in zip(r_mid, r_hi)]) / (0.5 * width)[:, None]
+        return 0.5 * (w_lo + w_hi), (w_hi - w_lo) / (0.5 * width)[:, None]
+
+    def pose(self, s: float) -> pin.SE3:
+        """Tool pose at path fraction ``s`` (identity rotation for a position-only path)."""
+        position = self.position(np.array([s]))[0]
+        rotation = self.rotation(np.array([s]))
+        return pin.SE3(np.eye(3) if rotation is None else rotation[0], position)
+
+    @property
+    def start(self) -> pin.SE3:
+        return self.pose(0.0)
+
+    @property
+    def end(self) -> pin.SE3:
+        return self.pose(1.0)
+
+    def then(self, other: Path) -> PathSequence:
+        """This path followed by ``other`` (which must start where this one ends)."""
+        return PathSequence([self, other])
+
+
+class Line(Path):
+    """Straight line from ``start`` to ``end`` (SE3 poses or 3-vectors [m]).
+
+    Orientation (for poses) moves by slerp from the start to the end rotation.
+    """
+
+    def __init__(self, start, end):
+        (self.a, self.b), rotations = _points([start, end], ["start", "end"])
+        self.delta = self.b - self.a
+        self.length = float(np.linalg.norm(self.delta))
+        self.has_orientation = rotations is not None
+        self.slerp = Slerp(*rotations) if rotations else None
+        if self.length == 0.0 and (self.slerp is None or self.slerp.angle == 0.0):
+            raise InputError("a Line needs two different points (or rotations); start == end")
+
+    def __repr__(self) -> str:
+        return f"Line({self.a.round(4).tolist()} → {self.b.round(4).tolist()}, {self.length:.4g} m)"
+
+    def position(self, s) -> np.ndarray:
+        s = np.clip(_as_s(s), 0.0, 1.0)
+        return self.a + s[:, None] * self.delta
+
+    def position_derivatives(self, s):
+        n = len(_as_s(s))
+        return np.tile(self.delta, (n, 1)), np.zeros((n, 3))
+
+    def _rotation(self, s):
+        return self.slerp(s)
+
+    def angular_rates(self, s):
+        if self.slerp is None:
+            return super().angular_rates(s)
+        return self.slerp.rates(_as_s(s))
+
+
+class CircularArc(Path):
+    """Arc of a circle: p(s) = c + r (cos(θs) e1 + sin(θs) e2), θ the swept angle [rad].
+
+    Args:
+        center: Circle centre [m].
+        radius: Radius [m] (> 0).
+        e1: Unit vector from the centre to the start point.
+        e2: Unit vector in the circle's plane, 90° ahead of e1 in the direction of travel.
+        sweep: Swept angle θ [rad] (> 0; 2π for a full circle).
+        rotations: (start, end) tool rotations for slerp, or None for position only.
+    """
+
+    def __init__(self, center, radius, e1, e2, sweep, rotations=None):
+        self.center = np.asarray(center, dtype=float)
+        self.radius = float(radius)
+        self.e1, self.e2 = np.asarray(e1, dtype=float), np.asarray(e2, dtype=float)
+        self.sweep = float(sweep)
+        if self.radius <= 0 or self.sweep <= 0:
+            raise InputError(f"an arc needs radius > 0 and sweep > 0, got {radius}, {sweep}")
+        self.length = self.radius * self.sweep
+        self.has_orientation = rotations is not None
+        self.slerp = Slerp(*rotations) if rotations is not None else None
+
+    def __repr__(self) -> str:
+        return (
+            f"{type(self).__name__}(centre {self.center.round(4).tolist()}, r {self.radius:.4g} m, "
+            f"{np.degrees(self.sweep):.1f}°)"
+        )
+
+    def position(self, s) -> np.ndarray:
+        phi = self.sweep * np.clip(_as_s(s), 0.0, 1.0)
+        return self.center + self.radius * (
+            np.cos(phi)[:, None] * self.e1 + np.sin(phi)[:, None] * self.e2
+        )
+
+    def position_derivatives(self, s):
+        phi = self.sweep * np.clip(_as_s(s), 0.0, 1.0)
+        cos, sin = np.cos(phi)[:, None], np.sin(phi)[:, None]
+        k = self.radius * self.sweep
+        first = k * (-sin * self.e1 + cos * self.e2)
+        second = -k * self.sweep * (cos * self.e1 + sin * self.e2)
+        return first, second
+
+    def _rotation(self, s):
+        return self.slerp(s)
+
+    def angular_rates(self, s):
+        if self.slerp is None:
+            return super().angular_rates(s)
+        return self.slerp.rates(_as_s(s))
+
+
+class Arc(CircularArc):
+    """Arc of the circle through ``start``, ``via`` and ``end``, from start through via to end.
+
+    The points are SE3 poses or 3-vectors [m]; with poses the tool rotation moves by slerp from
+    the start to the end rotation (the via point's rotation is not used).
+
+    Raises:
+        InputError: the three points are (nearly) collinear or coincide.
+    """
+
+    def __init__(self, start, via, end):
+        (a, b, c), rotations = _points([start, via, end], ["start", "via", "end"])
+        ab, ac = b - a, c - a
+        normal = np.cross(ab, ac)
+        scale = max(np.linalg.norm(ab), np.linalg.norm(ac), 1e-300)
+        if np.linalg.norm(normal) <= 1e-9 * scale**2:
+            raise InputError(
+                "Arc: start, via and end are collinear (or coincide), so no circle passes through "
+                "them; use a Line, or move the via point off the line"
+            )
+        # Circumcentre of the triangle (a, b, c).
+        u, v = a - c, b - c
+        w = np.cross(u, v)
+        center = c + np.cross(u @ u * v - v @ v * u, w) / (2.0 * (w @ w))
+        radius = float(np.linalg.norm(a - center))
+        n = normal / np.linalg.norm(normal)
+        e1 = (a - center) / radius
+        e2 = np.cross(n, e1)
+        rel = c - center
+        sweep = float(np.arctan2(rel @ e2, rel @ e1)) % (2.0 * np.pi)
+        super().__init__(center, radius, e1, e2, sweep, rotations)
+        self.via = b
+
+
+def Circle(
+    center, radius: float, normal=(0.0, 0.0, 1.0), start_direction=(1.0, 0.0, 0.0), rotation=None
+):
+    """Full circle (one turn, counter-clockwise about ``normal``) starting at
+    ``center + radius * start_direction``; ``rotation`` (3×3) holds the tool rotation constant,
+    None for position only."""
+    n = np.asarray(normal, dtype=float)
+    n = n / np.linalg.norm(n)
+    d = np.asarray(start_direction, dtype=float)
+    d = d - (d @ n) * n
+    if np.linalg.norm(d) < 1e-12:
+        raise InputError("Circle: start_direction must not be parallel to the normal")
+    e1 = d / np.linalg.norm(d)
+    rotations = None if rotation is None else (np.asarray(rotation), np.asarray(rotation))
+    return CircularArc(center, radius, e1, np.cross(n, e1), 2.0 * np.pi, rotations)
+
+
+class PathSequence(Path):
+    """Paths joined end to start (a polyline, lines and arcs of a seam), s over the total length.
+
+    Raises:
+        InputError: a path does not start where the previous one ends (1e-6 m, 1e-6 rad), some
+            paths are oriented and others not, or a piece has zero length.
+    """
+
+    def __init__(self, paths: Sequence[Path]):
+        pieces: list[Path] = []
+        for path in paths:
+            pieces.extend(path.paths if isinstance(path, PathSequence) else [path])
+        if not pieces:
+            raise InputError("a path sequence needs at least one path")
+        oriented = {p.has_orientation for p in pieces}
+        if len(oriented) != 1:
+            raise InputError("a path sequence cannot mix oriented and position-only paths")
+        for k, (prev, nxt) in enumerate(zip(pieces, pieces[1:]), start=1):
+            if prev.length <= 0 or nxt.length <= 0:
+                raise InputError(f"piece {k} of the sequence has zero length")
+            gap = np.linalg.norm(prev.end.translation - nxt.start.translation)
+            turn = np.linalg.norm(pin.log3(prev.end.rotation.T @ nxt.start.rotation))
+            if gap > 1e-6 or (nxt.has_orientation and turn > 1e-6):
+                raise InputError(
+                    f"piece {k + 1} of the sequence starts {gap:.3g} m / {turn:.3g} rad away from "
+                    f"where piece {k} ends; paths of a sequence must be continuous"
+                )
+        self.paths = pieces
+        self.has_orientation = oriented.pop()
+        lengths = np.array([p.length for p in pieces])
+        self.length = float(lengths.sum())
+        self.breaks = np.concatenate(([0.0], np.cumsum(lengths) / self.length))
+        self.breaks[-1] = 1.0
+
+    def __repr__(self) -> str:
+        return f"PathSequence({len(self.paths)} pieces, {self.length:.4g} m)"
+
+    def _split(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        s = np.clip(_as_s(s), 0.0, 1.0)
+        index = np.clip(np.searchsorted(self.breaks, s, side="right") - 1, 0, len(self.paths) - 1)
+        width = self.breaks[index + 1] - self.breaks[index]
+        return index, (s - self.breaks[index]) / width
+
+    def _gather(self, s, method: str, chain: int):
+        index, local = self._split(s)
+        outputs = None
+        for k in np.unique(index):
+            mask = index == k
+            parts = getattr(self.paths[k], method)(local[mask])
+            parts = parts if isinstance(parts, tuple) else (parts,)
+            if outputs is None:
+                outputs = [np.empty((len(index),) + p.shape[1:]) for p in parts]
+            width = self.breaks[k + 1] - self.breaks[k]
+            for order, (out, part) in enumerate(zip(outputs, parts)):
+                out[mask] = part / width ** (chain * (order + 1)) if chain else part
+        return outputs
+
+    def position(self, s):
+        return self._gather(s, "position", 0)[0]
+
+    def position_derivatives(self, s):
+        first, second = self._gather(s, "position_derivatives", 1)
+        return first, second
+
+    def _rotation(self, s):
+        return self._gather(s, "rotation", 0)[0]
+
+    def angular_rates(self, s):
+        if not self.has_orientation:
+            return super().angular_rates(s)
+        first, second = self._gather(s, "angular_rates", 1)
+        return first, second
+
+
+def Polyline(points: Sequence) -> PathSequence:
+    """Straight lines through ``points`` (poses or 3-vectors), joined at sharp corners."""
+    if len(points) < 2:
+        raise InputError("a polyline needs at least two points")
+    return PathSequence([Line(a, b) for a, b in zip(points, points[1:])])
+
+
+class FunctionPath(Path):
+    """Any continuous curve p(u), u ∈ [0, 1], re-parametrised by arc length.
+
+    Args:
+        function: p(u) [m]; called with an array of u (returning (N, 3)) when it accepts one,
+            otherwise once per u (returning (3,)).
+        orientation: None (position only), a constant rotation (3×3 or SE3), or a function
+            s ↦ 3×3 rotation of the path fraction s.
+        samples: Points of the arc-length table (the re-parametrisation's resolution).
+    """
+
+    def __init__(
+        self,
+        function: Callable,
+        orientation=None,
+        samples: int = 4001,
+    ):
+        self.function = function
+        u = np.linspace(0.0, 1.0, samples)
+        points = self._evaluate(u)
+        chords = np.linalg.norm(np.diff(points, axis=0), axis=1)
+        cumulative = np.concatenate(([0.0], np.cumsum(chords)))
+        self.length = float(cumulative[-1])
+        if self.length <= 0:
+            raise InputError("FunctionPath: the curve has zero length")
+        self._u_table, self._s_table = u, cumulative / self.length
+        # Differences over several table intervals: the table's u(s) is piecewise linear.
+        self._fd_step = 4.0 / samples
+        if orientation is None:
+            self.has_orientation = False
+            self._orientation = None
+        elif callable(orientation):
+            self.has_orientation = True
+            self._orientation = orientation
+        else:
+            fixed = np.array(
+                orientation.rotation if isinstance(orientation, pin.SE3) else orientation
+            )
+            self.has_orientation = True
+            self._orientation = lambda s: fixed
+
+    def _evaluate(self, u: np.ndarray) -> np.ndarray:
+        try:
+            out = np.asarray(self.function(u), dtype=float)
+            if out.shape == (len(u), 3):
+                values = out
+            else:
+                raise ValueError
+        except (TypeError, ValueError):
+            values = np.array([np.asarray(self.function(x), dtype=float) for x in u])
+        if values.shape != (len(u), 3) or not np.all(np.isfinite(values)):
+            raise InputError("FunctionPath: the function must return finite 3-vectors [m]")
+        return values
+
+    def position(self, s):
+        s = np.clip(_as_s(s), 0.0, 1.0)
+        return self._evaluate(np.interp(s, self._s_table, self._u_table))
+
+    def _rotation(self, s):
+        return np.array([self._orientation(x) for x in s], dtype=float).reshape(len(s), 3, 3)

@@ -1,0 +1,76 @@
+"""Retiming a path so every joint stays within its speed limit (near singularities).
+
+The geometric pass gives dq/ds along the path; each joint's speed limit caps the path speed at
+ṡ ≤ v_j / |dq_j/ds|. A forward and a backward pass with the nominal law's largest path
+acceleration turn the nominal speed, capped by those limits, into a feasible speed profile
+ṡ(s). Between grid points the path acceleration is constant, so the new law is a chain of
+quadratic segments: a :class:`kinplan.trajectory.Trajectory`, sampled by the same evaluator as
+every other profile. The path itself is unchanged; only its timing is slower where needed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cartesian.timing import PathTiming
+from kinplan import trajectory
+
+#: Share of the joint speed limits the retimed motion aims for (the rest absorbs sampling).
+SPEED_MARGIN = 0.98
+#: Spacing of the geometric grid along the path [m], and its bounds on the number of points.
+GRID_SPACING = 0.0005
+GRID_POINTS = (201, 20001)
+
+
+def retime_for_speed_limits(tracker, path, timing: PathTiming, seed: np.ndarray, dt: float):
+    """A slower time law for ``path`` within the joint speed limits, or ``timing`` unchanged.
+
+    ``timing`` is returned as is when it already respects the limits, or when the geometric
+    pass fails (the follower then reports that failure).
+    """
+    from cartesian.follow import trace_geometry
+
+    count = int(np.clip(np.ceil(path.length / GRID_SPACING) + 1, *GRID_POINTS))
+    s = np.linspace(0.0, 1.0, count)
+    geometry = trace_geometry(tracker, path, s, seed)
+    if geometry.events:
+        return timing
+    rates = np.abs(geometry.dq_ds)
+    with np.errstate(divide="ignore"):
+        cap = np.min(SPEED_MARGIN * tracker.speed_limit / rates, axis=1)
+    nominal = np.interp(s, timing.s, timing.sd)
+    if np.all(nominal <= cap / SPEED_MARGIN):
+        return timing
+    top = float(timing.sd.max())
+    accel = float(np.abs(timing.sdd).max())
+    speed = _feasible_speeds(np.minimum(cap, top), np.diff(s), accel)
+    law = _law_from_speeds(s, speed)
+    t = trajectory.time_grid(law.duration, dt)
+    pos, vel, acc = law.sample(t)
+    s_t = np.clip(pos[:, 0], 0.0, 1.0)
+    s_t[-1] = 1.0
+    return PathTiming(t, s_t, vel[:, 0], acc[:, 0], float(law.duration), law)
+
+
+def _feasible_speeds(cap: np.ndarray, ds: np.ndarray, accel: float) -> np.ndarray:
+    """Largest ṡ(s) ≤ cap, at rest at both ends, with |s̈| ≤ accel (forward/backward passes)."""
+    speed = cap.copy()
+    speed[0] = speed[-1] = 0.0
+    for i in range(len(ds)):
+        speed[i + 1] = min(speed[i + 1], np.sqrt(speed[i] ** 2 + 2.0 * accel * ds[i]))
+    for i in range(len(ds) - 1, -1, -1):
+        speed[i] = min(speed[i], np.sqrt(speed[i + 1] ** 2 + 2.0 * accel * ds[i]))
+    return speed
+
+
+def _law_from_speeds(s: np.ndarray, speed: np.ndarray) -> trajectory.Trajectory:
+    """Constant-acceleration segments between grid points with the given speeds ṡ."""
+    ds = np.diff(s)
+    durations = 2.0 * ds / (speed[:-1] + speed[1:])
+    accel = (speed[1:] - speed[:-1]) / durations
+    knots = np.concatenate(([0.0], np.cumsum(durations)))
+    segments = [
+        trajectory.Segment(knots[i], knots[i + 1], np.array([[s[i], speed[i], 0.5 * accel[i]]]))
+        for i in range(len(ds))
+    ]
+    return trajectory.Trajectory(segments, end=[1.0], end_velocity=[0.0], end_acceleration=[0.0])

@@ -1,0 +1,111 @@
+"""Time scaling of a Cartesian path: the tool's progress along it as a function of time.
+
+The 1-D profiles are those of :mod:`kinplan.trajectory` (one implementation serves joint and
+Cartesian planning): the arc length u(t) ∈ [0, L] [m] follows a trapezoid (cruise at the tool
+speed), a quintic or a cubic, given a duration or a tool speed. The path fraction is s = u / L.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from kinplan import trajectory
+from kinplan.errors import InputError
+
+PROFILES = ("trapezoid", "quintic", "cubic")
+#: Peak speed of a rest-to-rest profile over distance L in time T, as a multiple of L / T.
+_PEAK_SPEED_FACTOR = {"quintic": 15.0 / 8.0, "cubic": 1.5}
+#: Default time to reach the cruise speed when only a tool speed is given [s].
+DEFAULT_RAMP_TIME = 0.25
+
+
+@dataclass
+class PathTiming:
+    """Samples of a time law s(t) along a path.
+
+    Attributes:
+        t: Sample times [s], 0, dt, ..., duration (the last exactly at the end).
+        s: Path fractions [-].
+        sd: ds/dt [1/s].
+        sdd: d²s/dt² [1/s²].
+        duration: Motion duration [s].
+        law: The 1-D trajectory u(t) [m] (or s(t) for a zero-length path).
+    """
+
+    t: np.ndarray
+    s: np.ndarray
+    sd: np.ndarray
+    sdd: np.ndarray
+    duration: float
+    law: trajectory.Trajectory
+
+
+def path_law(
+    length: float,
+    duration: float | None = None,
+    speed: float | None = None,
+    acceleration: float | None = None,
+    profile: str = "trapezoid",
+) -> tuple[trajectory.Trajectory, float]:
+    """The 1-D law of the path parameter and the scale from it to s.
+
+    Args:
+        length: Path length L [m] (0 for a pure re-orientation: then s itself is planned).
+        duration: Motion duration [s]; or
+        speed: Tool cruise speed [m/s] (the peak speed for quintic/cubic).
+        acceleration: Tool acceleration [m/s²] of the trapezoid; default speed / 0.25 s.
+        profile: "trapezoid", "quintic" or "cubic".
+
+    Returns:
+        (law, scale): the profile in metres (or in s for zero length) and 1 / L (or 1).
+    """
+    if profile not in PROFILES:
+        raise InputError(f"unknown profile {profile!r}; choose one of {', '.join(PROFILES)}")
+    if (duration is None) == (speed is None):
+        raise InputError("give exactly one of duration [s] or speed [m/s] for a Cartesian motion")
+    for name, value in (("duration", duration), ("speed", speed), ("acceleration", acceleration)):
+        if value is not None and not (np.isfinite(value) and value > 0):
+            raise InputError(f"{name} must be a finite number > 0, got {value!r}")
+    distance, scale = (length, 1.0 / length) if length > 0 else (1.0, 1.0)
+    if speed is not None:
+        if length <= 0:
+            raise InputError("a tool speed needs a path of non-zero length; give a duration")
+        if profile == "trapezoid":
+            accel = acceleration if acceleration is not None else speed / DEFAULT_RAMP_TIME
+            law = trajectory.trapezoid(0.0, distance, max_velocity=speed, max_acceleration=accel)
+            return law, scale
+        duration = _PEAK_SPEED_FACTOR[profile] * distance / speed
+    if profile == "trapezoid":
+        if acceleration is not None:
+            law = trajectory.trapezoid(0.0, distance, duration=duration, acceleration=acceleration)
+        else:
+            law = trajectory.trapezoid(0.0, distance, duration=duration)
+    elif profile == "quintic":
+        law = trajectory.quintic(0.0, distance, duration)
+    else:
+        law = trajectory.cubic(0.0, distance, duration)
+    return law, scale
+
+
+def time_path(
+    length: float,
+    duration: float | None = None,
+    speed: float | None = None,
+    acceleration: float | None = None,
+    profile: str = "trapezoid",
+    dt: float = 0.01,
+) -> PathTiming:
+    """Sample the time law of a path of the given length every ``dt`` seconds.
+
+    See :func:`path_law` for the arguments; ``dt`` [s] is the sampling period.
+    """
+    if not (np.isfinite(dt) and dt > 0):
+        raise InputError(f"dt must be a finite number of seconds > 0, got {dt!r}")
+    law, scale = path_law(length, duration, speed, acceleration, profile)
+    t = trajectory.time_grid(law.duration, dt)
+    u, ud, udd = law.sample(t)
+    s = np.clip(u[:, 0] * scale, 0.0, 1.0)
+    s[-1] = 1.0
+    return PathTiming(t, s, ud[:, 0] * scale, udd[:, 0] * scale, float(law.duration), law)
