@@ -23,7 +23,7 @@ from kinplan.robot import Robot, manipulability_of
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 KINDS = ("unreachable", "joint_limit", "jump", "singular", "velocity_limit")
 #: Default singularity threshold, as a share of the arm's median manipulability.
-SINGULAR_FRACTION = 0.05
+SINGULAR_FRACTION = 0.01
 
 
 @dataclass
@@ -130,6 +130,10 @@ class Reachability:
     events: list[Event]
     s: np.ndarray
     q: np.ndarray
+
+    def __repr__(self) -> str:
+        text = f"Reachability({self.status}, fraction {self.fraction:.3f}, {len(self.s)} points"
+        return text + (f": {self.events[0].message})" if self.events else ")")
 
 
 # ------------------------------------------------------------------------------------------
@@ -331,7 +335,7 @@ def follow(
         position_only: Ignore the tool orientation; default: when the arm has fewer than 6
             joints or the path was built from 3-vectors.
         acceleration: Tool acceleration of the trapezoid [m/s²] (default: cruise in 0.25 s).
-        singular_threshold: Manipulability under which a sample is singular; default 5 % of
+        singular_threshold: Manipulability under which a sample is singular; default 1 % of
             the arm's median manipulability over its joint space.
         velocity_scale: Fraction of the robot's joint speed limits allowed.
         jump_tolerance: Largest joint step [rad] beyond what the joint velocities explain.
@@ -489,9 +493,9 @@ def check_reachability(
     return Reachability(
         ok=not geometry.events,
         status=geometry.events[0].kind if geometry.events else "ok",
-        fraction=1.0 if not geometry.events else (float(s[done - 1]) if done else 0.0),
+        fraction=1.0 if not geometry.events else (float(geometry.s[-1]) if done else 0.0),
         events=geometry.events,
-        s=s[:done],
+        s=geometry.s,
         q=geometry.q,
     )
 
@@ -522,53 +526,80 @@ def _planar_check(robot: Robot, path: Path, s: np.ndarray, reach) -> Reachabilit
 
 @dataclass
 class Geometry:
-    """Joint solutions along path fractions, up to the first event (used for retiming)."""
+    """Joint solutions along the path up to the first event (for checks and retiming).
 
+    Attributes:
+        s: Path fractions solved (the requested ones plus refinements).
+        q: Joint positions there, shape (len(s), nq).
+        dq_ds: Geometric joint rates dq/ds there.
+        events: The first event, if any.
+    """
+
+    s: np.ndarray
     q: np.ndarray
     dq_ds: np.ndarray
     events: list[Event]
 
 
+#: Largest joint step [rad] between checked points before the interval is bisected.
+MAX_JOINT_STEP = 0.1
+#: Smallest interval in s that is still bisected.
+MIN_REFINE_DS = 1e-7
+
+
 def trace_geometry(tracker: _Tracker, path: Path, s: np.ndarray, seed: np.ndarray) -> Geometry:
     """Warm-started IK at path fractions ``s`` with joint-limit/jump/singularity checks.
 
-    Also returns dq/ds = J⁺ dx/ds at every solved point.
+    Where a joint moves more than :data:`MAX_JOINT_STEP` between two points the interval is
+    bisected, so a singularity or a branch flip between grid points is not stepped over. Also
+    returns dq/ds = J⁺ dx/ds at every solved point.
     """
     robot = tracker.robot
-    positions, rotations = _targets(path, s, tracker.position_only)
-    dp, _ = path.position_derivatives(s)
-    dx = np.zeros((len(s), 6))
-    dx[:, :3] = dp
-    if not tracker.position_only:
-        dx[:, 3:] = path.angular_rates(s)[0]
-    dx = dx[:, tracker.rows]
+    pending = list(s[::-1])  # a stack: the next point to check is at the end
+    solved_s: list[float] = []
     qs, dqs, events = [], [], []
     q_prev = None
-    for k in range(len(s)):
-        rotation = None if rotations is None else rotations[k]
-        if k == 0:
-            target = positions[0] if rotation is None else pin.SE3(rotation, positions[0])
+    while pending:
+        sk = pending[-1]
+        k = len(qs)
+        point = np.array([sk])
+        position = path.position(point)[0]
+        rotation = None if tracker.position_only else path.rotation(point)[0]
+        if q_prev is None:
+            target = position if rotation is None else pin.SE3(rotation, position)
             first = robot.ik(target, q_seed=seed, position_only=rotation is None)
             guess = first.q if first.success else seed
         else:
-            guess = q_prev + dqs[-1] * (s[k] - s[k - 1])
-        q, ok, *_ = tracker.solve(guess, positions[k], rotation)
+            guess = q_prev + dqs[-1] * (sk - solved_s[-1])
+        q, ok, *_ = tracker.solve(guess, position, rotation)
+        if q_prev is not None and sk - solved_s[-1] > MIN_REFINE_DS:
+            if not ok or np.max(np.abs(q - q_prev)) > MAX_JOINT_STEP:
+                pending.append(0.5 * (sk + solved_s[-1]))
+                continue
         if not ok:
-            events.append(tracker.diagnose(k, 0.0, s[k], guess, q_prev, positions[k], rotation))
+            events.append(tracker.diagnose(k, 0.0, sk, guess, q_prev, position, rotation))
             break
         J = tracker.jacobian()
-        _, event = tracker.singular_event(k, 0.0, s[k], J, positions[k])
+        _, event = tracker.singular_event(k, 0.0, sk, J, position)
         dq = None
         if event is None:
-            dq = _least_squares(J, dx[k])
-            h = s[k] - s[k - 1] if k else 0.0
+            dx = np.zeros(6)
+            dx[:3] = path.position_derivatives(point)[0][0]
+            if rotation is not None:
+                dx[3:] = path.angular_rates(point)[0][0]
+            dq = _least_squares(J, dx[tracker.rows])
+            h = sk - solved_s[-1] if solved_s else 0.0
             rate_prev = dqs[-1] if dqs else None
-            event = tracker.jump_event(k, 0.0, s[k], q, q_prev, dq, rate_prev, h, positions[k])
+            event = tracker.jump_event(k, 0.0, sk, q, q_prev, dq, rate_prev, h, position)
         if event is not None:
             events.append(event)
             break
+        pending.pop()
+        solved_s.append(sk)
         qs.append(q)
         dqs.append(dq)
         q_prev = q
     nq = robot.nq
-    return Geometry(np.array(qs).reshape(-1, nq), np.array(dqs).reshape(-1, nq), events)
+    return Geometry(
+        np.array(solved_s), np.array(qs).reshape(-1, nq), np.array(dqs).reshape(-1, nq), events
+    )

@@ -294,7 +294,8 @@ class Arc(CircularArc):
         e2 = np.cross(n, e1)
         rel = c - center
         sweep = float(np.arctan2(rel @ e2, rel @ e1)) % (2.0 * np.pi)
-        super().__init__(center, radius, e1, e2, sweep, rotations)
+        ends = None if rotations is None else (rotations[0], rotations[-1])
+        super().__init__(center, radius, e1, e2, sweep, ends)
         self.via = b
 
 

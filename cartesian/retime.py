@@ -35,6 +35,7 @@ def retime_for_speed_limits(tracker, path, timing: PathTiming, seed: np.ndarray,
     geometry = trace_geometry(tracker, path, s, seed)
     if geometry.events:
         return timing
+    s = geometry.s
     rates = np.abs(geometry.dq_ds)
     with np.errstate(divide="ignore"):
         cap = np.min(SPEED_MARGIN * tracker.speed_limit / rates, axis=1)
