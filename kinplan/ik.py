@@ -20,6 +20,13 @@ import numpy as np
 import pinocchio as pin
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+#: Damping λ = DAMPING_GAIN·½‖e‖² + DAMPING_FLOOR of the normal equations (Sugihara-style).
+DAMPING_GAIN = 1e-3
+DAMPING_FLOOR = 1e-6
+#: Largest joint step of one iteration [rad or m].
+MAX_STEP = 1.0
+#: Iterations without a 0.1 % decrease of the error before an attempt is abandoned.
+STALL_ITERATIONS = 5
 _PRIMES = (2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61, 67, 71)
 
 
@@ -78,16 +85,17 @@ class IKSolver:
         self.upper = upper
         self.nq = model.nq
         self._eye = np.eye(model.nq)
+        self._no_lower = np.full(model.nq, -np.inf)
+        self._no_upper = np.full(model.nq, np.inf)
+        self._restarts: np.ndarray = np.empty((0, model.nq))
 
-    def errors(self, q: np.ndarray, position: np.ndarray, rotation: np.ndarray | None):
-        """Position error [m] and rotation error [rad] of configuration ``q``."""
-        pin.forwardKinematics(self.model, self.data, q)
-        pose = pin.updateFramePlacement(self.model, self.data, self.frame_id)
-        perr = float(np.linalg.norm(position - pose.translation))
-        rerr = (
-            0.0 if rotation is None else float(np.linalg.norm(pin.log3(rotation @ pose.rotation.T)))
-        )
-        return perr, rerr
+    def restart_configuration(self, attempt: int) -> np.ndarray:
+        """Start of restart ``attempt`` (≥ 1): a Halton point spread over the joint limits."""
+        if attempt > len(self._restarts):
+            count = max(2 * attempt, 64)
+            unit = np.array([halton(i, self.nq) for i in range(1, count + 1)])
+            self._restarts = self.lower + (self.upper - self.lower) * unit
+        return self._restarts[attempt - 1]
 
     def descend(
         self,
@@ -112,43 +120,51 @@ class IKSolver:
         """
         model, data, fid = self.model, self.data, self.frame_id
         eye = self._eye
-        lower, upper = (self.lower, self.upper) if clamp else (-np.inf, np.inf)
-        q = np.clip(q, lower, upper)
+        lower, upper = (self.lower, self.upper) if clamp else (self._no_lower, self._no_upper)
+        q = np.minimum(np.maximum(q, lower), upper)
+        rows = slice(0, 3) if rotation is None else slice(0, 6)
+        e = np.zeros(6)
         best_cost = np.inf
         stalled = 0
         perr = rerr = np.inf
-        for it in range(1, max_iterations + 1):
+        for it in range(max_iterations + 1):
             pin.computeJointJacobians(model, data, q)
             pose = pin.updateFramePlacement(model, data, fid)
-            ep = position - pose.translation
-            perr = float(np.sqrt(ep @ ep))
-            if rotation is None:
-                e = ep
-                rerr = 0.0
-                J = pin.getFrameJacobian(model, data, fid, _LWA).reshape(6, -1)[:3]
+            e[:3] = position - pose.translation
+            perr = float(np.sqrt(e[:3] @ e[:3]))
+            if rotation is not None:
+                e[3:] = pin.log3(rotation @ pose.rotation.T)
+                rerr = float(np.sqrt(e[3:] @ e[3:]))
             else:
-                er = pin.log3(rotation @ pose.rotation.T)
-                rerr = float(np.sqrt(er @ er))
-                e = np.concatenate((ep, er))
-                J = pin.getFrameJacobian(model, data, fid, _LWA).reshape(6, -1)
+                rerr = 0.0
             if perr <= position_tolerance and rerr <= rotation_tolerance:
-                return q, True, perr, rerr, it - 1
-            cost = 0.5 * float(e @ e)
+                return q, True, perr, rerr, it
+            if it == max_iterations:
+                break
+            cost = 0.5 * (perr * perr + rerr * rerr)
             if cost < 0.999 * best_cost:
                 best_cost, stalled = cost, 0
             else:
                 stalled += 1
-                if stalled >= 8:
+                if stalled >= STALL_ITERATIONS:
                     break
-            damping = cost + 1e-9
-            dq = eigenpy.LLT(J.T @ J + damping * eye).solve(J.T @ e)
-            step = float(np.max(np.abs(dq)))
-            if step > 0.8:
-                dq *= 0.8 / step
-            q = np.clip(q + dq, lower, upper)
-        perr, rerr = self.errors(q, position, rotation)
-        ok = perr <= position_tolerance and rerr <= rotation_tolerance
-        return q, ok, perr, rerr, it
+            J = pin.getFrameJacobian(model, data, fid, _LWA).reshape(6, -1)[rows]
+            A = J.T @ J
+            A += (DAMPING_GAIN * cost + DAMPING_FLOOR) * eye
+            g = J.T @ e[rows]
+            dq = eigenpy.LLT(A).solve(g)
+            # Joints at a limit that the step pushes outwards leave the step (active set).
+            blocked = ((q <= lower) & (dq < 0)) | ((q >= upper) & (dq > 0))
+            if blocked.any():
+                free = ~blocked
+                dq[blocked] = 0.0
+                if free.any():
+                    dq[free] = np.linalg.solve(A[np.ix_(free, free)], g[free])
+            step = np.max(np.abs(dq))
+            if step > MAX_STEP:
+                dq *= MAX_STEP / step
+            q = np.minimum(np.maximum(q + dq, lower), upper)
+        return q, False, perr, rerr, it
 
     def solve(
         self,
@@ -157,7 +173,7 @@ class IKSolver:
         q_seed: np.ndarray,
         position_tolerance: float = 1e-6,
         rotation_tolerance: float = 1e-6,
-        max_iterations: int = 60,
+        max_iterations: int = 40,
         max_restarts: int = 40,
     ) -> IKResult:
         """Solve from ``q_seed``, then from Halton restarts until one attempt converges.
@@ -173,9 +189,8 @@ class IKSolver:
         """
         best = None
         total = 0
-        span = self.upper - self.lower
         for attempt in range(max_restarts + 1):
-            start = q_seed if attempt == 0 else self.lower + span * halton(attempt, self.nq)
+            start = q_seed if attempt == 0 else self.restart_configuration(attempt)
             q, ok, perr, rerr, its = self.descend(
                 start, position, rotation, position_tolerance, rotation_tolerance, max_iterations
             )

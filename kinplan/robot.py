@@ -277,7 +277,7 @@ class Robot:
         *,
         position_tolerance: float = 1e-6,
         rotation_tolerance: float = 1e-6,
-        max_iterations: int = 60,
+        max_iterations: int = 40,
         max_restarts: int = 40,
     ) -> IKResult:
         """Joint configuration that puts the tool at ``target``.
