@@ -1,0 +1,467 @@
+"""Profile mathematics behind :mod:`kinplan.trajectory` (private).
+
+Every function works on all joints at once: a joint quantity is an array of shape (n,), a list of
+points has shape (m, n). Polynomial coefficients have shape (n, degree + 1), lowest power first,
+in the segment's local time τ = t − t0. Inputs are already validated by the caller; only the
+feasibility of the timing is checked here (:class:`~kinplan.errors.InfeasibleError`).
+
+Joints are numbered from 0 in messages, as in the arrays.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from kinplan.errors import InfeasibleError
+
+Pieces = tuple[np.ndarray, list[np.ndarray]]
+"""Knot times, shape (S + 1,) starting at 0 [s], and S coefficient arrays of shape (n, d + 1)."""
+
+RELATIVE_TOLERANCE = 1e-12
+"""Relative slack for feasibility tests and for merging knots, against rounding [-]."""
+
+
+# ----------------------------------------------------------------------------------------------
+# Polynomials fixed by boundary conditions
+# ----------------------------------------------------------------------------------------------
+
+
+def hermite_cubic(
+    q0: np.ndarray, q1: np.ndarray, v0: np.ndarray, v1: np.ndarray, h: float
+) -> np.ndarray:
+    """Cubic with given positions [rad] and velocities [rad/s] at τ = 0 and τ = h [s]."""
+    slope = (q1 - q0) / h
+    a2 = (3.0 * slope - 2.0 * v0 - v1) / h
+    a3 = (v0 + v1 - 2.0 * slope) / h**2
+    return np.stack([q0, v0, a2, a3], axis=1)
+
+
+def quintic_coefficients(
+    q0: np.ndarray,
+    q1: np.ndarray,
+    v0: np.ndarray,
+    v1: np.ndarray,
+    a0: np.ndarray,
+    a1: np.ndarray,
+    h: float,
+) -> np.ndarray:
+    """Quintic with given position, velocity and acceleration at τ = 0 and τ = h [s]."""
+    d = q1 - q0
+    c3 = (20.0 * d - (8.0 * v1 + 12.0 * v0) * h - (3.0 * a0 - a1) * h**2) / (2.0 * h**3)
+    c4 = (-30.0 * d + (14.0 * v1 + 16.0 * v0) * h + (3.0 * a0 - 2.0 * a1) * h**2) / (2.0 * h**4)
+    c5 = (12.0 * d - 6.0 * (v1 + v0) * h + (a1 - a0) * h**2) / (2.0 * h**5)
+    return np.stack([q0, v0, 0.5 * a0, c3, c4, c5], axis=1)
+
+
+# ----------------------------------------------------------------------------------------------
+# Cubic splines through via points
+# ----------------------------------------------------------------------------------------------
+
+
+def solve_tridiagonal(
+    lower: np.ndarray, diagonal: np.ndarray, upper: np.ndarray, rhs: np.ndarray
+) -> np.ndarray:
+    """Thomas algorithm for a diagonally dominant tridiagonal system, all columns at once.
+
+    Args:
+        lower: Sub-diagonal, shape (k,); ``lower[0]`` is unused.
+        diagonal: Main diagonal, shape (k,).
+        upper: Super-diagonal, shape (k,); ``upper[-1]`` is unused.
+        rhs: Right-hand sides, shape (k, n).
+
+    Returns:
+        The solution, shape (k, n).
+    """
+    k = diagonal.size
+    c = np.zeros(k)
+    d = np.zeros_like(rhs, dtype=float)
+    c[0] = upper[0] / diagonal[0]
+    d[0] = rhs[0] / diagonal[0]
+    for i in range(1, k):
+        pivot = diagonal[i] - lower[i] * c[i - 1]
+        c[i] = upper[i] / pivot
+        d[i] = (rhs[i] - lower[i] * d[i - 1]) / pivot
+    for i in range(k - 2, -1, -1):
+        d[i] -= c[i] * d[i + 1]
+    return d
+
+
+def spline_velocities(
+    points: np.ndarray, times: np.ndarray, v0: np.ndarray, vf: np.ndarray
+) -> np.ndarray:
+    """Knot velocities of the clamped cubic spline (acceleration continuous at every via point).
+
+    Continuity of acceleration at via point i, with h = durations of the adjacent segments, gives
+    ``h[i] v[i-1] + 2 (h[i-1] + h[i]) v[i] + h[i-1] v[i+1]
+    = 3 (h[i] s[i-1] + h[i-1] s[i])`` where ``s`` are the chord slopes.
+
+    Args:
+        points: Positions, shape (m, n) [rad].
+        times: Strictly increasing knot times, shape (m,) [s].
+        v0: Start velocity, shape (n,) [rad/s].
+        vf: End velocity, shape (n,) [rad/s].
+
+    Returns:
+        Velocities at every knot, shape (m, n) [rad/s], ``v0`` and ``vf`` at the ends.
+    """
+    h = np.diff(times)
+    slopes = np.diff(points, axis=0) / h[:, None]
+    velocities = np.vstack([v0, np.zeros((points.shape[0] - 2, points.shape[1])), vf])
+    if points.shape[0] > 2:
+        rhs = 3.0 * (h[1:, None] * slopes[:-1] + h[:-1, None] * slopes[1:])
+        rhs[0] -= h[1] * v0
+        rhs[-1] -= h[-2] * vf
+        velocities[1:-1] = solve_tridiagonal(h[1:], 2.0 * (h[:-1] + h[1:]), h[:-1], rhs)
+    return velocities
+
+
+def heuristic_velocities(
+    points: np.ndarray, times: np.ndarray, v0: np.ndarray, vf: np.ndarray
+) -> np.ndarray:
+    """Knot velocities by the heuristic: mean of the neighbouring chord slopes, 0 at a turn.
+
+    Returns:
+        Velocities at every knot, shape (m, n) [rad/s], ``v0`` and ``vf`` at the ends; at a via
+        point where the slope changes sign (or either slope is 0) the velocity is 0.
+    """
+    slopes = np.diff(points, axis=0) / np.diff(times)[:, None]
+    before, after = slopes[:-1], slopes[1:]
+    inner = np.where(np.sign(before) * np.sign(after) > 0, 0.5 * (before + after), 0.0)
+    return np.vstack([v0, inner, vf])
+
+
+def hermite_pieces(points: np.ndarray, times: np.ndarray, velocities: np.ndarray) -> Pieces:
+    """One Hermite cubic per segment through ``points`` with the given knot velocities."""
+    coefficients = [
+        hermite_cubic(points[k], points[k + 1], velocities[k], velocities[k + 1], h)
+        for k, h in enumerate(np.diff(times))
+    ]
+    return times - times[0], coefficients
+
+
+# ----------------------------------------------------------------------------------------------
+# Piecewise-constant acceleration (trapezoidal velocity profiles and parabolic blends)
+# ----------------------------------------------------------------------------------------------
+
+
+def merged_knots(breaks: np.ndarray) -> np.ndarray:
+    """Sorted union of every joint's phase boundaries, knots closer than rounding merged.
+
+    Args:
+        breaks: Phase boundaries per joint, shape (n, K + 1), from 0 to the common duration [s].
+
+    Returns:
+        Knot times from 0 to the duration exactly, shape (S + 1,) [s].
+    """
+    duration = float(breaks[0, -1])
+    candidates = np.unique(breaks)
+    tolerance = RELATIVE_TOLERANCE * max(duration, 1.0)
+    knots = [0.0]
+    for t in candidates:
+        if t - knots[-1] > tolerance and duration - t > tolerance:
+            knots.append(float(t))
+    knots.append(duration)  # [0, 0] for a motion of zero duration: one empty segment
+    return np.asarray(knots)
+
+
+def constant_acceleration_pieces(
+    q0: np.ndarray, breaks: np.ndarray, accelerations: np.ndarray
+) -> Pieces:
+    """Quadratic segments of a motion with piecewise-constant acceleration, from rest.
+
+    Every joint has K phases; joint j accelerates at ``accelerations[j, k]`` between
+    ``breaks[j, k]`` and ``breaks[j, k + 1]`` (phases may be empty). The joints' phase boundaries
+    are merged into common knots; on each merged interval every joint is one parabola.
+
+    Args:
+        q0: Start position, shape (n,) [rad]; the motion starts at rest.
+        breaks: Non-decreasing phase boundaries, shape (n, K + 1), from 0 to the duration [s].
+        accelerations: Phase accelerations, shape (n, K) [rad/s²].
+
+    Returns:
+        Knots and coefficient arrays of shape (n, 3).
+    """
+    spans = np.diff(breaks, axis=1)
+    v_start = np.hstack([np.zeros((q0.size, 1)), np.cumsum(accelerations * spans, axis=1)])
+    moved = v_start[:, :-1] * spans + 0.5 * accelerations * spans**2
+    q_start = np.hstack([q0[:, None], q0[:, None] + np.cumsum(moved, axis=1)])
+    knots = merged_knots(breaks)
+    joints = np.arange(q0.size)
+    coefficients = []
+    for lo, hi in zip(knots[:-1], knots[1:], strict=True):
+        phase = np.sum(breaks[:, 1:-1] <= 0.5 * (lo + hi), axis=1)
+        acc = accelerations[joints, phase]
+        s = lo - breaks[joints, phase]
+        v = v_start[joints, phase] + acc * s
+        q = q_start[joints, phase] + v_start[joints, phase] * s + 0.5 * acc * s**2
+        coefficients.append(np.stack([q, v, 0.5 * acc], axis=1))
+    return knots, coefficients
+
+
+def lspb_blend_time(distance: np.ndarray, duration: float, acceleration: np.ndarray) -> np.ndarray:
+    """Blend time of the classic LSPB from its acceleration (the lecture's quadratic in t_a).
+
+    ``t_a = T/2 − sqrt(a²T² − 4a|Δ|) / (2a)``, evaluated in the cancellation-free form
+    ``2|Δ| / (aT + sqrt(a²T² − 4a|Δ|))``. The discriminant is clipped at 0, so call it only after
+    checking ``a ≥ 4|Δ|/T²``.
+
+    Args:
+        distance: Move magnitudes |qf − q0|, shape (n,) [rad].
+        duration: Motion time T [s].
+        acceleration: Blend acceleration magnitudes, shape (n,) [rad/s²].
+
+    Returns:
+        Blend times, shape (n,) [s], in [0, T/2].
+    """
+    a_t = acceleration * duration
+    root = np.sqrt(np.maximum(a_t**2 - 4.0 * acceleration * distance, 0.0))
+    return np.minimum(2.0 * distance / (a_t + root), 0.5 * duration)
+
+
+def check_lspb_acceleration(distance: np.ndarray, duration: float, acceleration: np.ndarray):
+    """Raise InfeasibleError when a joint's acceleration is below 4|Δ|/T².
+
+    Args:
+        distance: Move magnitudes |qf − q0|, shape (n,) [rad].
+        duration: Motion time T [s].
+        acceleration: Blend acceleration magnitudes, shape (n,) [rad/s²].
+    """
+    minimum = 4.0 * distance / duration**2
+    for j in np.flatnonzero(acceleration < minimum * (1.0 - RELATIVE_TOLERANCE)):
+        raise InfeasibleError(
+            f"joint {j}: acceleration {acceleration[j]:.6g} rad/s² is too low for a "
+            f"{distance[j]:.6g} rad move in {duration:.6g} s; it must be at least "
+            f"{minimum[j]:.6g} rad/s² (4|qf-q0|/T²); raise the acceleration or the duration"
+        )
+
+
+def lspb_pieces(q0: np.ndarray, qf: np.ndarray, duration: float, blend: np.ndarray) -> Pieces:
+    """Linear segment with parabolic blends of length ``blend`` per joint, rest to rest.
+
+    Args:
+        q0: Start positions, shape (n,) [rad].
+        qf: End positions, shape (n,) [rad].
+        duration: Motion time T [s].
+        blend: Blend (acceleration) time per joint, shape (n,), in (0, T/2] for moving joints [s].
+
+    Returns:
+        Knots and coefficient arrays of shape (n, 3).
+    """
+    delta = qf - q0
+    moving = delta != 0.0
+    blend = np.where(moving, blend, 0.0)
+    acc = np.divide(delta, blend * (duration - blend), out=np.zeros_like(delta), where=moving)
+    breaks = np.stack(
+        [np.zeros_like(blend), blend, duration - blend, np.full_like(blend, duration)]
+    )
+    accelerations = np.stack([acc, np.zeros_like(acc), -acc], axis=1)
+    return constant_acceleration_pieces(q0, breaks.T, accelerations)
+
+
+def lspb_minimum_times(
+    distance: np.ndarray, max_velocity: np.ndarray, max_acceleration: np.ndarray
+) -> np.ndarray:
+    """Each joint's own minimum time of a rest-to-rest move within its limits.
+
+    Triangular (``2 sqrt(|Δ|/a)``) when the cruise speed is not reached (``|Δ| < v²/a``),
+    otherwise ``|Δ|/v + v/a``.
+
+    Returns:
+        Minimum times, shape (n,) [s]; 0 for joints that do not move.
+    """
+    reaches_cruise = distance >= max_velocity**2 / max_acceleration
+    return np.where(
+        reaches_cruise,
+        distance / max_velocity + max_velocity / max_acceleration,
+        2.0 * np.sqrt(distance / max_acceleration),
+    )
+
+
+def synchronised_blend_times(
+    distance: np.ndarray,
+    duration: float,
+    max_velocity: np.ndarray,
+    max_acceleration: np.ndarray,
+    reference_joint: int,
+) -> np.ndarray:
+    """Blend times that make every joint last ``duration`` within its own limits.
+
+    For duration T, a joint's admissible blend times form the interval [lo, hi]: ``lo`` is the
+    blend time at its maximum acceleration (a shorter blend needs more) and
+    ``hi = min(T/2, T − |Δ|/v_max)`` (a longer blend needs a higher cruise speed). Each joint takes
+    the reference joint's blend time clipped to its interval, so the joints switch together
+    whenever their limits allow it. T must be at least every joint's minimum time.
+
+    Where rounding makes ``hi < lo`` (a joint at both limits) ``lo`` wins: the acceleration
+    ``|Δ|/(t_a (T − t_a))`` is sensitive to t_a when t_a ≪ T, the velocity ``|Δ|/(T − t_a)``
+    is not (and ``hi = T − |Δ|/v`` suffers cancellation).
+
+    Returns:
+        Blend times, shape (n,) [s].
+    """
+    lo = lspb_blend_time(distance, duration, max_acceleration)
+    hi = np.minimum(0.5 * duration, duration - distance / max_velocity)
+    return np.maximum(np.minimum(lo[reference_joint], hi), lo)
+
+
+# ----------------------------------------------------------------------------------------------
+# Linear segments with parabolic blends through via points (Craig)
+# ----------------------------------------------------------------------------------------------
+
+
+def _end_blend(distance: np.ndarray, span: float, acceleration: np.ndarray) -> np.ndarray:
+    """Blend time at a rest end of a segment: ``t = d − sqrt(d² − 2|Δ|/a)`` (stable form)."""
+    root = np.sqrt(np.maximum(span**2 - 2.0 * distance / acceleration, 0.0))
+    return 2.0 * distance / acceleration / (span + root)
+
+
+def _check_end_segment(
+    distance: np.ndarray, span: float, acceleration: np.ndarray, where: str, durations_name: str
+):
+    minimum = 2.0 * distance / span**2
+    for j in np.flatnonzero(acceleration < minimum * (1.0 - RELATIVE_TOLERANCE)):
+        raise InfeasibleError(
+            f"joint {j}: acceleration {acceleration[j]:.6g} rad/s² is too low to {where} "
+            f"({distance[j]:.6g} rad in {span:.6g} s); it must be at least {minimum[j]:.6g} "
+            f"rad/s² (2|Δ|/t²); raise the acceleration or lengthen {durations_name}"
+        )
+
+
+def blend_phases(
+    points: np.ndarray,
+    times: np.ndarray,
+    acceleration: np.ndarray,
+    names: Sequence[str],
+    span_names: Sequence[str],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Craig's linear segments with parabolic blends, at rest at both ends.
+
+    The blend at an inner corner k is centred on its nominal time, lasts
+    ``|v[k] − v[k−1]| / a`` and does not pass through the corner. The first and last blends start
+    or end at rest inside their segment, so the whole motion lasts ``times[-1]``.
+
+    Args:
+        points: Corner positions, shape (m, n), m ≥ 3 [rad].
+        times: Nominal corner times, strictly increasing from 0, shape (m,) [s].
+        acceleration: Blend acceleration magnitudes, shape (n,) [rad/s²].
+        names: How to call each corner in messages, length m.
+        span_names: How to call each span in messages (what the user can lengthen), length m − 1.
+
+    Returns:
+        ``breaks`` (n, 2m) and ``accelerations`` (n, 2m − 1) for
+        :func:`constant_acceleration_pieces`, and the blend widths (m, n) [s].
+
+    Raises:
+        InfeasibleError: an end blend needs more than its segment, or two blends overlap.
+    """
+    spans = np.diff(times)
+    delta = np.diff(points, axis=0)
+    distance = np.abs(delta)
+    _check_end_segment(distance[0], spans[0], acceleration, f"leave {names[0]}", span_names[0])
+    _check_end_segment(
+        distance[-1], spans[-1], acceleration, f"stop at {names[-1]}", span_names[-1]
+    )
+    first = _end_blend(distance[0], spans[0], acceleration)
+    last = _end_blend(distance[-1], spans[-1], acceleration)
+    velocity = delta / spans[:, None]
+    velocity[0] = delta[0] / (spans[0] - 0.5 * first)
+    velocity[-1] = delta[-1] / (spans[-1] - 0.5 * last)
+    change = np.vstack([velocity[0], np.diff(velocity, axis=0), -velocity[-1]])
+    widths = np.abs(change) / acceleration
+    widths[0], widths[-1] = first, last
+    _check_linear_parts(widths, spans, names, span_names)
+    blend_acc = np.divide(change, widths, out=np.zeros_like(change), where=widths > 0.0)
+    centres = times[:, None] + np.zeros_like(widths)
+    centres[0] = 0.5 * first
+    centres[-1] = times[-1] - 0.5 * last
+    starts = centres - 0.5 * widths
+    ends = centres + 0.5 * widths
+    breaks = np.empty((points.shape[1], 2 * points.shape[0]))
+    breaks[:, 0::2] = starts.T
+    breaks[:, 1::2] = ends.T
+    breaks[:, 0], breaks[:, -1] = 0.0, times[-1]
+    breaks = np.clip(np.maximum.accumulate(breaks, axis=1), 0.0, times[-1])
+    accelerations = np.zeros((points.shape[1], 2 * points.shape[0] - 1))
+    accelerations[:, 0::2] = blend_acc.T
+    return breaks, accelerations, widths
+
+
+def _check_linear_parts(
+    widths: np.ndarray, spans: np.ndarray, names: Sequence[str], span_names: Sequence[str]
+):
+    """Raise InfeasibleError when two neighbouring blends overlap (negative linear part)."""
+    share = np.full(widths.shape[0], 0.5)
+    share[0] = share[-1] = 1.0  # the end blends lie wholly inside their segment
+    needed = share[:-1, None] * widths[:-1] + share[1:, None] * widths[1:]
+    slack = RELATIVE_TOLERANCE * max(float(np.sum(spans)), 1.0)
+    for k, j in zip(*np.nonzero(needed > spans[:, None] + slack), strict=True):
+        raise InfeasibleError(
+            f"joint {j}: the blends at {names[k]} and {names[k + 1]} need {needed[k, j]:.6g} s "
+            f"but only {spans[k]:.6g} s separate them; raise the acceleration or lengthen "
+            f"{span_names[k]}"
+        )
+
+
+# ----------------------------------------------------------------------------------------------
+# 4-3-4
+# ----------------------------------------------------------------------------------------------
+
+
+def _power_row(degree: int, tau: float, derivative: int) -> np.ndarray:
+    """The ``derivative``-th derivative of [1, τ, τ², ..., τ^degree] at ``tau``."""
+    row = np.zeros(degree + 1)
+    for power in range(derivative, degree + 1):
+        row[power] = math.perm(power, derivative) * tau ** (power - derivative)
+    return row
+
+
+def four_three_four_coefficients(
+    q: Sequence[np.ndarray], durations: Sequence[float]
+) -> list[np.ndarray]:
+    """Coefficients of the 4-3-4 profile through four points, at rest at both ends.
+
+    14 unknowns (5 + 4 + 5): positions at both ends of every segment (6), zero velocity and
+    acceleration at the start and the end (4), continuity of velocity and acceleration at the two
+    inner knots (4). The matrix depends only on the durations, so one solve serves every joint.
+
+    Args:
+        q: Start, lift-off, set-down and end positions, each of shape (n,) [rad].
+        durations: The three segment durations [s].
+
+    Returns:
+        Coefficient arrays of shapes (n, 5), (n, 4), (n, 5).
+    """
+    degrees = (4, 3, 4)
+    offsets = (0, 5, 9)
+    h1, h2, h3 = durations
+
+    def row(segment: int, tau: float, derivative: int) -> np.ndarray:
+        out = np.zeros(14)
+        start, degree = offsets[segment], degrees[segment]
+        out[start : start + degree + 1] = _power_row(degree, tau, derivative)
+        return out
+
+    zero = np.zeros_like(q[0])
+    equations = [
+        (row(0, 0.0, 0), q[0]),  # start position, at rest
+        (row(0, 0.0, 1), zero),
+        (row(0, 0.0, 2), zero),
+        (row(0, h1, 0), q[1]),  # lift-off, from both sides
+        (row(1, 0.0, 0), q[1]),
+        (row(1, h2, 0), q[2]),  # set-down, from both sides
+        (row(2, 0.0, 0), q[2]),
+        (row(2, h3, 0), q[3]),  # end position, at rest
+        (row(2, h3, 1), zero),
+        (row(2, h3, 2), zero),
+        (row(0, h1, 1) - row(1, 0.0, 1), zero),  # velocity and acceleration continuous
+        (row(0, h1, 2) - row(1, 0.0, 2), zero),
+        (row(1, h2, 1) - row(2, 0.0, 1), zero),
+        (row(1, h2, 2) - row(2, 0.0, 2), zero),
+    ]
+    matrix = np.array([equation[0] for equation in equations])
+    rhs = np.array([equation[1] for equation in equations])
+    solution = np.linalg.solve(matrix, rhs)  # (14, n): every joint at once
+    return [solution[o : o + d + 1].T for o, d in zip(offsets, degrees, strict=True)]

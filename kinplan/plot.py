@@ -1,0 +1,219 @@
+"""Plots of joint trajectories and tool paths.
+
+matplotlib is imported only inside these functions. They return stand-alone
+``matplotlib.figure.Figure`` objects that do not touch pyplot's global state, so they work
+without a display (saving renders with Agg) and need no closing; :func:`show` puts figures on
+screen.
+
+Example:
+    >>> from kinplan import plot, trajectory
+    >>> fig = plot.plot_trajectory(trajectory.cubic([0, 1], [1, 0], 1.0), path="cubic.png")
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from kinplan.errors import InputError
+from kinplan.trajectory import Trajectory
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["plot_tip_path", "plot_trajectory", "show"]
+
+_LINE_STYLES = ("-", "--", ":", "-.")
+_SAMPLES = 1000
+"""Samples per trajectory when no ``dt`` is given."""
+
+
+def plot_trajectory(
+    trajectory: Trajectory | Sequence[Trajectory],
+    path: str | os.PathLike[str] | None = None,
+    dt: float | None = None,
+    title: str | None = None,
+    labels: Sequence[str] | None = None,
+    joint_names: Sequence[str] | None = None,
+    unit: str = "rad",
+    show_knots: bool = True,
+) -> Figure:
+    """Position, velocity and acceleration against time, one line per joint.
+
+    Several trajectories (for example the same motion planned two ways) share the axes: a
+    joint keeps its colour, each trajectory has its own line style. Waypoints (start, via
+    points, end) are marked on the position axis, segment knots drawn as faint vertical lines.
+
+    Args:
+        trajectory: One trajectory or several with the same number of joints.
+        path: Image file to save to (format from the suffix, e.g. ``.png``); None: don't save.
+        dt: Sampling step [s]; default duration / 1000.
+        title: Figure title.
+        labels: One legend label per trajectory.
+        joint_names: One name per joint; default "joint 0", "joint 1", ...
+        unit: Unit of position for the axis labels ("rad"; "m" for a path length).
+        show_knots: Draw the segment boundaries.
+
+    Returns:
+        The figure (three stacked axes).
+
+    Raises:
+        InputError: no trajectory, mismatched joint counts or label counts.
+    """
+    trajectories = [trajectory] if isinstance(trajectory, Trajectory) else list(trajectory)
+    if not trajectories:
+        raise InputError("plot_trajectory needs at least one trajectory")
+    n = trajectories[0].n
+    counts = [t.n for t in trajectories]
+    if any(count != n for count in counts):
+        raise InputError(f"all trajectories must have the same number of joints, got {counts}")
+    names = _names(joint_names, n, "joint_names", "joint")
+    labels = _names(labels, len(trajectories), "labels", "trajectory")
+    figure = _new_figure((8.0, 7.5))
+    axes = figure.subplots(3, 1, sharex=True)
+    for k, traj in enumerate(trajectories):
+        style = _LINE_STYLES[k % len(_LINE_STYLES)]
+        step = dt if dt is not None else max(traj.duration, 1e-9) / _SAMPLES
+        t = traj.time_grid(step)
+        values = traj.sample(t)
+        for j in range(n):
+            label = names[j] if len(trajectories) == 1 else f"{names[j]} ({labels[k]})"
+            for ax, value in zip(axes, values, strict=True):
+                ax.plot(t, value[:, j], style, color=f"C{j % 10}", label=label)
+            axes[0].plot(
+                traj.waypoints.times,
+                traj.waypoints.positions[:, j],
+                "o",
+                color=f"C{j % 10}",
+                markerfacecolor="none",
+            )
+        if show_knots:
+            for ax in axes:
+                for knot in traj.knots[1:-1]:
+                    ax.axvline(knot, color="0.85", linewidth=0.6, zorder=0)
+    for ax, quantity, suffix in zip(
+        axes, ("position", "velocity", "acceleration"), ("", "/s", "/s²"), strict=True
+    ):
+        ax.set_ylabel(f"{quantity} [{unit}{suffix}]")
+        ax.grid(True, alpha=0.3)
+    axes[-1].set_xlabel("time [s]")
+    axes[0].legend(fontsize="small", loc="best")
+    if title:
+        figure.suptitle(title)
+    _save(figure, path)
+    return figure
+
+
+def plot_tip_path(
+    tip_paths: ArrayLike | Sequence[ArrayLike] | Mapping[str, ArrayLike],
+    path: str | os.PathLike[str] | None = None,
+    labels: Sequence[str] | None = None,
+    reference: tuple[ArrayLike, ArrayLike] | None = None,
+    points: ArrayLike | None = None,
+    title: str | None = None,
+    unit: str = "m",
+) -> Figure:
+    """Tool paths in the plane (x, y) or in space (x, y, z), equal axis scales.
+
+    Args:
+        tip_paths: One path of shape (k, 2) or (k, 3), a sequence of them, or a mapping from
+            label to path [m].
+        path: Image file to save to; None: don't save.
+        labels: One legend label per path (ignored for a mapping).
+        reference: A straight line ``(start, end)`` drawn dashed, e.g. the desired path [m].
+        points: Points to mark, shape (p, 2) or (p, 3), e.g. via points [m].
+        title: Figure title.
+        unit: Unit of length for the axis labels.
+
+    Returns:
+        The figure.
+
+    Raises:
+        InputError: paths of the wrong shape or of mixed dimension.
+    """
+    if isinstance(tip_paths, Mapping):
+        labels = list(tip_paths.keys())
+        arrays = list(tip_paths.values())
+    else:
+        try:
+            single = np.asarray(tip_paths, dtype=float)
+        except ValueError:  # ragged: several paths of different lengths
+            single = None
+        arrays = [single] if single is not None and single.ndim == 2 else list(tip_paths)
+    arrays = [_path_array(a, f"tip path {k}") for k, a in enumerate(arrays)]
+    if not arrays:
+        raise InputError("plot_tip_path needs at least one path")
+    dimension = arrays[0].shape[1]
+    if any(a.shape[1] != dimension for a in arrays):
+        raise InputError("tip paths must all be planar (k, 2) or all spatial (k, 3)")
+    labels = _names(labels, len(arrays), "labels", "path")
+    figure = _new_figure((7.0, 6.0))
+    ax = figure.add_subplot(projection="3d" if dimension == 3 else None)
+    for k, xyz in enumerate(arrays):
+        ax.plot(*xyz.T, _LINE_STYLES[k % len(_LINE_STYLES)], color=f"C{k % 10}", label=labels[k])
+        ax.plot(*xyz[:1].T, "o", color=f"C{k % 10}")
+        ax.plot(*xyz[-1:].T, "s", color=f"C{k % 10}")
+    if reference is not None:
+        line = np.vstack([_path_array(np.atleast_2d(p), "reference") for p in reference])
+        if line.shape != (2, dimension):
+            raise InputError(f"reference must be two points of dimension {dimension}")
+        ax.plot(*line.T, "--", color="0.4", linewidth=1.0, label="straight line")
+    if points is not None:
+        marks = _path_array(np.atleast_2d(points), "points")
+        if marks.shape[1] != dimension:
+            raise InputError(f"points must have dimension {dimension}, got {marks.shape[1]}")
+        ax.plot(*marks.T, "x", color="k", markersize=9, label="via points")
+    for axis in "xyz"[:dimension]:
+        getattr(ax, f"set_{axis}label")(f"{axis} [{unit}]")
+    ax.set_aspect("equal")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize="small", loc="best")
+    if title:
+        ax.set_title(title)
+    _save(figure, path)
+    return figure
+
+
+def show(*figures: Figure) -> None:
+    """Show figures made by this module in windows (blocks until they are closed)."""
+    import matplotlib.pyplot as plt
+
+    for figure in figures:
+        try:
+            plt.figure(figure)  # matplotlib >= 3.10 adopts a stand-alone figure
+        except (TypeError, ValueError):
+            manager = plt.figure().canvas.manager
+            manager.canvas.figure = figure
+            figure.set_canvas(manager.canvas)
+    plt.show()
+
+
+def _new_figure(size: tuple[float, float]) -> Figure:
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=size, layout="constrained")
+
+
+def _save(figure: Figure, path: str | os.PathLike[str] | None) -> None:
+    if path is not None:
+        figure.savefig(os.fspath(path), dpi=120)
+
+
+def _names(names: Sequence[str] | None, count: int, what: str, default: str) -> list[str]:
+    if names is None:
+        return [f"{default} {k}" for k in range(count)]
+    names = [str(name) for name in names]
+    if len(names) != count:
+        raise InputError(f"{what} must have {count} entries, got {len(names)}")
+    return names
+
+
+def _path_array(value: ArrayLike, name: str) -> np.ndarray:
+    array = np.asarray(value, dtype=float)
+    if array.ndim != 2 or array.shape[1] not in (2, 3) or array.shape[0] == 0:
+        raise InputError(f"{name} must have shape (k, 2) or (k, 3), got {array.shape}")
+    return array
