@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import eigenpy
 import numpy as np
 import pinocchio as pin
 
@@ -179,12 +180,36 @@ class _Tracker:
         acc = pin.getFrameClassicalAcceleration(self.model, self.data, self.fid, _LWA)
         return acc.vector[self.rows]
 
-    def singular_event(self, k, t, s, J, position) -> tuple[float, Event | None]:
-        """Manipulability of the task Jacobian J, and a "singular" event when it is too small."""
-        m = manipulability_of(J, self.rank)
+    def factor(self, J: np.ndarray) -> float:
+        """Factor the task Jacobian J for :meth:`rates`; return its manipulability.
+
+        One Cholesky factorisation of the smaller Gram matrix (JᵀJ or JJᵀ) serves the joint
+        velocities, the accelerations and the manipulability (the product of the factor's
+        diagonal). A structurally rank-deficient task falls back to the pseudo-inverse.
+        """
+        self._J = J
+        rows, cols = J.shape
+        self._wide = rows < cols
+        if self.rank != min(rows, cols):
+            self._llt = None
+            return manipulability_of(J, self.rank)
+        self._llt = eigenpy.LLT(J @ J.T if self._wide else J.T @ J)
+        if self._llt.info() != eigenpy.ComputationInfo.Success:
+            return 0.0
+        return float(self._llt.matrixL().diagonal().prod())
+
+    def rates(self, b: np.ndarray) -> np.ndarray:
+        """J⁺ b for the last factored J: least squares (tall/square) or minimum norm (wide)."""
+        J, llt = self._J, self._llt
+        if llt is None:
+            return np.linalg.pinv(J) @ b
+        return J.T @ llt.solve(b) if self._wide else llt.solve(J.T @ b)
+
+    def singular_event(self, k, t, s, m, position) -> Event | None:
+        """A "singular" event when the manipulability m is under the threshold."""
         if m >= self.singular_threshold:
-            return m, None
-        return m, Event(
+            return None
+        return Event(
             "singular", float(t), float(s), k,
             f"near a singularity at {_where(position)}: manipulability {m:.3g} is below "
             f"{self.singular_threshold:.3g}; keep the path away from the workspace boundary and "
@@ -196,10 +221,10 @@ class _Tracker:
         """A "jump" event when q moved more than its rates explain over the step h."""
         if q_prev is None:
             return None
-        step = q - q_prev - 0.5 * (rate + rate_prev) * h
-        j = int(np.argmax(np.abs(step)))
-        if abs(step[j]) <= self.jump_tolerance:
+        step = abs(q - q_prev - 0.5 * (rate + rate_prev) * h)
+        if step.max() <= self.jump_tolerance:
             return None
+        j = int(np.argmax(step))
         name = self.robot.joint_names[j]
         return Event(
             "jump", float(t), float(s), k,
@@ -210,10 +235,10 @@ class _Tracker:
 
     def speed_event(self, k, t, s, qd, position) -> Event | None:
         """A "velocity_limit" event when a joint speed exceeds its (scaled) limit."""
-        over = np.abs(qd) / self.speed_limit
-        j = int(np.argmax(over))
-        if over[j] <= 1.0:
+        over = abs(qd) / self.speed_limit
+        if over.max() <= 1.0:
             return None
+        j = int(np.argmax(over))
         name = self.robot.joint_names[j]
         return Event(
             "velocity_limit", float(t), float(s), k,
@@ -264,14 +289,6 @@ class _Tracker:
 
 def _where(position: np.ndarray) -> str:
     return "(" + ", ".join(f"{x:.4f}" for x in position) + ") m"
-
-
-def _least_squares(J: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """J⁺ b for a full-rank J: least squares (tall/square) or minimum norm (wide)."""
-    rows, cols = J.shape
-    if rows >= cols:
-        return np.linalg.solve(J.T @ J, J.T @ b)
-    return J.T @ np.linalg.solve(J @ J.T, b)
 
 
 def reference_manipulability(robot: Robot, position_only: bool) -> float:
@@ -396,6 +413,7 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
     manip = np.empty(n)
     events: list[Event] = []
     q_prev = qd_prev = qdd_prev = None
+    steps = np.diff(t, prepend=0.0).tolist()  # h_k = t_k − t_(k−1) [s]
     done = 0
     for k in range(n):
         rotation = None if rotations is None else rotations[k]
@@ -407,25 +425,26 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
             )  # fmt: skip
             guess = first.q if first.success else seed
         else:
-            h = t[k] - t[k - 1]
-            guess = q_prev + qd_prev * h + 0.5 * qdd_prev * h**2
+            h = steps[k]
+            guess = q_prev + (qd_prev + (0.5 * h) * qdd_prev) * h
         q, ok, *_ = tracker.solve(guess, positions[k], rotation)
         if not ok:
             events.append(tracker.diagnose(k, t[k], s[k], guess, q_prev, positions[k], rotation))
             break
-        J = tracker.jacobian()
-        m, event = tracker.singular_event(k, t[k], s[k], J, positions[k])
+        m = tracker.factor(tracker.jacobian())
+        event = tracker.singular_event(k, t[k], s[k], m, positions[k])
         qd = None
         if event is None:
             tool[k] = tracker.tool_position()
-            qd = _least_squares(J, xd[k])
-            h = t[k] - t[k - 1] if k else 0.0
-            event = tracker.jump_event(k, t[k], s[k], q, q_prev, qd, qd_prev, h, positions[k])
+            qd = tracker.rates(xd[k])
+            event = tracker.jump_event(
+                k, t[k], s[k], q, q_prev, qd, qd_prev, steps[k], positions[k]
+            )
         event = event or tracker.speed_event(k, t[k], s[k], qd, positions[k])
         if event is not None:
             events.append(event)
             break
-        qdd = _least_squares(J, xdd[k] - tracker.bias_acceleration(q, qd))
+        qdd = tracker.rates(xdd[k] - tracker.bias_acceleration(q, qd))
         q_out[k], qd_out[k], qdd_out[k], manip[k] = q, qd, qdd, m
         q_prev, qd_prev, qdd_prev = q, qd, qdd
         done = k + 1
@@ -579,15 +598,15 @@ def trace_geometry(tracker: _Tracker, path: Path, s: np.ndarray, seed: np.ndarra
         if not ok:
             events.append(tracker.diagnose(k, 0.0, sk, guess, q_prev, position, rotation))
             break
-        J = tracker.jacobian()
-        _, event = tracker.singular_event(k, 0.0, sk, J, position)
+        m = tracker.factor(tracker.jacobian())
+        event = tracker.singular_event(k, 0.0, sk, m, position)
         dq = None
         if event is None:
             dx = np.zeros(6)
             dx[:3] = path.position_derivatives(point)[0][0]
             if rotation is not None:
                 dx[3:] = path.angular_rates(point)[0][0]
-            dq = _least_squares(J, dx[tracker.rows])
+            dq = tracker.rates(dx[tracker.rows])
             h = sk - solved_s[-1] if solved_s else 0.0
             rate_prev = dqs[-1] if dqs else None
             event = tracker.jump_event(k, 0.0, sk, q, q_prev, dq, rate_prev, h, position)
