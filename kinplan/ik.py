@@ -41,6 +41,7 @@ class IKResult:
         rotation_error: Tool rotation error, the angle of R* R(q)ᵀ [rad] (0 for position-only).
         iterations: Solver iterations over all attempts.
         attempts: Number of starts (1 = the seed; more = random restarts were needed).
+        method: "numerical" or "analytic" (the closed form of a planar 2R or a UR arm).
     """
 
     q: np.ndarray
@@ -49,6 +50,7 @@ class IKResult:
     rotation_error: float
     iterations: int
     attempts: int = 1
+    method: str = "numerical"
 
 
 def halton(index: int, dim: int) -> np.ndarray:
@@ -85,6 +87,7 @@ class IKSolver:
         self.upper = upper
         self.nq = model.nq
         self._eye = np.eye(model.nq)
+        self._diagonal = np.diag_indices(model.nq)
         self._no_lower = np.full(model.nq, -np.inf)
         self._no_upper = np.full(model.nq, np.inf)
         self._restarts: np.ndarray = np.empty((0, model.nq))
@@ -153,14 +156,15 @@ class IKSolver:
             A += (DAMPING_GAIN * cost + DAMPING_FLOOR) * eye
             g = J.T @ e[rows]
             dq = eigenpy.LLT(A).solve(g)
-            # Joints at a limit that the step pushes outwards leave the step (active set).
+            # Joints at a limit that the step pushes outwards leave the step (active set):
+            # their rows and columns of the system become identity, their gradient zero.
             blocked = ((q <= lower) & (dq < 0)) | ((q >= upper) & (dq > 0))
             if blocked.any():
-                free = ~blocked
-                dq[blocked] = 0.0
-                if free.any():
-                    dq[free] = np.linalg.solve(A[np.ix_(free, free)], g[free])
-            step = np.max(np.abs(dq))
+                free = (~blocked).astype(float)
+                A *= np.multiply.outer(free, free)
+                A[self._diagonal] += blocked
+                dq = eigenpy.LLT(A).solve(g * free)
+            step = abs(dq).max()
             if step > MAX_STEP:
                 dq *= MAX_STEP / step
             q = np.minimum(np.maximum(q + dq, lower), upper)
@@ -175,8 +179,12 @@ class IKSolver:
         rotation_tolerance: float = 1e-6,
         max_iterations: int = 40,
         max_restarts: int = 40,
+        closed_form=None,
     ) -> IKResult:
         """Solve from ``q_seed``, then from Halton restarts until one attempt converges.
+
+        With a ``closed_form`` solver (see :mod:`kinplan.analytic_ik`), a failed seeded attempt
+        is followed by the closed-form solution nearest the seed before any restart.
 
         Args:
             position: Target tool position in the world frame [m].
@@ -186,10 +194,20 @@ class IKSolver:
             rotation_tolerance: Accepted rotation error [rad].
             max_iterations: Iterations per attempt.
             max_restarts: Restarts after the seeded attempt fails.
+            closed_form: Optional closed-form solver with ``nearest(position, rotation, q)``.
         """
         best = None
         total = 0
         for attempt in range(max_restarts + 1):
+            if attempt == 1 and closed_form is not None:
+                # The seed's basin failed: the closed form gives the solution nearest the seed.
+                q = closed_form.nearest(position, rotation, q_seed)
+                if q is not None:
+                    q, ok, perr, rerr, its = self.descend(
+                        q, position, rotation, position_tolerance, rotation_tolerance, 3
+                    )
+                    if ok:
+                        return IKResult(q, True, perr, rerr, total + its, 2, "analytic")
             start = q_seed if attempt == 0 else self.restart_configuration(attempt)
             q, ok, perr, rerr, its = self.descend(
                 start, position, rotation, position_tolerance, rotation_tolerance, max_iterations

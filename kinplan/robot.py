@@ -282,9 +282,10 @@ class Robot:
     ) -> IKResult:
         """Joint configuration that puts the tool at ``target``.
 
-        Starts from ``q_seed`` (default: :meth:`neutral`) and, when that attempt fails, restarts
-        from a deterministic low-discrepancy set of configurations. Starting near a solution, it
-        returns the solution on the seed's branch. Results always lie within the joint limits.
+        Starts from ``q_seed`` (default: :meth:`neutral`); when that attempt fails, takes the
+        closed-form solution nearest the seed where the arm has one (planar 2R, UR family), and
+        otherwise restarts from a deterministic low-discrepancy set of configurations. Starting
+        near a solution, it returns the solution on the seed's branch. Results always lie within the joint limits.
 
         Args:
             target: Tool pose (``pin.SE3`` or 4×4 matrix) or tool position (3-vector, implies
@@ -306,6 +307,9 @@ class Robot:
         if rotation is None or position_only:
             rotation = None
         seed = self.neutral() if q_seed is None else self.check_q(q_seed, "q_seed")
+        closed_form = self.closed_form_ik
+        if closed_form is not None and rotation is None and self.nq != 2:
+            closed_form = None  # the UR closed form needs a full pose
         return self._ik.solve(
             position,
             rotation,
@@ -314,7 +318,21 @@ class Robot:
             rotation_tolerance=rotation_tolerance,
             max_iterations=max_iterations,
             max_restarts=max_restarts,
+            closed_form=closed_form,
         )
+
+    @property
+    def closed_form_ik(self):
+        """The closed-form IK solver of this arm (planar 2R, UR family), or None.
+
+        Built on first use from the model's geometry and checked against its FK
+        (:func:`kinplan.analytic_ik.analytic_solver_for`).
+        """
+        if not hasattr(self, "_closed_form"):
+            from kinplan.analytic_ik import analytic_solver_for
+
+            self._closed_form = analytic_solver_for(self)
+        return self._closed_form
 
 
 def manipulability_of(J: np.ndarray, rank: int) -> float:

@@ -1,0 +1,897 @@
+"""Closed-form inverse kinematics for arms whose geometry allows it: planar 2R and the UR family.
+
+The geometry is read from the robot's Pinocchio model, never from a table of numbers: at q = 0
+every joint is a screw in the world frame (a unit axis ``u`` through a point ``p``, taken from the
+world Jacobian), and the tool pose is ``M``. Forward kinematics is then the product of
+exponentials ``T(q) = exp(S1 q1) ⋯ exp(Sn qn) M``, and the solutions below are written in those
+world-frame terms, so base offsets, axis signs and tool-frame rotations of any URDF are handled
+without a Denavit–Hartenberg table.
+
+* **Planar 2R**: two parallel revolute axes; both elbow branches.
+* **UR family** (UR3/UR5/UR10 and any arm with the same structure): revolute joints with axis 1
+  perpendicular to three parallel axes 2–4, axis 5 perpendicular to them and axes 5 and 6
+  intersecting at right angles (the "wrist centre" ``c``). The solution follows Hawkins
+  (*Analytic Inverse Kinematics for the Universal Robots UR-5/UR-10 Arms*, 2013), in screw form:
+
+  1. θ1 from the wrist centre: joints 2–6 cannot move ``c`` along the shoulder-axis direction
+     ``n(θ1)``, so ``n(θ1)·(c − p1)`` equals its value at q = 0 (two shoulder branches);
+  2. θ5 from the tool axis: ``n(θ1)·z6 = cos(θ5 − δ)`` (two wrist branches);
+  3. θ6 from the rest of the orientation (free at the wrist singularity sin(θ5 − δ) = 0);
+  4. θ2, θ3 from a planar 2R problem in the plane of axes 2–4 (two elbow branches), θ4 from the
+     remaining planar rotation.
+
+Every solver is vectorised over poses. ``nearest_batch`` follows one branch along a sampled path
+(each sample the solution nearest the previous one) without a Python loop per sample: the
+branch-to-branch transitions of consecutive samples are composed by a doubling scan (only
+exactly singular samples, whose free joint depends on the previous sample, are solved one by
+one).
+
+Joint angles are equivalent modulo 2π; :meth:`solutions` lists each geometric solution once (its
+representative within the limits closest to mid-range), :meth:`nearest` picks per joint the
+representative within the limits closest to the reference.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+import pinocchio as pin
+
+from kinplan.errors import InputError
+
+logger = logging.getLogger(__name__)
+
+TAU = 2.0 * np.pi
+#: Largest excess of a cosine or sine ratio over 1 still treated as reachable (rounding at the rim).
+_CLAMP = 1e-10
+#: Below this length [m] or sine, an angle is free (singular) and taken from the reference.
+_FREE_TOL = 1e-12
+#: Tolerance of the structural checks on unit vectors and of intersections [m].
+_STRUCTURE_TOL = 1e-9
+#: Joint values this far outside a limit [rad] are accepted and clipped onto it.
+_LIMIT_TOL = 1e-12
+#: Tolerance [m, rad] for the out-of-plane offset and the orientation of a planar 2R target.
+_PLANAR_TOL = 1e-9
+_SIGNS = np.array([1.0, -1.0])
+
+
+class AnalyticIK(Protocol):
+    """Closed-form IK of one robot; poses are in the robot's base (world) frame."""
+
+    nq: int
+
+    def solutions(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
+        """All solutions within the joint limits, shape (k, nq), k ≥ 0."""
+        ...
+
+    def nearest(
+        self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray
+    ) -> np.ndarray | None:
+        """The solution nearest ``q_ref`` (2π equivalents within limits considered), or None."""
+        ...
+
+    def nearest_batch(
+        self, positions: np.ndarray, rotations: np.ndarray | None, q_ref: np.ndarray
+    ) -> np.ndarray:
+        """Solutions along a path, each nearest the previous one; NaN rows where none."""
+        ...
+
+
+# ---------------------------------------------------------------------------- small geometry
+def wrap_angle(angle: np.ndarray) -> np.ndarray:
+    """Angles [rad] wrapped into [−π, π]."""
+    return angle - TAU * np.round(angle / TAU)
+
+
+def _skew(axis: np.ndarray) -> np.ndarray:
+    """The matrix [u]× with [u]× v = u × v (numpy's cross is slow on small arrays)."""
+    x, y, z = axis
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
+def _rotate(
+    v: np.ndarray, axis: np.ndarray, angle: np.ndarray, cross_t: np.ndarray | None = None
+) -> np.ndarray:
+    """Rotate vectors ``v`` (..., 3) about the unit ``axis`` (3,) by ``angle`` (...) [rad].
+
+    ``cross_t`` is ``_skew(axis).T`` when the caller has it at hand.
+    """
+    cross_t = _skew(axis).T if cross_t is None else cross_t
+    c = np.cos(angle)[..., None]
+    s = np.sin(angle)[..., None]
+    return v * c + (v @ cross_t) * s + axis * ((v @ axis)[..., None] * (1.0 - c))
+
+
+def _rotate_about_line(
+    x: np.ndarray, point: np.ndarray, axis: np.ndarray, angle: np.ndarray, cross_t: np.ndarray
+) -> np.ndarray:
+    """Rotate points ``x`` (..., 3) about the line through ``point`` along unit ``axis``."""
+    return point + _rotate(x - point, axis, angle, cross_t)
+
+
+def _rotate_by(rotations: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``rotations`` (N, 3, 3) applied to vectors ``v`` (N, ..., 3)."""
+    return np.einsum("nij,n...j->n...i", rotations, v)
+
+
+def _planar_2r(
+    r1: np.ndarray, r2: np.ndarray, target: np.ndarray, fill: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Both elbow solutions of a planar 2R chain.
+
+    The tip is ``Rot(ψa)·(r1 + Rot(ψb)·r2)`` relative to joint A, with rotations counterclockwise
+    in the plane's coordinates.
+
+    Args:
+        r1: Joint A to joint B at zero angles, plane coordinates [m], shape (2,).
+        r2: Joint B to the tip at zero angles [m], shape (2,).
+        target: Tip positions relative to joint A [m], shape (..., 2).
+        fill: ψa [rad] used where the target is on joint A's axis (ψa free), shape (...).
+
+    Returns:
+        (ψa, ψb, reachable) each of shape (..., 2) (elbow branch last) and ``free`` (...): where
+        ψa was taken from ``fill``.
+    """
+    l1, l2 = np.hypot(*r1), np.hypot(*r2)
+    d2 = np.sum(target**2, axis=-1)
+    cosine = (d2 - l1**2 - l2**2) / (2.0 * l1 * l2)
+    reachable = np.broadcast_to((np.abs(cosine) <= 1.0 + _CLAMP)[..., None], cosine.shape + (2,))
+    psi_b = _SIGNS * np.arccos(np.clip(cosine, -1.0, 1.0))[..., None]
+    psi_b = psi_b + (np.arctan2(r1[1], r1[0]) - np.arctan2(r2[1], r2[0]))
+    cb, sb = np.cos(psi_b), np.sin(psi_b)
+    vx = r1[0] + cb * r2[0] - sb * r2[1]
+    vy = r1[1] + sb * r2[0] + cb * r2[1]
+    free = d2 < _FREE_TOL**2
+    psi_a = np.arctan2(target[..., 1], target[..., 0])[..., None] - np.arctan2(vy, vx)
+    psi_a = np.where(free[..., None], fill[..., None], wrap_angle(psi_a))
+    return psi_a, wrap_angle(psi_b), reachable, free
+
+
+def _wrap_near(
+    values: np.ndarray, ref: np.ndarray, lower: np.ndarray, upper: np.ndarray
+) -> np.ndarray:
+    """The 2π-equivalent of each joint value within the limits nearest ``ref``; NaN if none.
+
+    Args:
+        values: Joint values [rad] (NaN allowed), shape (..., n).
+        ref: Reference configuration, broadcastable to ``values`` (clipped into the limits).
+        lower: Lower limits, shape (n,).
+        upper: Upper limits, shape (n,).
+    """
+    ref = np.clip(ref, lower, upper)
+    k0 = np.round((ref - values) / TAU)
+    candidates = values[..., None] + TAU * (k0[..., None] + np.array([-1.0, 0.0, 1.0]))
+    inside = (candidates >= lower[:, None] - _LIMIT_TOL) & (
+        candidates <= upper[:, None] + _LIMIT_TOL
+    )
+    distance = np.where(inside, np.abs(candidates - np.asarray(ref)[..., None]), np.inf)
+    best = np.argmin(distance, axis=-1)[..., None]
+    chosen = np.take_along_axis(candidates, best, axis=-1)[..., 0]
+    found = np.isfinite(np.take_along_axis(distance, best, axis=-1)[..., 0])
+    return np.where(found, np.clip(chosen, lower, upper), np.nan)
+
+
+def _compose_scan(maps: np.ndarray) -> np.ndarray:
+    """Prefix compositions of branch maps by doubling (Hillis–Steele), O(N log N) in numpy.
+
+    Args:
+        maps: (N, S) ints; row i maps the branch at sample i − 1 to the branch at sample i
+            (row 0 is ignored).
+
+    Returns:
+        (N, S): row i maps the branch at sample 0 to the branch at sample i.
+    """
+    prefix = maps.copy()
+    prefix[0] = np.arange(maps.shape[1])
+    offset = 1
+    while offset < len(prefix):
+        prefix[offset:] = np.take_along_axis(prefix[offset:], prefix[:-offset], axis=1)
+        offset *= 2
+    return prefix
+
+
+# ---------------------------------------------------------------------------- model geometry
+@dataclass(frozen=True)
+class _Screws:
+    """Joint axes and tool pose of a serial chain at q = 0, in the world frame.
+
+    Attributes:
+        directions: Unit joint axes (n, 3) (the direction of positive rotation).
+        points: A point on each axis (n, 3) [m].
+        tool: Tool pose at q = 0.
+    """
+
+    directions: np.ndarray
+    points: np.ndarray
+    tool: pin.SE3
+
+
+def _screws_at_zero(robot) -> _Screws | None:
+    """The joints as revolute screws at q = 0, or None if some joint is not revolute."""
+    model = robot.model
+    serial = all(model.parents[j] == j - 1 for j in range(1, model.njoints))
+    if not serial or model.nq != model.nv or model.nq != model.njoints - 1:
+        return None
+    data = model.createData()
+    jacobian = pin.computeJointJacobians(model, data, np.zeros(model.nq))  # WORLD, (6, nv)
+    tool = pin.SE3(pin.updateFramePlacement(model, data, robot.tip_id))
+    linear, angular = jacobian[:3].T, jacobian[3:].T
+    unit = np.abs(np.linalg.norm(angular, axis=1) - 1.0) < _STRUCTURE_TOL
+    no_pitch = np.abs(np.sum(linear * angular, axis=1)) < _STRUCTURE_TOL
+    if not (np.all(unit) and np.all(no_pitch)):
+        return None
+    # linear = p × u for an axis through p; u × (p × u) is the point of the axis nearest the origin
+    return _Screws(angular.copy(), np.cross(angular, linear), tool)
+
+
+def _plane_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unit vectors (e, f) with (e, f, normal) right-handed."""
+    helper = np.eye(3)[np.argmin(np.abs(normal))]
+    e = np.cross(normal, helper)
+    e /= np.linalg.norm(e)
+    return e, np.cross(normal, e)
+
+
+def _parallel(u: np.ndarray, v: np.ndarray) -> bool:
+    return bool(np.linalg.norm(np.cross(u, v)) < _STRUCTURE_TOL)
+
+
+def _perpendicular(u: np.ndarray, v: np.ndarray) -> bool:
+    return bool(abs(u @ v) < _STRUCTURE_TOL)
+
+
+# ---------------------------------------------------------------------------- common machinery
+class _ClosedFormIK:
+    """Limits, 2π equivalents, nearest-solution choice and branch following for closed forms.
+
+    Subclasses provide :meth:`_raw`: every branch's solution for a batch of poses.
+
+    Args:
+        lower: Lower joint limits [rad], shape (nq,).
+        upper: Upper joint limits [rad], shape (nq,).
+        weights: Joint weights of the distance Σ wᵢ Δqᵢ² used to pick the nearest solution.
+    """
+
+    #: Whether a target must have a rotation.
+    needs_rotation: bool = True
+
+    def __init__(self, lower: np.ndarray, upper: np.ndarray, weights: np.ndarray | None = None):
+        self.lower = np.asarray(lower, dtype=float)
+        self.upper = np.asarray(upper, dtype=float)
+        self.nq = len(self.lower)
+        self.weights = np.ones(self.nq) if weights is None else np.asarray(weights, dtype=float)
+        self._middle = 0.5 * (self.lower + self.upper)
+        self._neutral = np.clip(np.zeros(self.nq), self.lower, self.upper)
+
+    def _raw(
+        self, positions: np.ndarray, rotations: np.ndarray | None, fill: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Every branch's solution.
+
+        Args:
+            positions: Tool positions in the world frame [m], shape (N, 3).
+            rotations: Tool rotations in the world frame, shape (N, 3, 3), or None.
+            fill: Reference values [rad] for joints that are free at a singularity, (N, nq).
+
+        Returns:
+            ``raw`` (N, S, nq): angles [rad] (any 2π representative), NaN rows for branches
+            without a solution; ``singular`` (N,): where some branch's free joint came from
+            ``fill`` (which does not change with ``fill``).
+        """
+        raise NotImplementedError
+
+    # ------------------------------------------------------------ input checks
+    def _check_q(self, q: np.ndarray, what: str) -> np.ndarray:
+        q = np.asarray(q, dtype=float)
+        if q.shape != (self.nq,) or not np.all(np.isfinite(q)):
+            raise InputError(f"{what} must be a finite vector of {self.nq} joint values, got {q}")
+        return q
+
+    def _check_poses(
+        self, positions: np.ndarray, rotations: np.ndarray | None
+    ) -> tuple[np.ndarray, np.ndarray | None]:
+        positions = np.asarray(positions, dtype=float)
+        if positions.ndim != 2 or positions.shape[1] != 3 or not np.all(np.isfinite(positions)):
+            raise InputError(f"positions must be finite, of shape (N, 3), got {positions.shape}")
+        if rotations is None:
+            if self.needs_rotation:
+                raise InputError(
+                    f"the closed-form IK of this {self.nq}-joint arm needs the tool rotation; "
+                    "position-only targets are for the planar 2R (use Robot.ik instead)"
+                )
+            return positions, None
+        rotations = np.asarray(rotations, dtype=float)
+        if rotations.shape != (len(positions), 3, 3) or not np.all(np.isfinite(rotations)):
+            raise InputError(
+                f"rotations must be finite, of shape ({len(positions)}, 3, 3), "
+                f"got {rotations.shape}"
+            )
+        return positions, rotations
+
+    def _one_pose(
+        self, position: np.ndarray, rotation: np.ndarray | None
+    ) -> tuple[np.ndarray, np.ndarray | None]:
+        position = np.asarray(position, dtype=float)
+        if position.shape != (3,):
+            raise InputError(f"position must be a 3-vector [m], got shape {position.shape}")
+        rotations = None if rotation is None else np.asarray(rotation, dtype=float)[None]
+        return self._check_poses(position[None], rotations)
+
+    # ------------------------------------------------------------ choices
+    def _valid(self, raw: np.ndarray) -> np.ndarray:
+        """(N, S): branches with a solution that has an equivalent within the limits."""
+        return np.all(np.isfinite(_wrap_near(raw, self._middle, self.lower, self.upper)), axis=-1)
+
+    def _distance(self, delta: np.ndarray) -> np.ndarray:
+        """Weighted squared joint distance Σ wᵢ Δqᵢ² over the last axis [rad²]."""
+        return (delta**2) @ self.weights
+
+    def _pick(self, raw: np.ndarray, q_ref: np.ndarray) -> tuple[int, np.ndarray] | None:
+        """(branch, q) of the branch in ``raw`` (S, nq) nearest ``q_ref``, within limits."""
+        candidates = _wrap_near(raw, q_ref, self.lower, self.upper)
+        distance = np.nan_to_num(self._distance(candidates - q_ref), nan=np.inf)
+        branch = int(np.argmin(distance))
+        if not np.isfinite(distance[branch]):
+            return None
+        return branch, candidates[branch]
+
+    # ------------------------------------------------------------ public API
+    def solutions(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
+        """All solutions within the joint limits.
+
+        Each geometric solution appears once, as its 2π-equivalent within the limits closest to
+        mid-range; solutions that coincide (at singularities) are listed once. A joint that is
+        free at a singularity takes its neutral value (0 moved into the limits) when it can.
+
+        Args:
+            position: Tool position in the base (world) frame [m], shape (3,).
+            rotation: Tool rotation in the world frame (3×3), or None for position only (only
+                for arms that can ignore the orientation, the planar 2R).
+
+        Returns:
+            Joint configurations [rad], shape (k, nq), k ≥ 0 (0: unreachable).
+        """
+        positions, rotations = self._one_pose(position, rotation)
+        raw, _ = self._raw(positions, rotations, self._neutral[None])
+        canonical = _wrap_near(raw[0], self._middle, self.lower, self.upper)
+        found = canonical[np.all(np.isfinite(canonical), axis=1)]
+        gap = np.abs(wrap_angle(found[:, None, :] - found[None, :, :])).max(axis=-1)
+        repeated = np.triu(gap <= 1e-9, k=1).any(axis=0)  # equal to an earlier row
+        return found[~repeated]
+
+    def nearest(
+        self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray
+    ) -> np.ndarray | None:
+        """The solution nearest ``q_ref``.
+
+        Per joint, the 2π-equivalent within the limits nearest ``q_ref`` is considered; among
+        the branches, the one of least weighted distance Σ wᵢ Δqᵢ². At a singularity the free
+        joint keeps its ``q_ref`` value when it can (θ6 at the UR wrist singularity).
+
+        Args:
+            position: Tool position in the base (world) frame [m], shape (3,).
+            rotation: Tool rotation (3×3) in the world frame, or None (planar 2R only).
+            q_ref: Reference configuration [rad], shape (nq,).
+
+        Returns:
+            The configuration [rad], shape (nq,), or None when no solution is within limits.
+        """
+        q_ref = self._check_q(q_ref, "q_ref")
+        positions, rotations = self._one_pose(position, rotation)
+        raw, _ = self._raw(positions, rotations, q_ref[None])
+        picked = self._pick(raw[0], q_ref)
+        return None if picked is None else picked[1]
+
+    def nearest_batch(
+        self, positions: np.ndarray, rotations: np.ndarray | None, q_ref: np.ndarray
+    ) -> np.ndarray:
+        """Follow a branch along a sequence of poses, each sample nearest the previous one.
+
+        Equal to calling :meth:`nearest` sample by sample with the previous solution (the last
+        one found, after samples without solution; ``q_ref`` for the first), but vectorised: the
+        branch transitions of consecutive samples are composed by a doubling scan. Two events
+        cut the scan and restart it: a sample whose continuous joint value would leave the
+        limits (the per-sample rule then picks another 2π-equivalent or branch), and an exactly
+        singular sample (its free joint depends on the previous sample), solved on its own.
+        The cost grows with the number of such events.
+
+        Args:
+            positions: Tool positions in the base (world) frame [m], shape (N, 3).
+            rotations: Tool rotations in the world frame, shape (N, 3, 3), or None (2R only).
+            q_ref: Configuration before the first sample [rad], shape (nq,).
+
+        Returns:
+            Joint configurations [rad], shape (N, nq); rows of NaN where no solution exists.
+        """
+        ref = self._check_q(q_ref, "q_ref")
+        positions, rotations = self._check_poses(positions, rotations)
+        count = len(positions)
+        raw, singular = self._raw(positions, rotations, np.tile(ref, (count, 1)))
+        valid = self._valid(raw)
+        cuts = np.append(np.flatnonzero(singular), count)
+        out = np.full((count, self.nq), np.nan)
+        start = 0
+        while start < count:
+            if singular[start]:
+                rotation = None if rotations is None else rotations[start]
+                q = self.nearest(positions[start], rotation, ref)
+                out[start] = np.nan if q is None else q
+                stop = 1
+            else:
+                end = cuts[np.searchsorted(cuts, start)]  # the next singular sample
+                segment, stop = self._follow(raw[start:end], valid[start:end], ref)
+                out[start : start + stop] = segment[:stop]
+            found = np.flatnonzero(~np.isnan(out[start : start + stop, 0]))
+            if found.size:
+                ref = out[start + found[-1]]
+            start += stop
+        return out
+
+    def _follow(
+        self, raw: np.ndarray, valid: np.ndarray, ref: np.ndarray
+    ) -> tuple[np.ndarray, int]:
+        """Follow the branches from ``ref`` until a joint would leave its limits.
+
+        Args:
+            raw: (M, S, nq) solutions of the samples.
+            valid: (M, S) branches with a solution within limits.
+            ref: Configuration before sample 0.
+
+        Returns:
+            (q, stop): q (M, nq) is exact for rows < ``stop`` (NaN rows where no solution);
+            at row ``stop`` the continuous value leaves the limits (``stop == M``: never).
+        """
+        q_out = np.full((len(raw), self.nq), np.nan)
+        samples = np.flatnonzero(valid.any(axis=1))
+        if samples.size == 0:
+            return q_out, len(raw)
+        sub, sub_valid = raw[samples], valid[samples]
+        first_branch, first_q = self._pick(sub[0], ref)
+        branches = self._branch_sequence(sub, sub_valid, first_branch)
+        chosen = sub[np.arange(len(sub)), branches]
+        steps = wrap_angle(np.diff(chosen, axis=0))
+        unwrapped = first_q + np.concatenate((np.zeros((1, self.nq)), np.cumsum(steps, axis=0)))
+        q = chosen + TAU * np.round((unwrapped - chosen) / TAU)
+        q[0] = first_q
+        inside = np.all((q >= self.lower - _LIMIT_TOL) & (q <= self.upper + _LIMIT_TOL), axis=1)
+        outside = np.flatnonzero(~inside)
+        good = outside[0] if outside.size else len(samples)
+        q_out[samples[:good]] = np.clip(q[:good], self.lower, self.upper)
+        return q_out, (int(samples[good]) if outside.size else len(raw))
+
+    def _branch_sequence(self, raw: np.ndarray, valid: np.ndarray, first: int) -> np.ndarray:
+        """Branch index per sample, each the valid branch nearest the previous sample's."""
+        if len(raw) == 1:
+            return np.array([first])
+        cost = np.zeros((len(raw) - 1, raw.shape[1], raw.shape[1]))
+        for j in range(self.nq):  # (previous branch, next branch) per joint, summed
+            delta = wrap_angle(raw[1:, None, :, j] - raw[:-1, :, None, j])
+            cost += self.weights[j] * delta**2
+        cost = np.where(valid[1:, None, :], np.nan_to_num(cost, nan=np.inf), np.inf)
+        maps = np.concatenate((np.zeros((1, raw.shape[1]), int), np.argmin(cost, axis=2)))
+        return _compose_scan(maps)[:, first]
+
+
+# ---------------------------------------------------------------------------- planar 2R
+class Planar2RIK(_ClosedFormIK):
+    """Closed-form IK of a planar arm with two parallel revolute axes (both elbow branches).
+
+    Args:
+        screws: Joint axes and tool pose at q = 0 (world frame).
+        lower: Lower joint limits [rad], shape (2,).
+        upper: Upper joint limits [rad], shape (2,).
+        weights: Joint weights of the nearest-solution distance (default ones).
+
+    Attributes:
+        link_lengths: Distances [m] axis 1 → axis 2 and axis 2 → tool point, in the plane.
+    """
+
+    needs_rotation = False
+
+    def __init__(
+        self,
+        screws: _Screws,
+        lower: np.ndarray,
+        upper: np.ndarray,
+        weights: np.ndarray | None = None,
+    ):
+        super().__init__(lower, upper, weights)
+        self._axis = screws.directions[0]
+        self._sign2 = float(np.sign(screws.directions[1] @ self._axis))
+        self._e, self._f = _plane_basis(self._axis)
+        self._origin = screws.points[0]
+        self._tool_point = screws.tool.translation.copy()
+        self._tool_rotation = screws.tool.rotation.copy()
+        self._r1 = self._in_plane(screws.points[1] - screws.points[0])
+        self._r2 = self._in_plane(self._tool_point - screws.points[1])
+        self.link_lengths = (float(np.hypot(*self._r1)), float(np.hypot(*self._r2)))
+
+    def _in_plane(self, v: np.ndarray) -> np.ndarray:
+        return np.stack((v @ self._e, v @ self._f), axis=-1)
+
+    def _raw(
+        self, positions: np.ndarray, rotations: np.ndarray | None, fill: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        target = self._in_plane(positions - self._origin)
+        psi1, psi2, ok, free = _planar_2r(self._r1, self._r2, target, fill[:, 0])
+        in_plane = np.abs((positions - self._tool_point) @ self._axis) <= _PLANAR_TOL
+        ok = ok & in_plane[:, None]
+        if rotations is not None:
+            angle, untilted = self._rotation_angle(rotations)
+            # on the base axis θ1 is free for the position, but the orientation fixes it
+            psi1 = np.where(free[:, None], wrap_angle(angle[:, None] - psi2), psi1)
+            turn_error = np.abs(wrap_angle(angle[:, None] - psi1 - psi2))
+            ok &= untilted[:, None] & (turn_error <= _PLANAR_TOL)
+        q = np.stack((psi1, self._sign2 * psi2), axis=-1)  # (N, 2 branches, 2 joints)
+        return np.where(ok[..., None], q, np.nan), free
+
+    def _rotation_angle(self, rotations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Angle [rad] (N,) with ``R = Rot(axis, angle)·R_tool(0)``, and whether R has that form."""
+        relative = rotations @ self._tool_rotation.T
+        untilted = np.linalg.norm(relative @ self._axis - self._axis, axis=-1) <= _PLANAR_TOL
+        turned = relative @ self._e
+        return np.arctan2(turned @ self._f, turned @ self._e), untilted
+
+
+def _planar_2r_solver(robot, screws: _Screws, weights: np.ndarray | None) -> Planar2RIK | None:
+    u = screws.directions
+    if not _parallel(u[0], u[1]):
+        return None
+    solver = Planar2RIK(screws, robot.lower, robot.upper, weights)
+    if min(solver.link_lengths) < _STRUCTURE_TOL:
+        return None
+    return solver
+
+
+# ---------------------------------------------------------------------------- UR family
+@dataclass(frozen=True)
+class _URGeometry:
+    """A UR-type arm at q = 0 in the world frame (vectors (3,), lengths [m]).
+
+    Attributes:
+        u1, u5, u6: Unit axes of joints 1, 5, 6.
+        cross1, cross5, cross6: ``_skew(u).T`` of those axes (``v @ cross = u × v``).
+        p1, p2, p4, p5, p6: Points on axes 1, 2, 4, 5, 6.
+        a: Unit axis of joint 2; axes 3 and 4 are ``signs[1] * a`` and ``signs[2] * a``.
+        signs: Directions (±1) of axes 2, 3, 4 relative to ``a``.
+        b1: ``u1 × a``; ``n(θ1) = cos θ1·a + sin θ1·b1`` is axis 2's direction at θ1.
+        e, f: Basis of the plane of joints 2–4, with (e, f, a) right-handed.
+        r23, r34: Axis 2 → axis 3 and axis 3 → axis 4 in plane coordinates (e, f) [m].
+        shoulder_offset: ``a·(c − p1)`` at q = 0, kept by joints 2–6 [m].
+        delta5: θ5 at which axis 6 is parallel to ``a`` (wrist singularity) [rad].
+        u5_cross_a: ``u5 × a``.
+        centre_in_tool: Wrist centre (axes 5 ∩ 6) in the tool frame [m].
+        u6_in_tool: Axis 6 in the tool frame.
+        tool_rotation: Tool rotation at q = 0.
+        tool_position: Tool position at q = 0 [m].
+    """
+
+    u1: np.ndarray
+    u5: np.ndarray
+    u6: np.ndarray
+    cross1: np.ndarray
+    cross5: np.ndarray
+    cross6: np.ndarray
+    p1: np.ndarray
+    p2: np.ndarray
+    p4: np.ndarray
+    p5: np.ndarray
+    p6: np.ndarray
+    a: np.ndarray
+    signs: np.ndarray
+    b1: np.ndarray
+    e: np.ndarray
+    f: np.ndarray
+    r23: np.ndarray
+    r34: np.ndarray
+    shoulder_offset: float
+    delta5: float
+    u5_cross_a: np.ndarray
+    centre_in_tool: np.ndarray
+    u6_in_tool: np.ndarray
+    tool_rotation: np.ndarray
+    tool_position: np.ndarray
+
+
+def _axes_intersection(p: np.ndarray, u: np.ndarray, q: np.ndarray, v: np.ndarray):
+    """Intersection of two perpendicular lines (p, u) and (q, v), or None if they miss."""
+    on_first = p + ((q - p) @ u) * u
+    on_second = q + ((p - q) @ v) * v
+    if np.linalg.norm(on_first - on_second) > _STRUCTURE_TOL:
+        return None
+    return 0.5 * (on_first + on_second)
+
+
+def ur_geometry(screws: _Screws) -> _URGeometry | None:
+    """The UR structure of six revolute screws at q = 0, or None if they do not have it.
+
+    Required: axis 1 ⊥ axis 2; axes 2, 3, 4 parallel (distinct, so both planar links have a
+    length); axis 5 ⊥ axis 4; axes 5 and 6 intersect at right angles; the wrist centre is offset
+    from the plane of axes 1 and 2 along ``a`` (the UR shoulder offset d4 ≠ 0).
+    """
+    u, p = screws.directions, screws.points
+    a = u[1]
+    structure = (
+        _perpendicular(u[0], a)
+        and _parallel(u[2], a)
+        and _parallel(u[3], a)
+        and _perpendicular(u[4], a)
+        and _perpendicular(u[5], u[4])
+    )
+    if not structure:
+        return None
+    centre = _axes_intersection(p[4], u[4], p[5], u[5])
+    if centre is None:
+        return None
+    e, f = _plane_basis(a)
+
+    def in_plane(v: np.ndarray) -> np.ndarray:
+        return np.array([v @ e, v @ f])
+
+    r23, r34 = in_plane(p[2] - p[1]), in_plane(p[3] - p[2])
+    if min(np.hypot(*r23), np.hypot(*r34)) < _STRUCTURE_TOL:
+        return None
+    shoulder_offset = float(a @ (centre - p[0]))
+    if abs(shoulder_offset) < _STRUCTURE_TOL:  # θ1 would be free on axis 1: not the UR form
+        return None
+    tool_rotation = screws.tool.rotation.copy()
+    tool_position = screws.tool.translation.copy()
+    return _URGeometry(
+        u1=u[0],
+        u5=u[4],
+        u6=u[5],
+        cross1=_skew(u[0]).T,
+        cross5=_skew(u[4]).T,
+        cross6=_skew(u[5]).T,
+        p1=p[0],
+        p2=p[1],
+        p4=p[3],
+        p5=p[4],
+        p6=p[5],
+        a=a,
+        signs=np.sign(u[1:4] @ a),
+        b1=np.cross(u[0], a),
+        e=e,
+        f=f,
+        r23=r23,
+        r34=r34,
+        shoulder_offset=shoulder_offset,
+        delta5=float(np.arctan2(a @ np.cross(u[4], u[5]), a @ u[5])),
+        u5_cross_a=np.cross(u[4], a),
+        centre_in_tool=tool_rotation.T @ (centre - tool_position),
+        u6_in_tool=tool_rotation.T @ u[5],
+        tool_rotation=tool_rotation,
+        tool_position=tool_position,
+    )
+
+
+class URIK(_ClosedFormIK):
+    """Closed-form IK of a UR-type arm: up to 8 solutions (shoulder × wrist × elbow).
+
+    Branch index ``4·shoulder + 2·wrist + elbow``. At the wrist singularity (axis 6 parallel to
+    axes 2–4) θ6 is free: it keeps the reference value, or the nearest value the elbow can
+    follow when the reference's is out of its reach. At the shoulder singularity (wrist centre
+    at distance |d4| from axis 1) the two shoulder branches coincide, and with a straight elbow
+    the two elbow branches.
+
+    Args:
+        geometry: The arm at q = 0 (world frame).
+        lower: Lower joint limits [rad], shape (6,).
+        upper: Upper joint limits [rad], shape (6,).
+        weights: Joint weights of the nearest-solution distance (default ones).
+    """
+
+    def __init__(
+        self,
+        geometry: _URGeometry,
+        lower: np.ndarray,
+        upper: np.ndarray,
+        weights: np.ndarray | None = None,
+    ):
+        super().__init__(lower, upper, weights)
+        self.geometry = geometry
+
+    def _raw(
+        self, positions: np.ndarray, rotations: np.ndarray | None, fill: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        g = self.geometry
+        count = len(positions)
+        t1, shoulder_ok = self._shoulder(positions, rotations)  # (N, 2)
+        n = np.cos(t1)[..., None] * g.a + np.sin(t1)[..., None] * g.b1  # axis 2 at θ1, (N, 2, 3)
+        t1 = t1[:, :, None]
+        t5, t6, free6 = self._wrist(rotations, n, fill[:, 5])  # (N, 2, 2)
+        if free6.any():
+            feasible = self._feasible_theta6(positions, rotations, t1, t5, fill[:, 5])
+            t6 = np.where(free6, feasible, t6)
+        target, phi = self._planar_target(positions, rotations, t1, t5, t6)
+        t2, t3, t4, elbow_ok, free2 = self._joints_234(target, phi, fill[:, 1])
+        shape = (count, 2, 2, 2)
+        q = np.stack(
+            [
+                np.broadcast_to(t1[..., None], shape),
+                t2,
+                t3,
+                t4,
+                np.broadcast_to(t5[..., None], shape),
+                np.broadcast_to(t6[..., None], shape),
+            ],
+            axis=-1,
+        )
+        ok = shoulder_ok[:, :, None, None] & elbow_ok
+        raw = np.where(ok[..., None], q, np.nan).reshape(count, 8, 6)
+        singular = free6.reshape(count, -1).any(axis=1) | free2.reshape(count, -1).any(axis=1)
+        return raw, singular
+
+    def _shoulder(
+        self, positions: np.ndarray, rotations: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """θ1 (N, 2) from ``n(θ1)·(c − p1) = shoulder_offset``, and whether it is reachable."""
+        g = self.geometry
+        centre = positions + rotations @ g.centre_in_tool
+        x, y = (centre - g.p1) @ g.a, (centre - g.p1) @ g.b1
+        radius = np.hypot(x, y)
+        ratio = g.shoulder_offset / np.maximum(radius, np.finfo(float).tiny)
+        reachable = np.abs(ratio) <= 1.0 + _CLAMP
+        half = np.arccos(np.clip(ratio, -1.0, 1.0))
+        t1 = wrap_angle(np.arctan2(y, x)[:, None] + _SIGNS * half[:, None])
+        return t1, np.broadcast_to(reachable[:, None], t1.shape)
+
+    def _wrist(
+        self, rotations: np.ndarray, n: np.ndarray, fill: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """θ5, θ6 (N, 2, 2) (shoulder, wrist) from the tool axes; free (N, 2, 2) where θ6 = fill.
+
+        With R = R1 R234 R5 R6 R_M (rotations about the q = 0 axes) and R234 about ``a``:
+        ``n·z6 = a·R5 u6 = cos(θ5 − δ)``, and ``R6ᵀ R5ᵀ a = R_M Rᵀ n`` fixes θ6. The angles come
+        from atan2 of components perpendicular to u6 (not arccos), so they stay accurate near
+        the wrist singularity sin(θ5 − δ) = 0.
+        """
+        g = self.geometry
+        b = np.einsum("nji,nsj->nsi", rotations, n) @ g.tool_rotation.T  # R_M Rᵀ n, (N, 2, 3)
+        cosine = b @ g.u6  # n·z6
+        b_perp = b - cosine[..., None] * g.u6
+        sine = np.linalg.norm(b_perp, axis=-1)  # |sin(θ5 − δ)|
+        t5 = g.delta5 + _SIGNS * np.arctan2(sine, cosine)[..., None]
+        r5t_a = np.cos(t5)[..., None] * g.a - np.sin(t5)[..., None] * g.u5_cross_a  # R5ᵀ a
+        g_perp = r5t_a - (r5t_a @ g.u6)[..., None] * g.u6
+        b_perp = b_perp[:, :, None, :]
+        sin6 = np.sum((b_perp @ g.cross6) * g_perp, axis=-1)  # u6·(b⊥ × g⊥)
+        cos6 = np.sum(b_perp * g_perp, axis=-1)
+        free = np.broadcast_to((sine < _FREE_TOL)[..., None], t5.shape)
+        t6 = np.where(free, fill[:, None, None], np.arctan2(sin6, cos6))
+        return wrap_angle(t5), t6, free
+
+    def _planar_target(
+        self,
+        positions: np.ndarray,
+        rotations: np.ndarray,
+        t1: np.ndarray,
+        t5: np.ndarray,
+        t6: np.ndarray,
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The planar motion X = e1⁻¹ T M⁻¹ e6⁻¹ e5⁻¹ that joints 2–4 must make (X = e2 e3 e4).
+
+        Args:
+            positions, rotations: Targets (N, 3), (N, 3, 3).
+            t1: θ1, shape (N, 2, 1); t5, t6: θ5, θ6, shape (N, 2, 2) [rad].
+
+        Returns:
+            (target, φ): where X moves the point of axis 4, relative to axis 2 in the plane's
+            (e, f) coordinates [m], shape (N, 2, 2, 2); X's rotation about ``a`` [rad] (N, 2, 2).
+        """
+        g = self.geometry
+        point = _rotate_about_line(g.p4, g.p5, g.u5, -t5, g.cross5)
+        point = _rotate_about_line(point, g.p6, g.u6, -t6, g.cross6)
+        point = _rotate_by(rotations, (point - g.tool_position) @ g.tool_rotation)
+        point = _rotate_about_line(point + positions[:, None, None], g.p1, g.u1, -t1, g.cross1)
+        turned = _rotate(_rotate(g.e, g.u5, -t5, g.cross5), g.u6, -t6, g.cross6)
+        turned = _rotate_by(rotations, turned @ g.tool_rotation)
+        turned = _rotate(turned, g.u1, -t1, g.cross1)
+        relative = point - g.p2
+        target = np.stack((relative @ g.e, relative @ g.f), axis=-1)
+        return target, np.arctan2(turned @ g.f, turned @ g.e)
+
+    def _feasible_theta6(
+        self,
+        positions: np.ndarray,
+        rotations: np.ndarray,
+        t1: np.ndarray,
+        t5: np.ndarray,
+        fill: np.ndarray,
+    ) -> np.ndarray:
+        """θ6 [rad] (N, 2, 2) for the wrist singularity, where θ6 is free.
+
+        Joints 2, 3, 4 and 6 are then all parallel: θ6 can take any value the elbow can
+        follow. The 2R target moves on a circle with θ6, |target|² = k + A·cos(θ6 − β); the
+        elbow reaches it for |l2 − l3| ≤ |target| ≤ l2 + l3, an arc of θ6. Returns ``fill`` when
+        it lies on that arc, else the nearest end of the arc (where the elbow is straight or
+        folded; if the arc is empty, the 2R step then finds the pose unreachable).
+        """
+        g = self.geometry
+        at = [
+            self._planar_target(positions, rotations, t1, t5, np.full(t5.shape, angle))[0]
+            for angle in (0.0, 0.5 * np.pi, np.pi)
+        ]
+        centre = 0.5 * (at[0] + at[2])
+        u, v = 0.5 * (at[0] - at[2]), at[1] - centre
+        k = np.sum(centre**2, axis=-1) + np.sum(u**2, axis=-1)
+        b_cos, b_sin = 2.0 * np.sum(centre * u, axis=-1), 2.0 * np.sum(centre * v, axis=-1)
+        amplitude, beta = np.hypot(b_cos, b_sin), np.arctan2(b_sin, b_cos)
+        l2, l3 = np.hypot(*g.r23), np.hypot(*g.r34)
+        safe = np.maximum(amplitude, np.finfo(float).tiny)
+        # within reach for min_offset ≤ |θ6 − β| ≤ max_offset (not too far, not too close)
+        min_offset = np.arccos(np.clip(((l2 + l3) ** 2 - k) / safe, -1.0, 1.0))
+        max_offset = np.arccos(np.clip(((l2 - l3) ** 2 - k) / safe, -1.0, 1.0))
+        offset = wrap_angle(fill[:, None, None] - beta)
+        magnitude = np.clip(np.abs(offset), min_offset, max_offset)
+        clamped = beta + np.where(offset >= 0.0, magnitude, -magnitude)
+        keep = (magnitude == np.abs(offset)) | (amplitude == 0.0)
+        return np.where(keep, fill[:, None, None], clamped)
+
+    def _joints_234(
+        self, target: np.ndarray, phi: np.ndarray, fill: np.ndarray
+    ) -> tuple[np.ndarray, ...]:
+        """θ2, θ3, θ4 (N, 2, 2, 2) from the planar motion: a 2R problem for joints 2 and 3, then
+        θ4 from ψ2 + ψ3 + ψ4 = φ (ψk = ±θk, the axis signs).
+
+        Returns:
+            (θ2, θ3, θ4, reachable, free) with ``free`` where θ2 = fill (axis 4 on axis 2).
+        """
+        g = self.geometry
+        fill_psi2 = np.broadcast_to((g.signs[0] * fill)[:, None, None], phi.shape)
+        psi2, psi3, reachable, free = _planar_2r(g.r23, g.r34, target, fill_psi2)
+        psi4 = wrap_angle(phi[..., None] - psi2 - psi3)
+        return g.signs[0] * psi2, g.signs[1] * psi3, g.signs[2] * psi4, reachable, free
+
+
+# ---------------------------------------------------------------------------- factory
+def _self_check(solver: _ClosedFormIK, robot, samples: int = 8) -> bool:
+    """Whether the solver reproduces random configurations of ``robot`` (Pinocchio FK)."""
+    rng = np.random.default_rng(12345)
+    for _ in range(samples):
+        q = robot.random_configuration(rng)
+        pose = robot.fk(q)
+        found = solver.solutions(pose.translation, pose.rotation)
+        if not any(np.max(np.abs(wrap_angle(s - q))) < 1e-7 for s in found):
+            return False
+        for s in found:
+            reached = robot.fk(s)
+            if np.linalg.norm(reached.translation - pose.translation) > 1e-8:
+                return False
+            if np.linalg.norm(pin.log3(reached.rotation.T @ pose.rotation)) > 1e-8:
+                return False
+    return True
+
+
+def analytic_solver_for(robot, weights: np.ndarray | None = None) -> AnalyticIK | None:
+    """A closed-form IK solver for ``robot`` when its geometry allows one, else None.
+
+    Planar 2R arms (two parallel revolute axes) and UR-type arms (see :func:`ur_geometry`) are
+    recognised from the Pinocchio model's joint placements and tool frame; the solver is then
+    checked against Pinocchio's forward kinematics on a few random configurations. Any other arm
+    gives None, and the caller falls back to the numerical solver (:meth:`Robot.ik`).
+
+    Args:
+        robot: A :class:`kinplan.Robot`.
+        weights: Joint weights w of the distance Σ wᵢ Δqᵢ² by which :meth:`nearest` and
+            :meth:`nearest_batch` choose (default: all ones), shape (nq,).
+    """
+    if robot.nq not in (2, 6):
+        return None
+    screws = _screws_at_zero(robot)
+    if screws is None:
+        return None
+    if robot.nq == 2:
+        solver: _ClosedFormIK | None = _planar_2r_solver(robot, screws, weights)
+    else:
+        geometry = ur_geometry(screws)
+        solver = None if geometry is None else URIK(geometry, robot.lower, robot.upper, weights)
+    if solver is None:
+        return None
+    if not _self_check(solver, robot):
+        logger.debug("closed-form IK of %s disagrees with its forward kinematics", robot.name)
+        return None
+    return solver

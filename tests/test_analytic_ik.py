@@ -1,0 +1,389 @@
+"""Closed-form IK (kinplan.analytic_ik): every solution checked with Pinocchio FK."""
+
+from __future__ import annotations
+
+import functools
+import itertools
+import re
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from conftest import cached_robot
+
+import kinplan
+from kinplan.analytic_ik import URIK, Planar2RIK, analytic_solver_for, wrap_angle
+from kinplan.errors import InputError
+
+UR_ARMS = ["ur3", "ur5", "ur10"]
+
+
+@functools.cache
+def solver_of(name: str):
+    return analytic_solver_for(cached_robot(name))
+
+
+def pose_errors(robot: kinplan.Robot, q: np.ndarray, target: pin.SE3) -> tuple[float, float]:
+    """Position error [m] and rotation error [rad] of FK(q) against ``target``."""
+    reached = robot.fk(q)
+    position = float(np.linalg.norm(reached.translation - target.translation))
+    rotation = float(np.linalg.norm(pin.log3(reached.rotation.T @ target.rotation)))
+    return position, rotation
+
+
+def assert_solves(robot, solutions: np.ndarray, target: pin.SE3, tol: float = 1e-9) -> None:
+    for q in solutions:
+        assert robot.within_limits(q, tolerance=0.0), q
+        position, rotation = pose_errors(robot, q, target)
+        assert position < tol and rotation < tol, (q, position, rotation)
+
+
+def contains(solutions: np.ndarray, q: np.ndarray, tol: float = 1e-7) -> bool:
+    """Whether ``q`` equals one of ``solutions`` modulo 2π per joint."""
+    return any(np.max(np.abs(wrap_angle(s - q))) < tol for s in solutions)
+
+
+def brute_force_nearest(robot, solutions: np.ndarray, q_ref: np.ndarray) -> np.ndarray:
+    """Every 2π-equivalent within limits of every solution; the one nearest q_ref (Σ Δq²)."""
+    best, best_cost = None, np.inf
+    for s in solutions:
+        options = [
+            [v + 2 * np.pi * k for k in range(-3, 4) if lo <= v + 2 * np.pi * k <= hi]
+            for v, lo, hi in zip(s, robot.lower, robot.upper)
+        ]
+        for q in itertools.product(*options):
+            cost = float(np.sum((np.array(q) - q_ref) ** 2))
+            if cost < best_cost:
+                best, best_cost = np.array(q), cost
+    return best
+
+
+def follow_per_sample(solver, positions, rotations, q_ref) -> np.ndarray:
+    """The reference semantics of nearest_batch: nearest() sample by sample."""
+    out = np.full((len(positions), solver.nq), np.nan)
+    for i, position in enumerate(positions):
+        q = solver.nearest(position, None if rotations is None else rotations[i], q_ref)
+        if q is not None:
+            out[i] = q_ref = q
+    return out
+
+
+# ---------------------------------------------------------------------------- recognition
+def test_solver_kinds():
+    assert all(isinstance(solver_of(name), URIK) for name in UR_ARMS)
+    assert isinstance(solver_of("planar_2r"), Planar2RIK)
+    assert solver_of("panda") is None
+    assert analytic_solver_for(kinplan.planar_arm([1.0, 1.0, 1.0])) is None
+
+
+def test_planar_lengths_match_robot(planar_2r):
+    assert solver_of("planar_2r").link_lengths == pytest.approx(planar_2r.link_lengths)
+    arm = kinplan.planar_arm([0.7, 0.25])
+    assert analytic_solver_for(arm).link_lengths == pytest.approx([0.7, 0.25])
+
+
+# ---------------------------------------------------------------------------- UR family
+@pytest.mark.parametrize("name", UR_ARMS)
+def test_ur_random_configurations(name):
+    robot, solver = cached_robot(name), solver_of(name)
+    rng = np.random.default_rng(20240611)
+    for _ in range(500):
+        q = robot.random_configuration(rng)
+        target = robot.fk(q)
+        solutions = solver.solutions(target.translation, target.rotation)
+        assert 1 <= len(solutions) <= 8
+        assert contains(solutions, q), (q, solutions)
+        assert_solves(robot, solutions, target)
+
+
+@pytest.mark.parametrize("name", UR_ARMS)
+def test_ur_generic_pose_has_eight_solutions(name):
+    robot, solver = cached_robot(name), solver_of(name)
+    q = np.array([0.3, -1.2, 1.4, -0.8, 1.1, 0.4])
+    target = robot.fk(q)
+    assert len(solver.solutions(target.translation, target.rotation)) == 8
+
+
+def test_ur_unreachable_gives_no_solution(ur5):
+    solver = solver_of("ur5")
+    assert solver.solutions(np.array([2.0, 0.0, 0.5]), np.eye(3)).shape == (0, 6)
+    assert solver.nearest(np.array([2.0, 0.0, 0.5]), np.eye(3), ur5.neutral()) is None
+    # inside the shoulder-offset cylinder around axis 1: no θ1 keeps the offset
+    centre_in_tool = solver.geometry.centre_in_tool
+    assert solver.solutions(-centre_in_tool + [0.0, 0.0, 0.4], np.eye(3)).shape == (0, 6)
+
+
+@pytest.mark.parametrize(
+    "q",
+    [
+        np.zeros(6),  # shoulder, elbow and wrist singular at once
+        np.array([0.4, -1.0, 1.2, 0.3, 0.0, 0.7]),  # wrist singular: θ6 free
+        np.array([0.4, -1.0, 1.2, 0.3, np.pi, -2.0]),
+        np.array([-0.5, -0.6, 0.0, 1.0, 0.8, 0.2]),  # elbow straight
+    ],
+)
+def test_ur_singular_configurations(ur5, q):
+    solver = solver_of("ur5")
+    target = ur5.fk(q)
+    solutions = solver.solutions(target.translation, target.rotation)
+    assert len(solutions) >= 1
+    assert_solves(ur5, solutions, target)
+    nearest = solver.nearest(target.translation, target.rotation, q)
+    assert nearest is not None
+    assert_solves(ur5, nearest[None], target)
+    np.testing.assert_allclose(nearest, q, atol=1e-6)
+
+
+def test_ur_wrist_singularity_keeps_reference_theta6(ur5):
+    solver = solver_of("ur5")
+    q = np.array([0.4, -1.0, 1.2, 0.3, 0.0, 0.7])
+    target = ur5.fk(q)
+    for theta6 in (-2.5, 0.0, 1.9):
+        reference = q.copy()
+        reference[5] = theta6
+        nearest = solver.nearest(target.translation, target.rotation, reference)
+        assert nearest[5] == pytest.approx(theta6, abs=1e-12)
+        assert_solves(ur5, nearest[None], target)
+
+
+def test_nearest_is_the_solution_nearest_the_reference(ur5):
+    solver = solver_of("ur5")
+    rng = np.random.default_rng(3)
+    for _ in range(50):
+        q = ur5.random_configuration(rng)
+        target = ur5.fk(q)
+        near_seed = np.clip(q + rng.normal(scale=0.05, size=6), ur5.lower, ur5.upper)
+        np.testing.assert_allclose(
+            solver.nearest(target.translation, target.rotation, near_seed), q, atol=1e-9
+        )
+        reference = ur5.random_configuration(rng)
+        solutions = solver.solutions(target.translation, target.rotation)
+        expected = brute_force_nearest(ur5, solutions, reference)
+        found = solver.nearest(target.translation, target.rotation, reference)
+        np.testing.assert_allclose(found, expected, atol=1e-9)
+
+
+def test_ur_rejects_misuse():
+    solver = solver_of("ur5")
+    with pytest.raises(InputError, match="rotation"):
+        solver.solutions(np.zeros(3), None)
+    with pytest.raises(InputError):
+        solver.nearest(np.zeros(3), np.eye(3), np.zeros(5))
+    with pytest.raises(InputError):
+        solver.nearest_batch(np.full((2, 3), np.nan), np.tile(np.eye(3), (2, 1, 1)), np.zeros(6))
+
+
+# ---------------------------------------------------------------------------- modified URDFs
+UR5_URDF = cached_robot("ur5").urdf_path
+
+
+def modified_ur5(
+    tmp_path: Path, tool_rpy: str | None = None, **replacements: tuple[str, str]
+) -> kinplan.Robot:
+    """A copy of the UR5 URDF with joint origins replaced (and tool0 turned), loaded from disk."""
+    text = UR5_URDF.read_text()
+    if tool_rpy is not None:
+        text = text.replace(
+            'rpy="-1.57079632679 0 0" xyz="0 0.0823 0"', f'rpy="{tool_rpy}" xyz="0 0.0823 0"'
+        )
+    for joint, (old, new) in replacements.items():
+        pattern = rf'(<joint name="{joint}".*?){re.escape(old)}'
+        text, count = re.subn(pattern, rf"\g<1>{new}", text, count=1, flags=re.S)
+        assert count == 1, (joint, old)
+    path = tmp_path / "ur5_modified.urdf"
+    path.write_text(text)
+    return kinplan.load_robot(path, tip="tool0")
+
+
+def test_modified_ur_geometry_is_read_from_the_urdf(tmp_path):
+    robot = modified_ur5(
+        tmp_path,
+        shoulder_lift_joint=('xyz="0.0 0.13585 0.0"', 'xyz="0.0 0.2 0.0"'),
+        elbow_joint=('xyz="0.0 -0.1197 0.425"', 'xyz="0.0 -0.05 0.55"'),
+        wrist_1_joint=('xyz="0.0 0.0 0.39225"', 'xyz="0.0 0.0 0.3"'),
+        wrist_3_joint=('xyz="0.0 0.0 0.09465"', 'xyz="0.0 0.0 0.12"'),
+    )
+    solver = analytic_solver_for(robot)
+    assert isinstance(solver, URIK)
+    assert np.hypot(*solver.geometry.r23) == pytest.approx(0.55)
+    assert solver.geometry.shoulder_offset == pytest.approx(0.2 - 0.05 + 0.093)
+    rng = np.random.default_rng(11)
+    for _ in range(200):
+        q = robot.random_configuration(rng)
+        target = robot.fk(q)
+        solutions = solver.solutions(target.translation, target.rotation)
+        assert contains(solutions, q)
+        assert_solves(robot, solutions, target)
+    # the stock UR5 solver gets this robot wrong: the geometry really comes from the file
+    stock = solver_of("ur5").solutions(target.translation, target.rotation)
+    assert not contains(stock, q)
+
+
+def test_joint_zero_offsets_and_tool_rotation_are_absorbed(tmp_path):
+    robot = modified_ur5(
+        tmp_path,
+        tool_rpy="0.3 -0.5 1.2",
+        wrist_2_joint=('rpy="0.0 0.0 0.0"', 'rpy="0.0 0.3 0.0"'),  # a θ4 offset
+        elbow_joint=('rpy="0.0 0.0 0.0"', 'rpy="0.0 -0.7 0.0"'),  # a θ3 offset
+        wrist_3_joint=('rpy="0.0 0.0 0.0"', 'rpy="0.0 0.0 0.4"'),  # a θ5 offset
+    )
+    solver = analytic_solver_for(robot)
+    assert isinstance(solver, URIK)
+    rng = np.random.default_rng(12)
+    for _ in range(100):
+        q = robot.random_configuration(rng)
+        target = robot.fk(q)
+        solutions = solver.solutions(target.translation, target.rotation)
+        assert contains(solutions, q)
+        assert_solves(robot, solutions, target)
+
+
+@pytest.mark.parametrize(
+    "replacements",
+    [
+        {"elbow_joint": ('rpy="0.0 0.0 0.0"', 'rpy="0.1 0.0 0.0"')},  # elbow axis tilted
+        {"wrist_3_joint": ('xyz="0.0 0.0 0.09465"', 'xyz="0.02 0.0 0.09465"')},  # 5, 6 miss
+        {"wrist_2_joint": ('rpy="0.0 0.0 0.0"', 'rpy="0.3 0.0 0.0"')},  # axis 5 not ⊥ axis 4
+    ],
+)
+def test_broken_ur_structure_gives_none(tmp_path, replacements):
+    assert analytic_solver_for(modified_ur5(tmp_path, **replacements)) is None
+
+
+# ---------------------------------------------------------------------------- planar 2R
+def closed_form_2r(l1: float, l2: float, x: float, y: float) -> np.ndarray:
+    """The textbook solutions (elbow down θ2 > 0, elbow up θ2 < 0), rows (θ1, θ2)."""
+    cosine = (x**2 + y**2 - l1**2 - l2**2) / (2 * l1 * l2)
+    rows = []
+    for theta2 in (np.arccos(cosine), -np.arccos(cosine)):
+        theta1 = np.arctan2(y, x) - np.arctan2(l2 * np.sin(theta2), l1 + l2 * np.cos(theta2))
+        rows.append([theta1, theta2])
+    return wrap_angle(np.array(rows))
+
+
+@pytest.mark.parametrize("lengths", [(1.0, 1.0), (1.0, 0.25), (0.4, 0.9)])
+def test_planar_2r_both_branches(lengths):
+    robot = kinplan.planar_arm(list(lengths))
+    solver = analytic_solver_for(robot)
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        q = robot.random_configuration(rng)
+        target = robot.fk(q)
+        solutions = solver.solutions(target.translation, None)
+        expected = closed_form_2r(*lengths, *target.translation[:2])
+        assert len(solutions) == 2
+        for row in expected:
+            assert contains(solutions, row, tol=1e-9)
+        assert contains(solutions, q)
+        for s in solutions:
+            position, _ = pose_errors(robot, s, target)
+            assert position < 1e-9
+        # with the orientation, only the solution with θ1 + θ2 of the target remains
+        oriented = solver.solutions(target.translation, target.rotation)
+        assert len(oriented) == 1 and contains(oriented, q)
+
+
+def test_planar_2r_limits_and_wraps():
+    robot = kinplan.planar_arm([1.0, 0.5], lower=[0.0, 0.0], upper=[2 * np.pi, np.pi])
+    solver = analytic_solver_for(robot)
+    q = np.array([5.5, 1.0])  # θ1 beyond π: only reachable as itself, not as 5.5 − 2π
+    target = robot.fk(q)
+    solutions = solver.solutions(target.translation, None)
+    np.testing.assert_allclose(solutions, q[None], atol=1e-9)  # the θ2 < 0 branch is excluded
+    np.testing.assert_allclose(solver.nearest(target.translation, None, np.zeros(2)), q)
+
+
+def test_planar_2r_unreachable_and_singular(planar_2r):
+    solver = solver_of("planar_2r")
+    assert solver.solutions(np.array([2.5, 0.0, 0.0]), None).shape == (0, 2)
+    assert solver.solutions(np.array([1.0, 0.0, 0.3]), None).shape == (0, 2)  # out of plane
+    assert solver.nearest(np.array([2.5, 0.0, 0.0]), None, np.zeros(2)) is None
+    stretched = solver.solutions(np.array([0.0, 2.0, 0.0]), None)
+    np.testing.assert_allclose(stretched, [[np.pi / 2, 0.0]], atol=1e-9)
+    # target on the base axis (l1 = l2): θ1 is free and keeps the reference
+    folded = solver.nearest(np.zeros(3), None, np.array([0.7, 3.0]))
+    np.testing.assert_allclose(folded, [0.7, np.pi], atol=1e-12)
+
+
+# ---------------------------------------------------------------------------- batch
+def ur5_path(count: int) -> np.ndarray:
+    """A joint path through a run of wrist-singular samples (θ5 = 0) and past θ6's limit."""
+    t = np.linspace(0.0, 1.0, count)
+    q = np.column_stack(
+        [
+            0.3 + 1.5 * t,
+            -1.4 + 0.6 * np.sin(3 * t),
+            1.6 - 3.0 * t,  # elbow straightens at t = 0.53 and bends the other way
+            -0.8 + 2.0 * t,
+            np.sign(t - 0.4) * np.maximum(np.abs(t - 0.4) - 0.05, 0.0) * 3.0,
+            4.0 + 5.0 * t,  # leaves the +2π limit: the per-sample rule wraps it
+        ]
+    )
+    return q
+
+
+def test_batch_equals_per_sample_ur5(ur5):
+    solver = solver_of("ur5")
+    q_path = ur5_path(600)
+    poses = [ur5.fk(q) for q in q_path]
+    positions = np.array([p.translation for p in poses])
+    rotations = np.array([p.rotation for p in poses])
+    positions[200:210] += [3.0, 0.0, 0.0]  # unreachable stretch
+    q_ref = q_path[0] + 0.01
+    batch = solver.nearest_batch(positions, rotations, q_ref)
+    expected = follow_per_sample(solver, positions, rotations, q_ref)
+    np.testing.assert_allclose(batch, expected, atol=1e-9, equal_nan=True)
+    reached = ~np.isnan(batch[:, 0])
+    np.testing.assert_array_equal(np.flatnonzero(~reached), np.arange(200, 210))
+    for i in np.flatnonzero(reached)[::7]:
+        assert_solves(ur5, batch[i][None], poses[i])
+    assert np.all(batch[reached] >= ur5.lower) and np.all(batch[reached] <= ur5.upper)
+    # at θ6's upper limit the nearest solution within limits is the other wrist branch
+    flip = np.flatnonzero(np.abs(np.diff(batch[:, 5])) > 3.0)
+    assert flip.size == 1 and q_path[flip[0] + 1, 5] > ur5.upper[5]
+    # on the run of exactly wrist-singular samples θ6 is held until the elbow cannot follow;
+    # then it takes the nearest value the elbow reaches (stretched straight)
+    singular = np.flatnonzero(q_path[:, 4] == 0.0)
+    assert singular.size > 20
+    for i in singular:
+        assert_solves(ur5, batch[i][None], poses[i])
+    moved = singular[1:][np.diff(batch[singular, 5]) != 0.0]
+    assert 0 < moved.size < singular.size - 10
+    np.testing.assert_allclose(batch[moved, 2], 0.0, atol=1e-6)
+
+
+def test_batch_follows_the_original_branch(ur5):
+    solver = solver_of("ur5")
+    t = np.linspace(0.0, 1.0, 300)[:, None]
+    q_path = np.array([0.2, -1.3, 1.5, -0.9, 1.2, 0.3]) + t * [1.0, 0.5, -0.6, 0.8, 0.7, 2.0]
+    poses = [ur5.fk(q) for q in q_path]
+    positions = np.array([p.translation for p in poses])
+    rotations = np.array([p.rotation for p in poses])
+    batch = solver.nearest_batch(positions, rotations, q_path[0])
+    np.testing.assert_allclose(batch, q_path, atol=1e-9)
+
+
+def test_batch_equals_per_sample_planar_2r(planar_2r):
+    solver = solver_of("planar_2r")
+    s = np.linspace(0.0, 1.0, 401)
+    radius = np.abs(2.0 * np.cos(np.pi * s))  # full stretch, through the base axis (s = 0.5)
+    angle = 3.0 * s
+    positions = np.column_stack([radius * np.cos(angle), radius * np.sin(angle), 0 * s])
+    positions[300:305, 2] = 0.1  # out of the plane: no solution
+    q_ref = np.array([0.1, 0.2])
+    batch = solver.nearest_batch(positions, None, q_ref)
+    expected = follow_per_sample(solver, positions, None, q_ref)
+    np.testing.assert_allclose(batch, expected, atol=1e-9, equal_nan=True)
+    assert np.all(np.isnan(batch[300:305]))
+    assert np.isnan(batch).sum() == 10
+
+
+def test_batch_single_sample_and_empty_cases(ur5):
+    solver = solver_of("ur5")
+    q = np.array([0.3, -1.2, 1.4, -0.8, 1.1, 0.4])
+    pose = ur5.fk(q)
+    one = solver.nearest_batch(pose.translation[None], pose.rotation[None], q)
+    np.testing.assert_allclose(one, q[None], atol=1e-9)
+    none = solver.nearest_batch(np.array([[3.0, 0, 0]]), np.eye(3)[None], q)
+    assert np.all(np.isnan(none))
