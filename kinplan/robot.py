@@ -285,7 +285,8 @@ class Robot:
         Starts from ``q_seed`` (default: :meth:`neutral`); when that attempt fails, takes the
         closed-form solution nearest the seed where the arm has one (planar 2R, UR family), and
         otherwise restarts from a deterministic low-discrepancy set of configurations. Starting
-        near a solution, it returns the solution on the seed's branch. Results always lie within the joint limits.
+        near a solution, it returns the solution on the seed's branch. Results always lie within
+        the joint limits.
 
         Args:
             target: Tool pose (``pin.SE3`` or 4×4 matrix) or tool position (3-vector, implies
