@@ -13,6 +13,7 @@ sequence spread over the joint limits (deterministic: the same input gives the s
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import eigenpy
@@ -86,7 +87,6 @@ class IKSolver:
         self.lower = lower
         self.upper = upper
         self.nq = model.nq
-        self._eye = np.eye(model.nq)
         self._diagonal = np.diag_indices(model.nq)
         self._no_lower = np.full(model.nq, -np.inf)
         self._no_upper = np.full(model.nq, np.inf)
@@ -122,53 +122,61 @@ class IKSolver:
             (q, converged, position_error, rotation_error, iterations)
         """
         model, data, fid = self.model, self.data, self.frame_id
-        eye = self._eye
         lower, upper = (self.lower, self.upper) if clamp else (self._no_lower, self._no_upper)
         q = np.minimum(np.maximum(q, lower), upper)
-        rows = slice(0, 3) if rotation is None else slice(0, 6)
+        touching = True  # whether q may sit on a limit (then the active set is checked)
+        rows = 3 if rotation is None else 6
+        diagonal = self._diagonal
         e = np.zeros(6)
+        position_tolerance2 = position_tolerance * position_tolerance
+        rotation_tolerance2 = rotation_tolerance * rotation_tolerance
         best_cost = np.inf
         stalled = 0
-        perr = rerr = np.inf
+        perr2 = rerr2 = np.inf
         for it in range(max_iterations + 1):
             pin.computeJointJacobians(model, data, q)
             pose = pin.updateFramePlacement(model, data, fid)
-            e[:3] = position - pose.translation
-            perr = float(np.sqrt(e[:3] @ e[:3]))
+            ep = position - pose.translation
+            e[:3] = ep
+            perr2 = float(ep @ ep)
             if rotation is not None:
-                e[3:] = pin.log3(rotation @ pose.rotation.T)
-                rerr = float(np.sqrt(e[3:] @ e[3:]))
+                er = pin.log3(rotation @ pose.rotation.T)
+                e[3:] = er
+                rerr2 = float(er @ er)
             else:
-                rerr = 0.0
-            if perr <= position_tolerance and rerr <= rotation_tolerance:
-                return q, True, perr, rerr, it
+                rerr2 = 0.0
+            if perr2 <= position_tolerance2 and rerr2 <= rotation_tolerance2:
+                return q, True, math.sqrt(perr2), math.sqrt(rerr2), it
             if it == max_iterations:
                 break
-            cost = 0.5 * (perr * perr + rerr * rerr)
+            cost = 0.5 * (perr2 + rerr2)
             if cost < 0.999 * best_cost:
                 best_cost, stalled = cost, 0
             else:
                 stalled += 1
                 if stalled >= STALL_ITERATIONS:
                     break
-            J = pin.getFrameJacobian(model, data, fid, _LWA).reshape(6, -1)[rows]
+            J = pin.getFrameJacobian(model, data, fid, _LWA).reshape(6, -1)[:rows]
             A = J.T @ J
-            A += (DAMPING_GAIN * cost + DAMPING_FLOOR) * eye
-            g = J.T @ e[rows]
+            A[diagonal] += DAMPING_GAIN * cost + DAMPING_FLOOR
+            g = J.T @ e[:rows]
             dq = eigenpy.LLT(A).solve(g)
-            # Joints at a limit that the step pushes outwards leave the step (active set):
-            # their rows and columns of the system become identity, their gradient zero.
-            blocked = ((q <= lower) & (dq < 0)) | ((q >= upper) & (dq > 0))
-            if blocked.any():
-                free = (~blocked).astype(float)
-                A *= np.multiply.outer(free, free)
-                A[self._diagonal] += blocked
-                dq = eigenpy.LLT(A).solve(g * free)
+            if touching:
+                # Joints at a limit that the step pushes outwards leave the step (active
+                # set): their rows and columns become identity, their gradient zero.
+                blocked = ((q <= lower) & (dq < 0)) | ((q >= upper) & (dq > 0))
+                if blocked.any():
+                    free = (~blocked).astype(float)
+                    A *= np.multiply.outer(free, free)
+                    A[diagonal] += blocked
+                    dq = eigenpy.LLT(A).solve(g * free)
             step = abs(dq).max()
             if step > MAX_STEP:
                 dq *= MAX_STEP / step
-            q = np.minimum(np.maximum(q + dq, lower), upper)
-        return q, False, perr, rerr, it
+            free_q = q + dq
+            q = np.minimum(np.maximum(free_q, lower), upper)
+            touching = bool((q != free_q).any())
+        return q, False, math.sqrt(perr2), math.sqrt(rerr2), it
 
     def solve(
         self,
