@@ -284,3 +284,17 @@ def test_follow_bad_inputs(planar_2r):
         cartesian.follow(planar_2r, line, duration=1.0, q_seed=[0.1, 0.2, 0.3])
     with pytest.raises(InputError, match="position_only"):
         cartesian.follow(planar_2r, line, duration=1.0, position_only=False)
+
+
+def test_line_through_the_base_is_singular_then_a_jump(planar_2r):
+    """Through the base (folded arm, l1 = l2) θ1 must turn by π at once."""
+    line = cartesian.Line([0.5, 0.0, 0.0], [-0.5, 0.0, 0.0])
+    plan = cartesian.follow(planar_2r, line, duration=1.0, q_seed=[-1.3, 2.6])
+    assert plan.status == "singular"
+    assert plan.events[0].position == pytest.approx([0.0, 0.0, 0.0], abs=1e-9)
+    unchecked = cartesian.follow(
+        planar_2r, line, duration=1.0, q_seed=[-1.3, 2.6], singular_threshold=0.0,
+        velocity_scale=1e9,
+    )  # fmt: skip
+    assert unchecked.status == "jump" and unchecked.events[0].joint == "joint1"
+    assert unchecked.fraction == pytest.approx(plan.fraction)
