@@ -17,6 +17,8 @@ install: $(STAMP)
 
 demo: install
 	$(BIN)/python examples/quickstart.py
+	$(BIN)/kinplan demo lecture --out $(OUT)/lecture
+	$(BIN)/kinplan demo weld --out $(OUT)/weld
 
 # Debian's chromium renders the MeshCat playback in the browser test; the test is skipped
 # (with its reason) where it cannot be installed.

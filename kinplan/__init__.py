@@ -40,7 +40,7 @@ __all__ = [
 
 def __getattr__(name: str):
     # Submodules imported on first use: `kinplan.trajectory`, `kinplan.viewer`, `kinplan.plot`.
-    if name in ("trajectory", "viewer", "plot", "program", "cli"):
+    if name in ("trajectory", "viewer", "plot", "program", "cli", "teach", "demos", "export"):
         import importlib
 
         return importlib.import_module(f"kinplan.{name}")

@@ -1,0 +1,459 @@
+"""The ``kinplan`` command.
+
+Usage::
+
+    kinplan info ROBOT [--tip TIP]
+    kinplan fk ROBOT --q Q [Q ...] [--deg]
+    kinplan ik ROBOT --xyz X Y Z [--rpy-deg R P Y | --quat-xyzw X Y Z W] [--seed Q ...] [--deg]
+    kinplan run PROGRAM.yaml [--html FILE] [--plot FILE] [--csv FILE] [--dt DT]
+    kinplan demo lecture|weld [--html FILE] [--out DIR]
+    kinplan teach ROBOT -o PROGRAM.yaml [--start Q ...] [--deg] [--view]
+
+Exit status 0 on success, 1 on failure with a one-line reason on stderr (``kinplan: error: ...``),
+2 for a malformed command line.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import math
+import os
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+import kinplan
+from kinplan.errors import KinplanError
+
+__all__ = ["main"]
+
+REACH_SAMPLES = 2000
+"""Configurations sampled for the reach of a non-planar arm (``kinplan info``)."""
+
+
+# ----------------------------------------------------------------------------------------------
+# Output helpers
+# ----------------------------------------------------------------------------------------------
+
+
+def _console(stderr: bool = False):
+    from rich.console import Console
+
+    stream = sys.stderr if stderr else sys.stdout
+    interactive = bool(getattr(stream, "isatty", lambda: False)())
+    return Console(file=stream, width=None if interactive else 120, highlight=False, markup=False)
+
+
+def _one_line(error: BaseException) -> str:
+    """The error's message on one line."""
+    from kinplan.program import ProgramError
+
+    text = error.one_line() if isinstance(error, ProgramError) else str(error)
+    return " ".join(text.split()) or type(error).__name__
+
+
+def _fail(message: str) -> int:
+    print(f"kinplan: error: {message}", file=sys.stderr)
+    return 1
+
+
+def _fmt(values: Sequence[float], digits: int = 4) -> str:
+    return "[" + ", ".join(f"{v:.{digits}f}" for v in values) + "]"
+
+
+def _joint_values(robot: kinplan.Robot, values: Sequence[float], degrees: bool, what: str):
+    q = np.radians(values) if degrees else np.asarray(values, dtype=float)
+    return robot.check_q(q, what)
+
+
+def _pose_lines(pose: pin.SE3) -> list[str]:
+    rpy = np.degrees(pin.rpy.matrixToRpy(pose.rotation))
+    quat = pin.Quaternion(pose.rotation).coeffs()
+    return [
+        f"position [m]:          {_fmt(pose.translation)}",
+        f"rpy [deg]:             {_fmt(rpy, 3)}",
+        f"quaternion [x y z w]:  {_fmt(quat, 6)}",
+    ]
+
+
+# ----------------------------------------------------------------------------------------------
+# Commands
+# ----------------------------------------------------------------------------------------------
+
+
+def _cmd_info(args: argparse.Namespace) -> int:
+    from rich.table import Table
+
+    robot = kinplan.load_robot(args.robot, tip=args.tip)
+    print(f"robot: {robot.name} ({robot.nq} joints)")
+    print(f"URDF: {robot.urdf_path}")
+    print(f"base frame: {robot.base_frame}    tip frame: {robot.tip_frame}")
+    table = Table(title="joints")
+    for column in ("#", "name", "lower [deg]", "upper [deg]", "velocity [rad/s]", "[deg/s]"):
+        table.add_column(column, justify="left" if column == "name" else "right")
+    for j, name in enumerate(robot.joint_names):
+        speed = robot.velocity_limit[j]
+        table.add_row(
+            str(j),
+            name,
+            f"{math.degrees(robot.lower[j]):.1f}",
+            f"{math.degrees(robot.upper[j]):.1f}",
+            f"{speed:.3f}" if math.isfinite(speed) else "none",
+            f"{math.degrees(speed):.1f}" if math.isfinite(speed) else "none",
+        )
+    _console().print(table)
+    print(_reach_text(robot))
+    return 0
+
+
+def _reach_text(robot: kinplan.Robot) -> str:
+    annulus = robot.planar_reach()
+    if annulus is not None:
+        r_min, r_max = annulus
+        return (
+            f"reach: planar annulus {r_min:.4f} m ≤ r ≤ {r_max:.4f} m about the first joint "
+            "(in its plane)"
+        )
+    from kinplan.ik import halton
+
+    origin = np.array(robot.model.jointPlacements[1].translation)
+    span = robot.upper - robot.lower
+    distances = [
+        np.linalg.norm(robot.fk(robot.lower + span * halton(i, robot.nq)).translation - origin)
+        for i in range(1, REACH_SAMPLES + 1)
+    ]
+    return (
+        f"reach: max tool distance from the first joint {max(distances):.4f} m "
+        f"(over {REACH_SAMPLES} sampled configurations; first joint at {_fmt(origin, 3)} m)"
+    )
+
+
+def _cmd_fk(args: argparse.Namespace) -> int:
+    robot = kinplan.load_robot(args.robot, tip=args.tip)
+    q = _joint_values(robot, args.q, args.deg, "--q")
+    pose = robot.fk(q)
+    print(f"{robot.name}: tool {robot.tip_frame} in {robot.base_frame}")
+    print(f"joints [rad]:          {_fmt(q)}")
+    print(f"joints [deg]:          {_fmt(np.degrees(q), 3)}")
+    for line in _pose_lines(pose):
+        print(line)
+    print(f"manipulability:        {robot.manipulability(q):.6g}")
+    if not robot.within_limits(q):
+        print("note: q is outside the joint limits", file=sys.stderr)
+    return 0
+
+
+def _cmd_ik(args: argparse.Namespace) -> int:
+    robot = kinplan.load_robot(args.robot, tip=args.tip)
+    position = np.asarray(args.xyz, dtype=float)
+    rotation = None
+    if args.rpy_deg is not None:
+        rotation = pin.rpy.rpyToMatrix(*np.radians(args.rpy_deg))
+    elif args.quat_xyzw is not None:
+        quat = np.asarray(args.quat_xyzw, dtype=float)
+        if np.linalg.norm(quat) < 1e-9:
+            raise KinplanError("--quat-xyzw must be a non-zero quaternion x y z w")
+        quat /= np.linalg.norm(quat)
+        rotation = pin.Quaternion(quat[3], quat[0], quat[1], quat[2]).toRotationMatrix()
+    position_only = args.position_only or rotation is None or robot.default_position_only()
+    if rotation is not None and robot.default_position_only():
+        print(f"note: {robot.name} has {robot.nq} joints; orientation ignored", file=sys.stderr)
+    seed = None if args.seed is None else _joint_values(robot, args.seed, args.deg, "--seed")
+    target = position if position_only else pin.SE3(rotation, position)
+    result = robot.ik(target, q_seed=seed, position_only=position_only)
+    what = "position" if position_only else "pose"
+    print(f"{robot.name}: IK of the {what} of {robot.tip_frame} at {_fmt(position)} m")
+    print(f"joints [rad]:          {_fmt(result.q)}")
+    print(f"joints [deg]:          {_fmt(np.degrees(result.q), 3)}")
+    print(f"position error [m]:    {result.position_error:.3g}")
+    if not position_only:
+        print(f"rotation error [rad]:  {result.rotation_error:.3g}")
+    print(f"iterations:            {result.iterations}")
+    if not result.success:
+        return _fail(
+            f"no IK solution within the joint limits for {_fmt(position, 3)} m: the closest "
+            f"found is {result.position_error:.4f} m, {result.rotation_error:.4f} rad away"
+        )
+    return 0
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from kinplan.program import load_program
+
+    program = load_program(args.program)
+    for warning in program.warnings:
+        print(f"kinplan: warning: {warning}", file=sys.stderr)
+    plan = _plan_with_progress(program, args.dt)
+    _console().print(_summary_table(plan, title=f"{args.program}: {program.robot.name}"))
+    if plan.ok:
+        print(
+            f"ok: {len(plan.moves)} moves, {plan.duration:.3f} s, {len(plan.t)} samples "
+            f"every {plan.dt:g} s"
+        )
+        _write_outputs(plan, args)
+        return 0
+    if args.html:
+        failed = plan.moves[-1].number if plan.moves else 0
+        path = _write_html(plan, args.html, title=f"{args.program}: failed at move {failed}")
+        print(f"wrote the motion up to the failure (for inspection, not a valid motion): {path}")
+    return _fail(plan.reason)
+
+
+def _plan_with_progress(program, dt: float):
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from kinplan.program import plan_program
+
+    progress = Progress(
+        TextColumn("[progress.description]{task.description}"),
+        BarColumn(),
+        TextColumn("{task.completed}/{task.total} moves"),
+        TimeElapsedColumn(),
+        console=_console(stderr=True),
+        transient=True,
+        disable=not sys.stderr.isatty(),
+    )
+    with progress:
+        task = progress.add_task("planning", total=len(program.moves))
+
+        def update(done: int, total: int, label: str) -> None:
+            progress.update(task, completed=done, description=f"planning: {label}")
+
+        return plan_program(program, dt=dt, progress=update)
+
+
+def _summary_table(plan, title: str):
+    from rich.table import Table
+    from rich.text import Text
+
+    table = Table(title=title)
+    for column in ("#", "move", "key", "duration [s]", "min manip.", "peak |qd|/limit", "status"):
+        table.add_column(column, justify="left" if column in ("move", "key", "status") else "right")
+    for row in plan.summary_rows():
+        status = row["status"]
+        manip = row["min_manipulability"]
+        table.add_row(
+            str(row["number"]),
+            str(row["move"]),
+            str(row["key"]),
+            f"{row['duration']:.3f}",
+            "-" if math.isnan(manip) else f"{manip:.4g}",
+            f"{row['peak_speed_ratio']:.2f}",
+            Text(status, style="green" if status == "ok" else "bold red"),
+        )
+    table.add_section()
+    table.add_row("", "total", "", f"{plan.duration:.3f}", "", "", "ok" if plan.ok else "FAILED")
+    return table
+
+
+def _write_outputs(plan, args: argparse.Namespace) -> None:
+    from kinplan import export
+
+    robot = plan.robot
+    if args.csv:
+        path = export.write_csv(args.csv, plan, robot.joint_names)
+        print(f"wrote {path} ({len(plan.t)} samples)")
+    if args.plot:
+        title = f"{args.program}: {robot.name}, {plan.duration:.2f} s"
+        export.plot_motion(plan, args.plot, robot.joint_names, title=title)
+        print(f"wrote {args.plot}")
+    if args.html:
+        path = _write_html(plan, args.html, title=f"{args.program}: {robot.name}")
+        print(f"wrote {path}")
+
+
+def _write_html(plan, path: str | Path, title: str) -> Path:
+    from kinplan import viewer
+
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    return viewer.save_html(plan.robot, plan, target, markers=plan.points, title=title)
+
+
+def _cmd_demo(args: argparse.Namespace) -> int:
+    from kinplan import demos
+
+    out = args.out or f"out/{args.name}"
+    result = demos.DEMOS[args.name](out_dir=out, html=args.html, dt=args.dt)
+    for line in result.lines:
+        print(line)
+    print()
+    print(f"files in {result.out_dir} (demo took {result.seconds:.1f} s):")
+    for label, path in result.files.items():
+        print(f"  {label:<22} {path}")
+    if not result.ok:
+        return _fail(result.reason or f"the {args.name} demo failed")
+    return 0
+
+
+def _cmd_teach(args: argparse.Namespace) -> int:
+    from kinplan import teach
+
+    robot = kinplan.load_robot(args.robot, tip=args.tip)
+    start = None if args.start is None else _joint_values(robot, args.start, args.deg, "--start")
+    pendant = teach.TeachPendant(robot, q_start=start, robot_source=args.robot)
+    view = _teach_viewer(robot) if args.view else None
+    on_move = None
+    if view is not None:
+        view.display(pendant.q)
+        on_move = view.display
+    interactive = sys.stdin.isatty()
+    print(f"teach pendant for {robot.name}: type help for the commands, q to write {args.output}")
+    print(pendant.status())
+    try:
+        lines = _prompt_lines() if interactive else sys.stdin
+        finished = teach.run_session(pendant, lines, print, on_move=on_move, echo=not interactive)
+    finally:
+        if view is not None:
+            view.close()
+    if not finished:
+        print("aborted: no program written")
+        return 0
+    if not pendant.points:
+        return _fail("nothing recorded (use r [name] to record a point); no program written")
+    path = pendant.save(args.output)
+    print(f"wrote {path}: {len(pendant.points)} points; run it with: kinplan run {path}")
+    return 0
+
+
+def _prompt_lines():
+    while True:
+        try:
+            yield input("teach> ")
+        except EOFError:
+            return
+
+
+def _teach_viewer(robot):
+    try:
+        from kinplan.viewer import Viewer
+
+        view = Viewer(robot, open=True)
+    except (ImportError, KinplanError) as exc:
+        print(f"kinplan: warning: no live view ({_one_line(exc)})", file=sys.stderr)
+        return None
+    print(f"live view at {view.url}")
+    return view
+
+
+# ----------------------------------------------------------------------------------------------
+# Parser
+# ----------------------------------------------------------------------------------------------
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``kinplan`` command."""
+    parser = argparse.ArgumentParser(
+        prog="kinplan",
+        description="Motion planning for URDF robot arms: robots, programs, demos.",
+        epilog="ROBOT is a bundled name (planar_2r), an example-robot-data arm (ur3, ur5, ur10, "
+        "panda) or a URDF file.",
+    )
+    parser.add_argument("--version", action="version", version=f"kinplan {kinplan.__version__}")
+    parser.add_argument("-v", "--verbose", action="store_true", help="log what the library does")
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    info = commands.add_parser("info", help="joints, limits, frames and reach of a robot")
+    _robot_arguments(info)
+    info.set_defaults(handler=_cmd_info)
+
+    fk = commands.add_parser("fk", help="tool pose of a joint configuration")
+    _robot_arguments(fk)
+    fk.add_argument("--q", type=float, nargs="+", required=True, help="joint values [rad]")
+    fk.add_argument("--deg", action="store_true", help="joint values in degrees")
+    fk.set_defaults(handler=_cmd_fk)
+
+    ik = commands.add_parser("ik", help="joint configuration that puts the tool at a pose")
+    _robot_arguments(ik)
+    ik.add_argument("--xyz", type=float, nargs=3, required=True, metavar=("X", "Y", "Z"))
+    orientation = ik.add_mutually_exclusive_group()
+    orientation.add_argument("--rpy-deg", type=float, nargs=3, metavar=("R", "P", "Y"))
+    orientation.add_argument("--quat-xyzw", type=float, nargs=4, metavar=("X", "Y", "Z", "W"))
+    ik.add_argument("--seed", type=float, nargs="+", help="start configuration [rad]")
+    ik.add_argument("--deg", action="store_true", help="--seed in degrees")
+    ik.add_argument("--position-only", action="store_true", help="ignore the orientation")
+    ik.set_defaults(handler=_cmd_ik)
+
+    run = commands.add_parser("run", help="validate and plan a YAML motion program")
+    run.add_argument("program", metavar="PROGRAM.yaml", help="the program file (YAML)")
+    run.add_argument("--html", metavar="FILE", help="write the MeshCat playback (offline HTML)")
+    run.add_argument(
+        "--plot", metavar="FILE", help="write joint position/velocity/acceleration, tool speed"
+    )
+    run.add_argument("--csv", metavar="FILE", help="write the samples: t, q, qd, qdd, tool pose")
+    run.add_argument("--dt", type=_positive, default=0.01, help="sampling period [s] (0.01)")
+    run.set_defaults(handler=_cmd_run)
+
+    demo = commands.add_parser("demo", help="run a demo: the lecture's 2R example, a UR5 weld")
+    demo.add_argument("name", choices=("lecture", "weld"))
+    demo.add_argument("--html", metavar="FILE", help="HTML playback file")
+    demo.add_argument("--out", metavar="DIR", help="output folder (default out/<name>)")
+    demo.add_argument("--dt", type=_positive, default=None, help="sampling period [s]")
+    demo.set_defaults(handler=_cmd_demo)
+
+    teach = commands.add_parser("teach", help="jog a robot and record points into a program")
+    _robot_arguments(teach)
+    teach.add_argument(
+        "-o", "--output", metavar="PROGRAM.yaml", required=True, help="program file to write"
+    )
+    teach.add_argument("--start", type=float, nargs="+", help="start configuration [rad]")
+    teach.add_argument("--deg", action="store_true", help="--start in degrees")
+    teach.add_argument("--view", action="store_true", help="live MeshCat view in the browser")
+    teach.set_defaults(handler=_cmd_teach)
+    return parser
+
+
+def _robot_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("robot", metavar="ROBOT", help="robot name or URDF file")
+    parser.add_argument("--tip", help="tool frame (default: the robot's usual tool frame)")
+
+
+def _positive(text: str) -> float:
+    value = float(text)
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text}")
+    return value
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the ``kinplan`` command.
+
+    Args:
+        argv: Arguments (default ``sys.argv[1:]``).
+
+    Returns:
+        Exit status: 0 success, 1 failure (one-line reason on stderr), 2 command-line error.
+    """
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version, or a usage error (already printed)
+        return int(exc.code or 0) if not isinstance(exc.code, str) else 2
+    if args.verbose:
+        logging.basicConfig(level=logging.INFO, format="%(name)s: %(message)s")
+    try:
+        return args.handler(args)
+    except BrokenPipeError:  # the reader stopped early (e.g. `kinplan info ur5 | head`)
+        _silence_stdout()
+        return 1
+    except (KinplanError, OSError) as exc:
+        return _fail(_one_line(exc))
+    except KeyboardInterrupt:
+        print("kinplan: interrupted", file=sys.stderr)
+        return 130
+
+
+def _silence_stdout() -> None:
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # not a real file (captured output)
+        pass
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,224 @@
+"""The `kinplan` command: info, fk, ik, run, exit codes and one-line error messages."""
+
+from __future__ import annotations
+
+import csv
+import io
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from kinplan.cli import main
+from kinplan.planar import planar_arm_urdf
+from kinplan.program import load_program, plan_program
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "programs"
+
+
+def run(capsys, *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def assert_one_line_error(err: str, *fragments: str) -> None:
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith("kinplan: error: "), err
+    assert "Traceback" not in err
+    for fragment in fragments:
+        assert fragment in lines[0], (fragment, lines[0])
+
+
+def test_info_planar(capsys):
+    code, out, err = run(capsys, "info", "planar_2r")
+    assert code == 0 and err == ""
+    assert "planar_2r (2 joints)" in out
+    assert "base frame: base_link" in out and "tip frame: tip" in out
+    assert "joint1" in out and "-180.0" in out and "6.283" in out
+    assert "annulus 0.0000 m ≤ r ≤ 2.0000 m" in out
+
+
+def test_info_ur5_reach(capsys):
+    code, out, _ = run(capsys, "info", "ur5")
+    assert code == 0
+    assert "tip frame: tool0" in out and "shoulder_pan_joint" in out and "3.150" in out
+    reach = float(out.split("max tool distance from the first joint ")[1].split(" m")[0])
+    assert 0.85 < reach < 1.0
+
+
+def test_fk(capsys):
+    code, out, _ = run(capsys, "fk", "ur5", "--q", "0", "-90", "90", "-90", "-90", "0", "--deg")
+    assert code == 0
+    assert "position [m]:          [0.4869, 0.1091, 0.4319]" in out
+    assert "rpy [deg]:" in out and "quaternion [x y z w]:" in out and "manipulability:" in out
+
+
+def test_fk_planar_radians(capsys):
+    code, out, _ = run(capsys, "fk", "planar_2r", "--q", str(np.pi / 6), str(np.pi / 6))
+    assert code == 0
+    assert "position [m]:          [1.3660, 1.3660, 0.0000]" in out
+
+
+def test_ik_round_trip(capsys):
+    args = ("ik", "ur5", "--xyz", "0.4", "-0.1", "0.2", "--rpy-deg", "180", "0", "90")
+    code, out, err = run(capsys, *args, "--seed", "0", "-90", "90", "-90", "-90", "0", "--deg")
+    assert code == 0 and err == ""
+    joints = out.split("joints [rad]:")[1].splitlines()[0].strip().strip("[]")
+    code, out, _ = run(capsys, "fk", "ur5", "--q", *joints.split(", "))
+    assert code == 0 and "[0.4000, -0.1000, 0.2000]" in out
+
+
+def test_ik_quaternion_and_planar_position_only(capsys):
+    code, _, _ = run(
+        capsys, "ik", "ur5", "--xyz", "0.4", "0.1", "0.3", "--quat-xyzw", "1", "0", "0", "0"
+    )
+    assert code == 0
+    code, out, _ = run(capsys, "ik", "planar_2r", "--xyz", "1", "1", "0")
+    assert code == 0 and "IK of the position" in out
+
+
+def test_ik_unreachable_fails_with_one_line(capsys):
+    code, _, err = run(capsys, "ik", "planar_2r", "--xyz", "3", "0", "0")
+    assert code == 1
+    assert_one_line_error(err, "no IK solution", "closest found is 1.0000 m")
+
+
+@pytest.mark.parametrize(
+    ("argv", "fragments"),
+    [
+        (["fk", "ur5", "--q", "1", "2"], ["--q must hold 6 joint values"]),
+        (["info", "nosuch"], ["unknown robot 'nosuch'", "ur5"]),
+        (["info", "ur5", "--tip", "nosuch"], ["no frame 'nosuch'"]),
+        (["run", "/nonexistent/program.yaml"], ["cannot read the file"]),
+    ],
+)
+def test_errors_are_one_line(capsys, argv, fragments):
+    code, _, err = run(capsys, *argv)
+    assert code == 1
+    assert_one_line_error(err, *fragments)
+
+
+def test_usage_errors_exit_2(capsys):
+    assert main(["bogus"]) == 2
+    assert main(["fk", "ur5"]) == 2  # --q is required
+    assert main(["demo", "nosuch"]) == 2
+    assert main(["--version"]) == 0
+    capsys.readouterr()
+
+
+def test_run_writes_csv_plot_and_html(capsys, tmp_path):
+    program = EXAMPLES / "lecture_2r.yaml"
+    files = {name: tmp_path / "out" / f"motion.{name}" for name in ("csv", "png", "html")}
+    code, out, err = run(
+        capsys,
+        "run",
+        str(program),
+        "--csv",
+        str(files["csv"]),
+        "--plot",
+        str(files["png"]),
+        "--html",
+        str(files["html"]),
+        "--dt",
+        "0.02",
+    )
+    assert code == 0, err
+    assert err == ""
+    for name in ("straight line: lin to final", "joint space back: ptp to initial", "total"):
+        assert name in out
+    assert "ok: 3 moves, 4.000 s" in out
+    plan = plan_program(load_program(program), dt=0.02)
+    with files["csv"].open() as handle:
+        rows = list(csv.reader(handle))
+    header = rows[0]
+    assert header[:3] == ["t", "q_joint1", "q_joint2"]
+    assert header[3:7] == ["qd_joint1", "qd_joint2", "qdd_joint1", "qdd_joint2"]
+    assert header[7:] == ["x", "y", "z", "qx", "qy", "qz", "qw"]
+    assert len(rows) - 1 == len(plan.t)
+    table = np.array(rows[1:], dtype=float)
+    np.testing.assert_allclose(table[:, 0], plan.t, atol=1e-8)
+    np.testing.assert_allclose(table[:, 1:3], plan.q, atol=1e-8)
+    np.testing.assert_allclose(table[-1, 7:10], plan.tool_positions[-1], atol=1e-8)
+    assert files["png"].stat().st_size > 10_000
+    assert files["png"].read_bytes()[:4] == b"\x89PNG"
+    page = files["html"].read_text()
+    assert page.lstrip().lower().startswith("<!doctype html") and "</html>" in page
+
+
+def test_run_invalid_program(capsys, tmp_path):
+    path = tmp_path / "bad.yaml"
+    path.write_text(
+        "robot: planar_2r\nstart: {joints: [0, 0]}\npoints:\n  a: {joints: [0, 1]}\n"
+        "moves:\n  - {ptp: a}\n  - {lin: d}\n  - {ptp: a, profile: jerky}\n"
+    )
+    code, out, err = run(capsys, "run", str(path))
+    assert code == 1 and out == ""
+    assert_one_line_error(
+        err,
+        "2 errors in the program",
+        "moves[1].lin (line 7): unknown point 'd'; known points: a",
+        "moves[2].profile (line 8)",
+    )
+
+
+def test_run_unreachable_program_fails_with_the_move_and_where(capsys, tmp_path):
+    (tmp_path / "short.urdf").write_text(planar_arm_urdf([1.0, 0.25], name="short_forearm"))
+    program = tmp_path / "across.yaml"
+    program.write_text(
+        "robot: short.urdf\nstart: {joints_deg: [20, 60]}\npoints:\n"
+        "  a: {xyz: [0.8, 0.6, 0.0]}\n  b: {xyz: [-0.8, 0.6, 0.0]}\n"
+        "moves:\n  - {ptp: a}\n  - {lin: b, speed: 0.1}\n"
+    )
+    html = tmp_path / "partial.html"
+    table = tmp_path / "x.csv"
+    code, out, err = run(capsys, "run", str(program), "--html", str(html), "--csv", str(table))
+    assert code == 1
+    assert_one_line_error(err, "move 2 (lin to b, moves[1]): unreachable at s = 0.2", ") m: ")
+    assert "unreachable" in out and "FAILED" in out
+    assert html.is_file() and "not a valid motion" in out
+    assert not table.exists()  # nothing else is written for a failed program
+
+
+def test_example_unreachable_weld_fails(capsys):
+    code, _, err = run(capsys, "run", str(EXAMPLES / "weld_unreachable.yaml"))
+    assert code == 1
+    assert_one_line_error(err, "move 3 (weld across the base: lin to seam_end, moves[2])", "s = ")
+
+
+def test_teach_from_stdin(capsys, tmp_path, monkeypatch):
+    output = tmp_path / "taught.yaml"
+    script = "j 0 20\nr a\nj 1 -15\nr b\nq\n"
+    monkeypatch.setattr(sys, "stdin", io.StringIO(script))
+    code, out, err = run(capsys, "teach", "planar_2r", "-o", str(output))
+    assert code == 0, err
+    assert f"wrote {output}: 2 points" in out
+    code, out, _ = run(capsys, "run", str(output))
+    assert code == 0 and "ptp to b" in out
+
+
+def test_teach_without_points_fails(capsys, tmp_path, monkeypatch):
+    monkeypatch.setattr(sys, "stdin", io.StringIO("show\n"))
+    code, _, err = run(capsys, "teach", "planar_2r", "-o", str(tmp_path / "t.yaml"))
+    assert code == 1
+    assert_one_line_error(err, "nothing recorded")
+    assert not (tmp_path / "t.yaml").exists()
+
+
+def test_console_script():
+    script = Path(sys.executable).parent / "kinplan"
+    if not script.is_file():
+        pytest.skip(f"the kinplan console script is not installed next to {sys.executable}")
+    result = subprocess.run(
+        [str(script), "info", "planar_2r"], capture_output=True, text=True, timeout=60
+    )
+    assert result.returncode == 0, result.stderr
+    assert "annulus" in result.stdout
+    result = subprocess.run(
+        [str(script), "info", "nosuch"], capture_output=True, text=True, timeout=60
+    )
+    assert result.returncode == 1
+    assert result.stderr.count("\n") == 1 and "unknown robot" in result.stderr

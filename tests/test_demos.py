@@ -1,0 +1,93 @@
+"""The demos run headless into a temporary folder, quickly, and produce their files."""
+
+from __future__ import annotations
+
+import csv
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from kinplan import demos
+from kinplan.cli import main
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+def test_lecture_demo(tmp_path):
+    result = demos.lecture(tmp_path / "lecture", html=tmp_path / "lecture" / "line.html")
+    assert result.ok, result.reason
+    for path in result.files.values():
+        assert path.is_file() and path.stat().st_size > 1000, path
+    data = result.data
+    q_start, q_via, q_end = data["q"]
+    np.testing.assert_allclose(np.degrees(q_start), [30.0, 30.0], atol=1e-6)
+    np.testing.assert_allclose(np.degrees(q_via), [43.08, 93.84], atol=0.01)  # the lecture's
+    np.testing.assert_allclose(np.degrees(q_end), [150.0, -30.0], atol=1e-6)
+    line = data["line"]
+    assert line.ok and line.max_deviation < 1e-6
+    np.testing.assert_allclose(line.tool_positions[:, 1], (1 + np.sqrt(3)) / 2, atol=1e-6)
+    # The short forearm cannot cross its hole: reported, not planned through.
+    check, plan = data["short_check"], data["short_plan"]
+    assert check.status == "unreachable" and not plan.ok
+    assert np.hypot(*check.events[0].position[:2]) < 0.75
+    assert np.min(np.hypot(data["short_around"][:, 0], data["short_around"][:, 1])) >= 0.75
+    text = "\n".join(result.lines)
+    assert "lecture: 43.08°, 93.84°" in text and "reachability check: unreachable at s = " in text
+    assert result.seconds < 20
+
+
+def test_weld_demo_from_the_command_line(tmp_path, capsys):
+    out = tmp_path / "weld"
+    assert main(["demo", "weld", "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "planned: ok" in printed
+    assert "move 3 (weld across the base: lin to seam_end, moves[2]): " in printed
+    for name in ("weld.html", "weld_motion.png", "weld_tool_path.png", "weld.csv"):
+        assert (out / name).is_file(), name
+        assert str(out / name) in printed
+    with (out / "weld.csv").open() as handle:
+        rows = list(csv.reader(handle))
+    assert rows[0][0] == "t" and rows[0][-7:] == ["x", "y", "z", "qx", "qy", "qz", "qw"]
+    assert len(rows) > 1000
+
+
+def test_weld_example_plans_the_seams_at_constant_speed(tmp_path):
+    spec = importlib.util.spec_from_file_location("weld_demo", EXAMPLES / "weld_demo.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    result = module.main(tmp_path, html=tmp_path / "custom.html", dt=0.02)
+    assert result.ok, result.reason
+    assert result.files["playback (HTML)"] == tmp_path / "custom.html"
+    assert (tmp_path / "custom.html").is_file()
+    plan = result.data["plan"]
+    assert plan.ok and [m.status for m in plan.moves] == ["ok"] * len(plan.moves)
+    seams = [m for m in plan.moves if m.kind == "seam"]
+    assert len(seams) == 2
+    robot = plan.robot
+    for move, seam in zip(seams, result.data["seams"].values()):
+        window = slice(move.first, move.last + 1)
+        speed = plan.tool_speed[window]
+        cruise = speed[(plan.t[window] > move.t0 + 0.3) & (plan.t[window] < move.t1 - 0.3)]
+        np.testing.assert_allclose(cruise, demos.WELD_SPEED, rtol=1e-3)  # through the corners
+        assert move.cartesian_plan.max_deviation < 1e-5
+        tool_z = plan.tool_positions[window, 2]
+        np.testing.assert_allclose(tool_z, demos.SEAM_HEIGHT, atol=1e-6)
+        for k in range(move.first, move.last + 1, 50):  # tool pointing down all along
+            z_axis = robot.fk(plan.q[k]).rotation[:, 2]
+            np.testing.assert_allclose(z_axis, [0.0, 0.0, -1.0], atol=1e-6)
+        assert seam.length > 0.3
+
+
+def test_rounded_rectangle_geometry():
+    rectangle = demos.rounded_rectangle((0.4, 0.0), (0.2, 0.1), 0.02, 0.1, np.eye(3))
+    assert len(rectangle.paths) == 9
+    perimeter = 2 * (0.2 + 0.1) - 8 * 0.02 + 2 * np.pi * 0.02
+    assert rectangle.length == pytest.approx(perimeter)
+    points = rectangle.position(np.linspace(0, 1, 2001))
+    np.testing.assert_allclose(points[0], points[-1], atol=1e-12)  # closed
+    assert points[:, 0].min() == pytest.approx(0.3) and points[:, 0].max() == pytest.approx(0.5)
+    assert points[:, 1].min() == pytest.approx(-0.05) and points[:, 1].max() == pytest.approx(0.05)
+    tangent, _ = rectangle.position_derivatives(np.linspace(0, 1, 2001))
+    np.testing.assert_allclose(np.linalg.norm(tangent, axis=1), rectangle.length, rtol=1e-9)
