@@ -26,6 +26,15 @@ branch-to-branch transitions of consecutive samples are composed by a doubling s
 exactly singular samples, whose free joint depends on the previous sample, are solved one by
 one).
 
+A single pose (:meth:`URIK.nearest`, :meth:`URIK.solutions`) does not go through that machinery:
+numpy's per-call overhead dominates arrays of one pose (about 380 small calls, 250 µs). The same
+formulas are written in plain floats instead, in orthonormal shoulder and wrist frames of the
+arm at q = 0 (one numpy product per pose), with a branch-and-bound choice of the nearest branch
+(about 20–30 µs). Poses near a singularity (|sin(θ5 − δ)| < 1e-4, elbow within ~1.4e-4 rad of
+straight or folded, wrist centre within ~1e-4·|d4| of the shoulder-singular cylinder), where the
+two paths' roundings would give visibly different (equally valid) angles and where θ6 may be
+free, are left to the batch path.
+
 Joint angles are equivalent modulo 2π; :meth:`solutions` lists each geometric solution once (its
 representative within the limits closest to mid-range), :meth:`nearest` picks per joint the
 representative within the limits closest to the reference.
@@ -34,6 +43,7 @@ representative within the limits closest to the reference.
 from __future__ import annotations
 
 import logging
+import math
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -56,6 +66,22 @@ _LIMIT_TOL = 1e-12
 #: Tolerance [m, rad] for the out-of-plane offset and the orientation of a planar 2R target.
 _PLANAR_TOL = 1e-9
 _SIGNS = np.array([1.0, -1.0])
+#: URIK's fast single-pose path leaves to the batch path every pose where a cosine ratio (of θ1
+#: or of the elbow) is within this of ±1: there arccos is ill-conditioned (near a straight elbow
+#: the two paths' roundings give answers ~1e-14 / √(1 − |cos|) rad apart), and the reachability
+#: test sits at the rim.
+_FAST_EDGE = 1e-8
+#: ... and every pose with |sin(θ5 − δ)| below this: near the wrist singularity θ4 and θ6 are
+#: conditioned like 1e-14 / |sin(θ5 − δ)| (measured: 2e-11 rad apart at 1e-4, 9e-9 at 1e-6,
+#: with the same FK error ~1e-15), and at the singularity θ6 is free.
+_FAST_WRIST = 1e-4
+#: The fast path assumes exactly orthonormal shoulder (u1, a) and wrist (u5, u6) axes and a wrist
+#: centre on axes 5 and 6; a geometry further from that than this [m, –] uses the batch path.
+_FAST_DEFECT = 1e-12
+#: Smallest normal float, a floor for divisors.
+_TINY = float(np.finfo(float).tiny)
+#: Below π by this margin, the 2π-equivalent nearest a reference is unambiguous (no tie).
+_HALF_TURN_SAFE = np.pi - 1e-9
 
 
 class AnalyticIK(Protocol):
@@ -172,6 +198,56 @@ def _wrap_near(
     chosen = np.take_along_axis(candidates, best, axis=-1)[..., 0]
     found = np.isfinite(np.take_along_axis(distance, best, axis=-1)[..., 0])
     return np.where(found, np.clip(chosen, lower, upper), np.nan)
+
+
+def _near(value: float, ref: float, lower: float, upper: float) -> float | None:
+    """:func:`_wrap_near` for one joint, in plain floats.
+
+    Args:
+        value: Joint value [rad], any 2π representative.
+        ref: Reference value [rad], already clipped into [lower, upper].
+        lower: Lower limit [rad].
+        upper: Upper limit [rad].
+
+    Returns:
+        The 2π-equivalent of ``value`` within the limits nearest ``ref`` (clipped onto a limit
+        it exceeds by at most ``_LIMIT_TOL``), or None when no equivalent is within the limits.
+    """
+    k = round((ref - value) / TAU)
+    candidate = value + TAU * k
+    if lower - _LIMIT_TOL <= candidate <= upper + _LIMIT_TOL and (
+        abs(candidate - ref) < _HALF_TURN_SAFE  # the neighbours at ±2π are farther: done
+    ):
+        return min(max(candidate, lower), upper)
+    best, best_distance = None, math.inf
+    for shift in (k - 1, k, k + 1):  # the order of _wrap_near: ties go to the first
+        candidate = value + TAU * shift
+        if lower - _LIMIT_TOL <= candidate <= upper + _LIMIT_TOL:
+            distance = abs(candidate - ref)
+            if distance < best_distance:
+                best, best_distance = candidate, distance
+    return None if best is None else min(max(best, lower), upper)
+
+
+def _joint_choice(
+    value: float, joint: tuple[float, float, float, float, float]
+) -> tuple[float, float] | None:
+    """One joint's value for the nearest solution and its share of the distance.
+
+    Args:
+        value: Joint value [rad], any 2π representative.
+        joint: (reference, reference clipped into the limits, lower, upper, weight) [rad, –].
+
+    Returns:
+        (q, w·(q − reference)²) with q as :func:`_near` chooses it, or None (no q within limits).
+    """
+    ref, clipped, lower, upper, weight = joint
+    q = value + TAU * round((clipped - value) / TAU)
+    if not (lower <= q <= upper and -_HALF_TURN_SAFE < q - clipped < _HALF_TURN_SAFE):
+        q = _near(value, clipped, lower, upper)  # near a limit or half a turn away: all cases
+        if q is None:
+            return None
+    return q, weight * (q - ref) ** 2
 
 
 def _compose_scan(maps: np.ndarray) -> np.ndarray:
@@ -356,7 +432,12 @@ class _ClosedFormIK:
         """
         positions, rotations = self._one_pose(position, rotation)
         raw, _ = self._raw(positions, rotations, self._neutral[None])
-        canonical = _wrap_near(raw[0], self._middle, self.lower, self.upper)
+        return self._distinct(raw[0])
+
+    def _distinct(self, raw: np.ndarray) -> np.ndarray:
+        """The rows of ``raw`` (S, nq) that have an equivalent within the limits, each once, as
+        the equivalent nearest mid-range."""
+        canonical = _wrap_near(raw, self._middle, self.lower, self.upper)
         found = canonical[np.all(np.isfinite(canonical), axis=1)]
         gap = np.abs(wrap_angle(found[:, None, :] - found[None, :, :])).max(axis=-1)
         repeated = np.triu(gap <= 1e-9, k=1).any(axis=0)  # equal to an earlier row
@@ -668,6 +749,283 @@ def ur_geometry(screws: _Screws) -> _URGeometry | None:
     )
 
 
+# ---------------------------------------------------------------------------- UR fast single pose
+class _NeedsBatch(Exception):
+    """Raised by URIK's fast single-pose path for a pose or input it leaves to the batch path."""
+
+
+@dataclass(frozen=True, slots=True)
+class _URFast:
+    """Constants of URIK's single-pose path in plain floats, read once from a :class:`_URGeometry`.
+
+    Two orthonormal frames of the arm at q = 0 carry the computation: the **shoulder frame**
+    (u1, a, b1) and the **wrist frame** (u5, u6, w = u5 × u6), "coordinates" below being the
+    components along their axes. For a target (R, P) let A = R·R_Mᵀ (R_M: tool rotation at q = 0).
+
+    Attributes:
+        matrix: (12, 9); ``matrix @ R.ravel()`` gives the wrist coordinates of Aᵀu1, Aᵀa, Aᵀb1
+            (values 0–8) and the shoulder coordinates of R·c_tool (9–11) [m], c_tool being the
+            wrist centre in the tool frame.
+        shoulder_axes: u1, a, b1 in world coordinates (9 floats).
+        p1_along: Shoulder coordinates of ``p1`` (a point on axis 1) [m].
+        shoulder_offset: ``a·(c − p1)`` kept by joints 2–6 [m].
+        delta5: θ5 at the wrist singularity [rad].
+        a_wrist: Wrist coordinates of ``a``.
+        d_wrist: Wrist coordinates of ``p4 − c`` (axis-4 point relative to the wrist centre) [m].
+        e_wrist: Wrist coordinates of the plane axis ``e``.
+        e_shoulder, f_shoulder: (u1, b1) coordinates of the plane axes ``e``, ``f``.
+        plane_offset: ``(p1 − p2)·e``, ``(p1 − p2)·f`` [m].
+        r23, r34: Planar links in (e, f) coordinates [m].
+        l23, l34: Their lengths [m].
+        elbow_offset: ``atan2(r23) − atan2(r34)`` [rad].
+        signs: Directions (±1) of axes 2, 3, 4 relative to ``a``.
+    """
+
+    matrix: np.ndarray
+    shoulder_axes: tuple[float, ...]
+    p1_along: tuple[float, float, float]
+    shoulder_offset: float
+    delta5: float
+    a_wrist: tuple[float, float, float]
+    d_wrist: tuple[float, float, float]
+    e_wrist: tuple[float, float, float]
+    e_shoulder: tuple[float, float]
+    f_shoulder: tuple[float, float]
+    plane_offset: tuple[float, float]
+    r23: tuple[float, float]
+    r34: tuple[float, float]
+    l23: float
+    l34: float
+    elbow_offset: float
+    signs: tuple[float, float, float]
+
+
+def _ur_fast_constants(g: _URGeometry) -> _URFast | None:
+    """The single-pose constants of ``g``, or None when its axes are not orthonormal enough.
+
+    The batch path rotates about the axes as given; the single-pose path expands the same
+    rotations in the orthonormal frames of :class:`_URFast`, exact only when u1 ⊥ a, u5 ⊥ u6 (all
+    unit) and the wrist centre lies on axes 5 and 6. Any defect beyond ``_FAST_DEFECT`` leaves
+    every pose to the batch path.
+    """
+    u1, a, b1, u5, u6 = g.u1, g.a, g.b1, g.u5, g.u6
+    centre = g.tool_position + g.tool_rotation @ g.centre_in_tool
+
+    def off_axis(point: np.ndarray, axis: np.ndarray) -> float:
+        offset = centre - point
+        return float(np.linalg.norm(offset - (offset @ axis) * axis))
+
+    defect = max(
+        *(abs(float(np.linalg.norm(v)) - 1.0) for v in (u1, a, u5, u6, g.e, g.f)),
+        *(abs(float(x @ y)) for x, y in ((u1, a), (u5, u6), (g.e, a), (g.f, a), (g.e, g.f))),
+        off_axis(g.p5, u5),
+        off_axis(g.p6, u6),
+    )
+    if defect > _FAST_DEFECT:
+        logger.debug("UR geometry %.1e from orthonormal: single poses use the batch path", defect)
+        return None
+    shoulder = np.stack((u1, a, b1))  # rows: the frame's axes in world coordinates
+    wrist = np.stack((u5, u6, np.cross(u5, u6)))
+    to_wrist = wrist @ g.tool_rotation  # wrist coordinates of R_M v, for v in world coordinates
+    # row (j, i), column (l, k): (to_wrist)_ik · shoulder_jl, so the row is (to_wrist Rᵀ s_j)_i
+    rotated_axes = np.einsum("ik,jl->jilk", to_wrist, shoulder).reshape(9, 9)
+    rotated_centre = np.einsum("jl,k->jlk", shoulder, g.centre_in_tool).reshape(3, 9)
+    plane_offset = g.p1 - g.p2
+
+    def floats(v: np.ndarray) -> tuple[float, ...]:
+        return tuple(float(x) for x in v)
+
+    return _URFast(
+        matrix=np.ascontiguousarray(np.vstack((rotated_axes, rotated_centre))),
+        shoulder_axes=floats(shoulder.ravel()),
+        p1_along=floats(shoulder @ g.p1),
+        shoulder_offset=float(g.shoulder_offset),
+        delta5=float(g.delta5),
+        a_wrist=floats(wrist @ a),
+        d_wrist=floats(wrist @ (g.p4 - centre)),
+        e_wrist=floats(wrist @ g.e),
+        e_shoulder=(float(g.e @ u1), float(g.e @ b1)),
+        f_shoulder=(float(g.f @ u1), float(g.f @ b1)),
+        plane_offset=(float(plane_offset @ g.e), float(plane_offset @ g.f)),
+        r23=floats(g.r23),
+        r34=floats(g.r34),
+        l23=float(np.hypot(*g.r23)),
+        l34=float(np.hypot(*g.r34)),
+        elbow_offset=float(np.arctan2(g.r23[1], g.r23[0]) - np.arctan2(g.r34[1], g.r34[0])),
+        signs=floats(g.signs),
+    )
+
+
+def _fast_shoulder(
+    k: _URFast, position: list[float], values: list[float]
+) -> tuple[tuple[float, float], tuple[float, float, float]] | None:
+    """θ1 [rad] of both shoulder branches (as :meth:`URIK._shoulder`), for one pose.
+
+    Args:
+        k: The arm's constants.
+        position: Tool position P in the world frame [m].
+        values: ``k.matrix @ R.ravel()``.
+
+    Returns:
+        ((θ1 for sign +1, θ1 for sign −1), shoulder coordinates (along u1, a, b1) of c − p1 [m],
+        c the wrist centre at the target), or None when no θ1 keeps the shoulder offset.
+
+    Raises:
+        _NeedsBatch: near the shoulder singularity (|d4| / radius within ``_FAST_EDGE`` of 1).
+    """
+    ux, uy, uz, ax, ay, az, bx, by, bz = k.shoulder_axes
+    px, py, pz = position
+    along_u = values[9] + ux * px + uy * py + uz * pz - k.p1_along[0]
+    x = values[10] + ax * px + ay * py + az * pz - k.p1_along[1]
+    y = values[11] + bx * px + by * py + bz * pz - k.p1_along[2]
+    ratio = k.shoulder_offset / max(math.hypot(x, y), _TINY)
+    if abs(ratio) > 1.0 - _FAST_EDGE:
+        if abs(ratio) > 1.0 + _CLAMP + _FAST_EDGE:
+            return None
+        raise _NeedsBatch
+    half, base = math.acos(ratio), math.atan2(y, x)
+    return (base + half, base - half), (along_u, x, y)
+
+
+def _fast_wrist(
+    k: _URFast, c1: float, s1: float, values: list[float]
+) -> tuple[tuple[float, float], tuple[float, float]]:
+    """θ5, θ6 [rad] of both wrist branches (signs +1, −1) for one θ1, as :meth:`URIK._wrist`.
+
+    In wrist coordinates b = Aᵀ n(θ1) = cos θ1·Aᵀa + sin θ1·Aᵀb1: its u6 component is
+    cos(θ5 − δ), the length of the rest |sin(θ5 − δ)|; θ6 is the angle about u6 from the part
+    of R5ᵀa perpendicular to u6 to that of b.
+
+    Args:
+        k: The arm's constants.
+        c1, s1: cos θ1, sin θ1.
+        values: ``k.matrix @ R.ravel()``.
+
+    Raises:
+        _NeedsBatch: near the wrist singularity (|sin(θ5 − δ)| < ``_FAST_WRIST``).
+    """
+    b5 = c1 * values[3] + s1 * values[6]
+    b6 = c1 * values[4] + s1 * values[7]
+    b7 = c1 * values[5] + s1 * values[8]
+    sine = math.hypot(b5, b7)
+    if sine < _FAST_WRIST:
+        raise _NeedsBatch
+    half = math.atan2(sine, b6)
+    a5, a6, a7 = k.a_wrist
+    t5s, t6s = (k.delta5 + half, k.delta5 - half), []
+    for t5 in t5s:
+        c5, s5 = math.cos(t5), math.sin(t5)
+        g5, g7 = c5 * a5, c5 * a7 - s5 * a6  # R5ᵀ a without its u6 component
+        t6s.append(math.atan2(b7 * g5 - b5 * g7, b5 * g5 + b7 * g7))
+    return t5s, (t6s[0], t6s[1])
+
+
+def _fast_plane_axes(
+    k: _URFast, c1: float, s1: float, centre: tuple[float, float, float], values: list[float]
+) -> tuple[float, ...]:
+    """What the planar step (:func:`_fast_planar_target`) needs of θ1.
+
+    Args:
+        k: The arm's constants.
+        c1, s1: cos θ1, sin θ1.
+        centre: Shoulder coordinates of c − p1 [m] (from :func:`_fast_shoulder`).
+        values: ``k.matrix @ R.ravel()``.
+
+    Returns:
+        8 floats: the wrist coordinates of Aᵀ Rot(u1, θ1) e (3) and of Aᵀ Rot(u1, θ1) f (3), and
+        the plane (e, f) coordinates relative to axis 2 [m] of where Rot(u1, −θ1) about axis 1
+        takes the wrist centre c (2).
+    """
+    # Aᵀ Rot(u1, θ1) b1 = cos θ1·Aᵀb1 − sin θ1·Aᵀa, in wrist coordinates
+    m5 = c1 * values[6] - s1 * values[3]
+    m6 = c1 * values[7] - s1 * values[4]
+    m7 = c1 * values[8] - s1 * values[5]
+    (eu, eb), (fu, fb) = k.e_shoulder, k.f_shoulder
+    along_u, x, y = centre
+    turned_b1 = c1 * y - s1 * x  # (c − p1)·Rot(u1, θ1) b1
+    return (
+        eu * values[0] + eb * m5,
+        eu * values[1] + eb * m6,
+        eu * values[2] + eb * m7,
+        fu * values[0] + fb * m5,
+        fu * values[1] + fb * m6,
+        fu * values[2] + fb * m7,
+        k.plane_offset[0] + eu * along_u + eb * turned_b1,
+        k.plane_offset[1] + fu * along_u + fb * turned_b1,
+    )
+
+
+def _fast_planar_target(
+    k: _URFast, plane: tuple[float, ...], t5: float, t6: float
+) -> tuple[float, float, float]:
+    """The planar motion joints 2–4 must make, as :meth:`URIK._planar_target`, for one branch.
+
+    The motion is X = e1⁻¹ T M⁻¹ e6⁻¹ e5⁻¹. Axes 5 and 6 pass through the wrist centre c, and
+    T M⁻¹ takes c to its place at the target, so X(p4) − p2 = (p1 − p2) + Rot(u1, −θ1)(c_T − p1)
+    + Rot(u1, −θ1) A Z with Z = Rot(u6, −θ6) Rot(u5, −θ5)(p4 − c). Its plane coordinates are
+    the ``plane`` offsets plus Z·Aᵀ Rot(u1, θ1) e and Z·Aᵀ Rot(u1, θ1) f; X's rotation about
+    ``a`` follows in the same way from the image of e.
+
+    Args:
+        k: The arm's constants.
+        plane: :func:`_fast_plane_axes` of the branch's θ1.
+        t5, t6: θ5, θ6 [rad].
+
+    Returns:
+        (x, y, φ): where the motion takes the point of axis 4, in plane (e, f) coordinates
+        relative to axis 2 [m], and its rotation about ``a`` [rad].
+    """
+    ge5, ge6, ge7, gf5, gf6, gf7, offset_e, offset_f = plane
+    c5, s5, c6, s6 = math.cos(t5), math.sin(t5), math.cos(t6), math.sin(t6)
+    d5, d6, d7 = k.d_wrist
+    # Rot(u6, −θ6) Rot(u5, −θ5) (p4 − c), then the same for e, in wrist coordinates
+    x6, x7 = c5 * d6 + s5 * d7, c5 * d7 - s5 * d6
+    z5, z7 = c6 * d5 - s6 * x7, s6 * d5 + c6 * x7
+    e5, e6, e7 = k.e_wrist
+    y6, y7 = c5 * e6 + s5 * e7, c5 * e7 - s5 * e6
+    v5, v7 = c6 * e5 - s6 * y7, s6 * e5 + c6 * y7
+    return (
+        offset_e + z5 * ge5 + x6 * ge6 + z7 * ge7,
+        offset_f + z5 * gf5 + x6 * gf6 + z7 * gf7,
+        math.atan2(v5 * gf5 + y6 * gf6 + v7 * gf7, v5 * ge5 + y6 * ge6 + v7 * ge7),
+    )
+
+
+def _fast_elbow(
+    k: _URFast, x: float, y: float, phi: float
+) -> tuple[tuple[float, float, float], tuple[float, float, float]] | None:
+    """θ2, θ3, θ4 [rad] of both elbow branches (signs +1, −1), as :meth:`URIK._joints_234`.
+
+    Args:
+        k: The arm's constants.
+        x, y: Target of the axis-4 point relative to axis 2, plane (e, f) coordinates [m].
+        phi: Rotation of the planar motion about ``a`` [rad].
+
+    Returns:
+        One (θ2, θ3, θ4) per elbow branch, or None when the elbow cannot reach.
+
+    Raises:
+        _NeedsBatch: elbow (nearly) straight or folded, |cos ψ3| within ``_FAST_EDGE`` of 1
+        (this includes a target on axis 2, where θ2 would be free).
+    """
+    l23, l34 = k.l23, k.l34
+    cosine = (x * x + y * y - l23**2 - l34**2) / (2.0 * l23 * l34)
+    if abs(cosine) > 1.0 - _FAST_EDGE:
+        if abs(cosine) > 1.0 + _CLAMP + _FAST_EDGE:
+            return None
+        raise _NeedsBatch
+    bend = math.acos(cosine)
+    (r1x, r1y), (r2x, r2y) = k.r23, k.r34
+    direction = math.atan2(y, x)
+    sign2, sign3, sign4 = k.signs
+    branches = []
+    for psi3 in (bend + k.elbow_offset, -bend + k.elbow_offset):
+        cb, sb = math.cos(psi3), math.sin(psi3)
+        psi2 = direction - math.atan2(r1y + sb * r2x + cb * r2y, r1x + cb * r2x - sb * r2y)
+        branches.append((sign2 * psi2, sign3 * psi3, sign4 * (phi - psi2 - psi3)))
+    return branches[0], branches[1]
+
+
 class URIK(_ClosedFormIK):
     """Closed-form IK of a UR-type arm: up to 8 solutions (shoulder × wrist × elbow).
 
@@ -676,6 +1034,12 @@ class URIK(_ClosedFormIK):
     follow when the reference's is out of its reach. At the shoulder singularity (wrist centre
     at distance |d4| from axis 1) the two shoulder branches coincide, and with a straight elbow
     the two elbow branches.
+
+    :meth:`nearest` and :meth:`solutions` solve a single pose in plain floats
+    (:meth:`_fast_raw`, :meth:`_nearest_fast`), with the answer of the vectorised path
+    (:meth:`_nearest_batch_path`) to 1e-9 rad; near singularities, for a geometry whose axes
+    are not orthonormal to ``_FAST_DEFECT`` and for negative weights they use the vectorised
+    path itself. Limits and weights are read once, at construction.
 
     Args:
         geometry: The arm at q = 0 (world frame).
@@ -693,6 +1057,173 @@ class URIK(_ClosedFormIK):
     ):
         super().__init__(lower, upper, weights)
         self.geometry = geometry
+        self._fast = _ur_fast_constants(geometry)
+        self._limits = (tuple(self.lower.tolist()), tuple(self.upper.tolist()))
+        self._weight_floats = tuple(self.weights.tolist())
+        if min(self._weight_floats) < 0.0:  # the fast path's pruning needs a growing distance
+            self._fast = None
+
+    # ------------------------------------------------------------ single pose, plain floats
+    def solutions(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
+        if self._fast is not None:
+            try:
+                raw = self._fast_all_branches(position, rotation)
+            except _NeedsBatch:
+                pass
+            else:
+                return self._distinct(raw)
+        return super().solutions(position, rotation)
+
+    solutions.__doc__ = _ClosedFormIK.solutions.__doc__
+
+    def nearest(
+        self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray
+    ) -> np.ndarray | None:
+        if self._fast is not None:
+            try:
+                return self._nearest_fast(position, rotation, q_ref)
+            except _NeedsBatch:
+                pass
+        return self._nearest_batch_path(position, rotation, q_ref)
+
+    nearest.__doc__ = _ClosedFormIK.nearest.__doc__
+
+    def _nearest_batch_path(
+        self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray
+    ) -> np.ndarray | None:
+        """:meth:`nearest` computed by the vectorised machinery (:meth:`_raw` for N = 1).
+
+        The reference of the single-pose path, and its fallback near singularities.
+        """
+        return _ClosedFormIK.nearest(self, position, rotation, q_ref)
+
+    def _fast_pose(
+        self, position: np.ndarray, rotation: np.ndarray | None
+    ) -> tuple[list[float], list[float]]:
+        """The target as floats: (P [m], ``matrix @ R.ravel()``, see :class:`_URFast`).
+
+        Raises:
+            _NeedsBatch: for a malformed or non-finite target (the batch path reports it).
+        """
+        if rotation is None:
+            raise _NeedsBatch
+        position = np.asarray(position, dtype=float)
+        rotation = np.asarray(rotation, dtype=float)
+        if position.shape != (3,) or rotation.shape != (3, 3):
+            raise _NeedsBatch
+        position_list = position.tolist()
+        values = (self._fast.matrix @ rotation.reshape(9)).tolist()
+        # a NaN or inf anywhere in R reaches some value (the matrix has no zero column)
+        if not math.isfinite(sum(position_list) + sum(values)):
+            raise _NeedsBatch
+        return position_list, values
+
+    def _fast_raw(self, position: list[float], values: list[float]) -> list[tuple]:
+        """θ1, θ5, θ6 of every branch of one pose, and what its planar step needs.
+
+        The formulas of :meth:`_raw` in plain floats, expanded in the frames of :class:`_URFast`.
+        The planar step (:func:`_fast_planar_target`, :func:`_fast_elbow`) is left to the
+        caller, which may skip branches it does not need.
+
+        Args:
+            position: Tool position in the world frame [m].
+            values: ``self._fast.matrix @ R.ravel()`` of the tool rotation R (world frame).
+
+        Returns:
+            Per shoulder branch (sign +1, then −1): (θ1, per wrist branch (+1, then −1):
+            (θ5, θ6, plane)) with ``plane`` from :func:`_fast_plane_axes`. Angles [rad], any 2π
+            representative. Empty when no θ1 exists.
+
+        Raises:
+            _NeedsBatch: near the shoulder or wrist singularity (see ``_FAST_EDGE``,
+                ``_FAST_WRIST``), where the batch path decides.
+        """
+        k = self._fast
+        shoulder = _fast_shoulder(k, position, values)
+        if shoulder is None:
+            return []
+        branches = []
+        for t1 in shoulder[0]:
+            c1, s1 = math.cos(t1), math.sin(t1)
+            t5s, t6s = _fast_wrist(k, c1, s1, values)
+            plane = _fast_plane_axes(k, c1, s1, shoulder[1], values)
+            branches.append((t1, ((t5s[0], t6s[0], plane), (t5s[1], t6s[1], plane))))
+        return branches
+
+    def _fast_all_branches(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
+        """:meth:`_raw` of one pose (N = 1, no free joint) in plain floats: (8, 6) [rad], NaN rows
+        for branches without a solution. Raises _NeedsBatch as :meth:`_fast_raw`."""
+        k = self._fast
+        raw = np.full((8, 6), np.nan)
+        for shoulder, (t1, wrists) in enumerate(
+            self._fast_raw(*self._fast_pose(position, rotation))
+        ):
+            for wrist, (t5, t6, plane) in enumerate(wrists):
+                elbow = _fast_elbow(k, *_fast_planar_target(k, plane, t5, t6))
+                for branch, (t2, t3, t4) in enumerate(elbow or ()):
+                    raw[4 * shoulder + 2 * wrist + branch] = (t1, t2, t3, t4, t5, t6)
+        return raw
+
+    def _nearest_fast(
+        self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray
+    ) -> np.ndarray | None:
+        """:meth:`nearest` in plain floats: the choice :meth:`_pick` makes on :meth:`_raw`.
+
+        Branch and bound: the branches' (θ1, θ5, θ6) parts of the distance are computed first,
+        and the planar step only for the (shoulder, wrist) pairs, in increasing order of that
+        part, that can still beat the best branch found (the weights are ≥ 0). Equal distances
+        go to the lower branch index, as in :meth:`_pick`.
+
+        Raises:
+            _NeedsBatch: for the poses and inputs :meth:`_fast_raw` and :meth:`_fast_pose` leave
+                to the batch path, and for a malformed or non-finite ``q_ref``.
+        """
+        ref = np.asarray(q_ref, dtype=float)
+        if ref.shape != (6,):
+            raise _NeedsBatch
+        ref = ref.tolist()
+        if not math.isfinite(sum(ref)):
+            raise _NeedsBatch
+        branches = self._fast_raw(*self._fast_pose(position, rotation))
+        # per joint: (reference, reference clipped into the limits, lower, upper, weight)
+        j1, j2, j3, j4, j5, j6 = (
+            (r, min(max(r, lo), hi), lo, hi, w)
+            for r, lo, hi, w in zip(ref, *self._limits, self._weight_floats)
+        )
+        heads = []  # (distance of θ1, θ5, θ6; pair index 2·shoulder + wrist; their values; ...)
+        for shoulder, (t1, wrists) in enumerate(branches):
+            choice1 = _joint_choice(t1, j1)
+            if choice1 is None:
+                continue
+            for wrist, (t5, t6, plane) in enumerate(wrists):
+                choice5, choice6 = _joint_choice(t5, j5), _joint_choice(t6, j6)
+                if choice5 is not None and choice6 is not None:
+                    head = choice1[1] + choice5[1] + choice6[1]
+                    pair = 2 * shoulder + wrist
+                    heads.append((head, pair, choice1[0], choice5[0], choice6[0], t5, t6, plane))
+        heads.sort()  # by distance, then pair index (never compares further)
+        k = self._fast
+        best, best_cost, best_index = None, math.inf, 8
+        for head, pair, q1, q5, q6, t5, t6, plane in heads:
+            if head > best_cost:
+                break
+            elbow = _fast_elbow(k, *_fast_planar_target(k, plane, t5, t6))
+            for branch, (t2, t3, t4) in enumerate(elbow or ()):
+                choice2 = _joint_choice(t2, j2)
+                if choice2 is None or head + choice2[1] > best_cost:
+                    continue
+                choice3, choice4 = _joint_choice(t3, j3), _joint_choice(t4, j4)
+                if choice3 is None or choice4 is None:
+                    continue
+                cost = head + choice2[1] + choice3[1] + choice4[1]
+                index = 2 * pair + branch
+                if cost < best_cost or (cost == best_cost and index < best_index):
+                    best, best_cost, best_index = (
+                        (q1, choice2[0], choice3[0], choice4[0], q5, q6),
+                        cost,
+                        index,
+                    )
+        return None if best is None else np.array(best)
 
     def _raw(
         self, positions: np.ndarray, rotations: np.ndarray | None, fill: np.ndarray

@@ -191,8 +191,9 @@ class IKSolver:
     ) -> IKResult:
         """Solve from ``q_seed``, then from Halton restarts until one attempt converges.
 
-        With a ``closed_form`` solver (see :mod:`kinplan.analytic_ik`), a failed seeded attempt
-        is followed by the closed-form solution nearest the seed before any restart.
+        With a ``closed_form`` solver (see :mod:`kinplan.analytic_ik`), its solution nearest the
+        seed comes first; the numerical attempts only run when it has none within the limits
+        (then they return the closest configuration they find, ``success=False``).
 
         Args:
             position: Target tool position in the world frame [m].
@@ -206,16 +207,16 @@ class IKSolver:
         """
         best = None
         total = 0
+        if closed_form is not None:
+            # The closed form gives the solution nearest the seed at once (polished by Newton).
+            q = closed_form.nearest(position, rotation, q_seed)
+            if q is not None:
+                q, ok, perr, rerr, its = self.descend(
+                    q, position, rotation, position_tolerance, rotation_tolerance, 3
+                )
+                if ok:
+                    return IKResult(q, True, perr, rerr, its, 1, "analytic")
         for attempt in range(max_restarts + 1):
-            if attempt == 1 and closed_form is not None:
-                # The seed's basin failed: the closed form gives the solution nearest the seed.
-                q = closed_form.nearest(position, rotation, q_seed)
-                if q is not None:
-                    q, ok, perr, rerr, its = self.descend(
-                        q, position, rotation, position_tolerance, rotation_tolerance, 3
-                    )
-                    if ok:
-                        return IKResult(q, True, perr, rerr, total + its, 2, "analytic")
             start = q_seed if attempt == 0 else self.restart_configuration(attempt)
             q, ok, perr, rerr, its = self.descend(
                 start, position, rotation, position_tolerance, rotation_tolerance, max_iterations

@@ -282,9 +282,9 @@ class Robot:
     ) -> IKResult:
         """Joint configuration that puts the tool at ``target``.
 
-        Starts from ``q_seed`` (default: :meth:`neutral`); when that attempt fails, takes the
-        closed-form solution nearest the seed where the arm has one (planar 2R, UR family), and
-        otherwise restarts from a deterministic low-discrepancy set of configurations. Starting
+        Arms with a closed form (planar 2R, UR family) get the solution nearest ``q_seed``
+        directly. Others iterate from ``q_seed`` (default: :meth:`neutral`) and, when that
+        attempt fails, restart from a deterministic low-discrepancy set of configurations. Starting
         near a solution, it returns the solution on the seed's branch. Results always lie within
         the joint limits.
 

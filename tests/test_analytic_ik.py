@@ -13,7 +13,14 @@ import pytest
 from conftest import cached_robot
 
 import kinplan
-from kinplan.analytic_ik import URIK, Planar2RIK, analytic_solver_for, wrap_angle
+from kinplan.analytic_ik import (
+    URIK,
+    Planar2RIK,
+    _ClosedFormIK,
+    _NeedsBatch,
+    analytic_solver_for,
+    wrap_angle,
+)
 from kinplan.errors import InputError
 
 UR_ARMS = ["ur3", "ur5", "ur10"]
@@ -387,3 +394,214 @@ def test_batch_single_sample_and_empty_cases(ur5):
     np.testing.assert_allclose(one, q[None], atol=1e-9)
     none = solver.nearest_batch(np.array([[3.0, 0, 0]]), np.eye(3)[None], q)
     assert np.all(np.isnan(none))
+
+
+# ---------------------------------------------------------------------------- single-pose path
+def batch_nearest(solver, target: pin.SE3, q_ref: np.ndarray) -> np.ndarray | None:
+    """The answer of the vectorised machinery (the reference of the single-pose path)."""
+    return solver._nearest_batch_path(target.translation, target.rotation, q_ref)
+
+
+def fast_nearest(solver, target: pin.SE3, q_ref: np.ndarray):
+    """The single-pose path alone; None when it leaves the pose to the batch path."""
+    try:
+        return ("fast", solver._nearest_fast(target.translation, target.rotation, q_ref))
+    except _NeedsBatch:
+        return ("batch", None)
+
+
+def assert_same_answer(solver, robot, target: pin.SE3, q_ref: np.ndarray) -> np.ndarray | None:
+    """nearest() equals the batch path's answer (1e-9 rad) and reaches the target (1e-9)."""
+    found = solver.nearest(target.translation, target.rotation, q_ref)
+    expected = batch_nearest(solver, target, q_ref)
+    if expected is None:
+        assert found is None
+        return None
+    assert found is not None
+    np.testing.assert_allclose(found, expected, rtol=0.0, atol=1e-9)
+    assert_solves(robot, found[None], target, tol=1e-9)
+    return found
+
+
+@pytest.mark.parametrize("name", UR_ARMS)
+def test_fast_nearest_equals_batch_path(name):
+    robot, solver = cached_robot(name), solver_of(name)
+    assert solver._fast is not None  # the stock URs have exactly orthonormal axes
+    rng = np.random.default_rng([20240612, UR_ARMS.index(name)])
+    left_to_batch = 0
+    for i in range(1000):
+        q = robot.random_configuration(rng)
+        target = robot.fk(q)
+        if i % 2:
+            q_ref = robot.random_configuration(rng)
+        else:  # a seed near the solution, as Robot.ik hands over
+            q_ref = np.clip(q + rng.normal(scale=0.2, size=6), robot.lower, robot.upper)
+        path, fast = fast_nearest(solver, target, q_ref)
+        left_to_batch += path == "batch"
+        found = assert_same_answer(solver, robot, target, q_ref)
+        if path == "fast":
+            np.testing.assert_array_equal(fast, found)  # nearest() took the single-pose path
+    assert left_to_batch <= 10  # only poses within ~1e-4 of a singularity
+
+
+@pytest.mark.parametrize("name", UR_ARMS)
+def test_fast_solutions_equal_batch_path(name):
+    robot, solver = cached_robot(name), solver_of(name)
+    rng = np.random.default_rng(8)
+    for _ in range(200):
+        target = robot.fk(robot.random_configuration(rng))
+        fast = solver.solutions(target.translation, target.rotation)
+        batch = _ClosedFormIK.solutions(solver, target.translation, target.rotation)
+        assert fast.shape == batch.shape
+        np.testing.assert_allclose(fast, batch, rtol=0.0, atol=1e-9)
+
+
+def shoulder_singular(robot, solver, q: np.ndarray, offset: float = 0.0) -> np.ndarray:
+    """``q`` with θ2 moved until the wrist centre is ``offset`` [m] from the shoulder-singular
+    set, i.e. at distance √(d4² + offset²) from axis 1 (bisection on the signed offset)."""
+    g = solver.geometry
+
+    def signed(theta2: float) -> float:
+        q_try = q.copy()
+        q_try[1] = theta2
+        pose = robot.fk(q_try)
+        centre = pose.translation + pose.rotation @ g.centre_in_tool
+        return float((centre - g.p1) @ (pin.exp3(g.u1 * q[0]) @ g.b1)) - offset
+
+    grid = np.linspace(-np.pi, np.pi, 181)
+    values = [signed(t) for t in grid]
+    i = next(i for i in range(180) if values[i] * values[i + 1] < 0.0)
+    low, high = grid[i], grid[i + 1]
+    for _ in range(60):
+        middle = 0.5 * (low + high)
+        if (signed(middle) < 0.0) == (signed(low) < 0.0):
+            low = middle
+        else:
+            high = middle
+    out = q.copy()
+    out[1] = 0.5 * (low + high)
+    return out
+
+
+@pytest.mark.parametrize("name", UR_ARMS)
+@pytest.mark.parametrize(
+    "case, expected_path",
+    [
+        ("wrist 1e-3", "fast"),
+        ("wrist 1e-6", "batch"),
+        ("wrist 0", "batch"),
+        ("wrist pi", "batch"),
+        ("elbow 1e-3", "fast"),
+        ("elbow 0", "batch"),
+        ("shoulder 1e-3 m", "fast"),
+        ("shoulder 0", "batch"),
+        ("all at once", "batch"),
+    ],
+)
+def test_fast_nearest_near_singularities(name, case, expected_path):
+    robot, solver = cached_robot(name), solver_of(name)
+    rng = np.random.default_rng([3, len(case)])
+    for _ in range(20):
+        q = robot.random_configuration(rng)
+        kind, _, value = case.partition(" ")
+        amount = {"0": 0.0, "pi": np.pi, "1e-3": 1e-3, "1e-6": 1e-6, "1e-3 m": 1e-3}.get(value)
+        if kind == "wrist":
+            q[4] = solver.geometry.delta5 + amount
+        elif kind == "elbow":
+            q[2] = amount
+        elif kind == "shoulder":
+            q = shoulder_singular(robot, solver, q, offset=amount)
+        else:
+            q = np.zeros(6)
+        target = robot.fk(q)
+        # seeded at q, the singular branch is the answer (the single-pose path may skip an
+        # elbow pair that cannot win, so from other seeds it may answer a straight-elbow pose)
+        assert fast_nearest(solver, target, q)[0] == expected_path
+        for q_ref in (q, robot.random_configuration(rng)):
+            assert assert_same_answer(solver, robot, target, q_ref) is not None
+        np.testing.assert_allclose(
+            solver.nearest(target.translation, target.rotation, q), q, atol=1e-6
+        )
+
+
+def test_fast_nearest_keeps_theta6_at_the_wrist_singularity(ur5):
+    solver = solver_of("ur5")
+    q = np.array([0.4, -1.0, 1.2, 0.3, 0.0, 0.7])
+    target = ur5.fk(q)
+    for theta6 in (-2.5, 0.0, 1.9):
+        reference = q.copy()
+        reference[5] = theta6
+        assert assert_same_answer(solver, ur5, target, reference)[5] == theta6
+
+
+@pytest.mark.parametrize("name", UR_ARMS)
+def test_fast_nearest_unreachable(name):
+    robot, solver = cached_robot(name), solver_of(name)
+    q_ref = robot.neutral()
+    reach = float(np.hypot(*solver.geometry.r23) + np.hypot(*solver.geometry.r34))
+    rng = np.random.default_rng(4)
+    targets = [
+        pin.SE3(np.eye(3), np.array([3.0 * reach, 0.0, 0.5])),  # out of reach
+        pin.SE3(np.eye(3), -solver.geometry.centre_in_tool + [0.0, 0.0, 0.4]),  # axis-1 cylinder
+    ]
+    for _ in range(20):  # random rotations at twice the planar reach: the elbow cannot follow
+        direction = rng.normal(size=3)
+        rotation = pin.exp3(rng.normal(size=3))
+        targets.append(pin.SE3(rotation, 2.0 * reach * direction / np.linalg.norm(direction)))
+    for target in targets:
+        assert fast_nearest(solver, target, q_ref) == ("fast", None)
+        assert batch_nearest(solver, target, q_ref) is None
+        assert solver.nearest(target.translation, target.rotation, q_ref) is None
+        assert solver.solutions(target.translation, target.rotation).shape == (0, 6)
+
+
+def test_fast_nearest_with_weights_and_narrow_limits(ur5):
+    geometry = solver_of("ur5").geometry
+    rng = np.random.default_rng(21)
+    lower = np.array([-np.pi, -2.0, -2.5, -np.pi, -1.0, -4.0])
+    upper = np.array([np.pi, 0.5, 2.5, 1.0, 2.5, 4.0])
+    solvers = [
+        URIK(geometry, ur5.lower, ur5.upper, weights=np.array([3.0, 2.0, 1.0, 0.5, 0.2, 0.1])),
+        URIK(geometry, lower, upper),
+        URIK(geometry, lower, upper, weights=np.array([1.0, 0.0, 1.0, 0.0, 2.0, 1.0])),
+    ]
+    found_some = {id(s): 0 for s in solvers}
+    for _ in range(300):
+        q = ur5.random_configuration(rng)
+        target = ur5.fk(q)
+        q_ref = 1.5 * ur5.random_configuration(rng)  # also outside the limits
+        for solver in solvers:
+            found = assert_same_answer(solver, ur5, target, q_ref)
+            if found is not None:
+                found_some[id(solver)] += 1
+                assert np.all(found >= solver.lower) and np.all(found <= solver.upper)
+    assert all(0 < count < 300 for count in list(found_some.values())[1:])
+
+
+def test_negative_weights_use_the_batch_path(ur5):
+    geometry = solver_of("ur5").geometry
+    solver = URIK(geometry, ur5.lower, ur5.upper, weights=np.array([1.0, -1.0, 1, 1, 1, 1]))
+    assert solver._fast is None
+    q = np.array([0.3, -1.2, 1.4, -0.8, 1.1, 0.4])
+    target = ur5.fk(q)
+    found = solver.nearest(target.translation, target.rotation, q)
+    np.testing.assert_array_equal(found, batch_nearest(solver, target, q))
+
+
+def test_fast_path_rejects_bad_input_like_the_batch_path():
+    solver = solver_of("ur5")
+    q = np.zeros(6)
+    bad_rotation = np.eye(3)
+    bad_rotation[1, 2] = np.nan
+    with pytest.raises(InputError, match="rotation"):
+        solver.nearest(np.zeros(3), None, q)
+    with pytest.raises(InputError):
+        solver.nearest(np.zeros(3), bad_rotation, q)
+    with pytest.raises(InputError):
+        solver.nearest(np.array([0.1, np.inf, 0.2]), np.eye(3), q)
+    with pytest.raises(InputError):
+        solver.nearest(np.zeros(2), np.eye(3), q)
+    with pytest.raises(InputError):
+        solver.nearest(np.zeros(3), np.eye(3), [0.0] * 5 + [np.nan])
+    with pytest.raises(InputError):
+        solver.solutions(np.zeros(3), bad_rotation)
