@@ -18,35 +18,14 @@ import numpy as np
 import pinocchio as pin
 
 from kinplan.errors import InputError
+from kinplan.robot import parse_target
 
 _FD_STEP = 1e-5  # [-] step in s for the finite-difference fallbacks
 
 
-def _as_point(value, what: str) -> tuple[np.ndarray, np.ndarray | None]:
-    """(position, rotation or None) from an SE3, a 4×4 matrix or a 3-vector."""
-    if isinstance(value, pin.SE3):
-        position, rotation = np.array(value.translation), np.array(value.rotation)
-    else:
-        arr = np.asarray(value, dtype=float)
-        if arr.shape == (3,):
-            position, rotation = arr.copy(), None
-        elif arr.shape == (4, 4):
-            position, rotation = arr[:3, 3].copy(), arr[:3, :3].copy()
-        else:
-            raise InputError(
-                f"{what} must be a pinocchio.SE3, a 4×4 pose or a position 3-vector [m]; "
-                f"got shape {arr.shape}"
-            )
-    if not np.all(np.isfinite(position)) or (
-        rotation is not None and not np.all(np.isfinite(rotation))
-    ):
-        raise InputError(f"{what} must be finite, got {position}")
-    return position, rotation
-
-
 def _points(values: Sequence, names: Sequence[str]) -> tuple[list[np.ndarray], list | None]:
     """Positions and rotations of several path points; all poses or all positions."""
-    parsed = [_as_point(v, n) for v, n in zip(values, names)]
+    parsed = [parse_target(v, n) for v, n in zip(values, names)]
     rotations = [r for _, r in parsed]
     if all(r is None for r in rotations):
         return [p for p, _ in parsed], None

@@ -8,6 +8,7 @@ one ``pin.Model`` (reduced to the chain from the URDF root to the tool frame) an
 
 from __future__ import annotations
 
+import math
 import os
 import xml.etree.ElementTree as ET
 from collections.abc import Sequence
@@ -22,6 +23,7 @@ from kinplan.planar import planar_arm_urdf, write_planar_arm
 from kinplan.sources import RobotSpec, resolve_source
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+_DIAGONAL3 = np.diag_indices(3)
 _ONE_DOF_JOINTS = {
     "JointModelRX",
     "JointModelRY",
@@ -353,11 +355,19 @@ def manipulability_of(J: np.ndarray, rank: int) -> float:
 
 
 def parse_target(
-    target: pin.SE3 | Sequence[float] | np.ndarray,
+    target: pin.SE3 | Sequence[float] | np.ndarray, what: str = "an IK target"
 ) -> tuple[np.ndarray, np.ndarray | None]:
-    """Split an IK target into (position [m], rotation 3×3 or None for position only)."""
+    """Split a pose into (position [m], rotation 3×3, or None for a position 3-vector).
+
+    Args:
+        target: A ``pinocchio.SE3``, a 4×4 homogeneous matrix or a position 3-vector [m].
+        what: How the value is named in error messages.
+
+    Raises:
+        InputError: another shape, a non-finite value, or a matrix that is not a rotation.
+    """
     if isinstance(target, pin.SE3):
-        position, rotation = np.array(target.translation), np.array(target.rotation)
+        position, rotation = target.translation.copy(), target.rotation.copy()
     else:
         arr = np.asarray(target, dtype=float)
         if arr.shape == (3,):
@@ -366,15 +376,18 @@ def parse_target(
             position, rotation = arr[:3, 3].copy(), arr[:3, :3].copy()
         else:
             raise InputError(
-                f"an IK target is a pinocchio.SE3, a 4×4 homogeneous matrix or a position "
+                f"{what} must be a pinocchio.SE3, a 4×4 homogeneous matrix or a position "
                 f"3-vector [m]; got an array of shape {arr.shape}"
             )
-    if not np.all(np.isfinite(position)) or (
-        rotation is not None and not np.all(np.isfinite(rotation))
-    ):
-        raise InputError(f"the IK target must be finite, got position {position}")
-    if rotation is not None and not np.allclose(rotation.T @ rotation, np.eye(3), atol=1e-6):
-        raise InputError("the IK target's rotation is not a rotation matrix (RᵀR ≠ I)")
+    # A sum is finite only when every term is (inf − inf and NaN give NaN).
+    total = position.sum() + (0.0 if rotation is None else rotation.sum())
+    if not math.isfinite(total):
+        raise InputError(f"{what} must be finite, got position {position}")
+    if rotation is not None:
+        gram = rotation.T @ rotation
+        gram[_DIAGONAL3] -= 1.0
+        if abs(gram).max() > 1e-6:
+            raise InputError(f"the rotation of {what} is not a rotation matrix (RᵀR ≠ I)")
     return position, rotation
 
 
