@@ -39,9 +39,7 @@ test: install chromium lint
 # Benchmarks print tables (never timed unit tests); the peers come from the `bench` extra.
 bench: install
 	$(BIN)/python -m pip install --quiet -e ".[bench]" || echo "peers not installed: their rows say so"
-	$(BIN)/python tests/bench/bench_ik.py
-	@if [ -f tests/bench/bench_cartesian.py ]; then $(BIN)/python tests/bench/bench_cartesian.py; fi
-	$(BIN)/python tests/bench/bench_trajectory.py
+	$(BIN)/python tests/bench/run_all.py
 
 clean:
 	rm -rf $(VENV) build dist *.egg-info .pytest_cache .ruff_cache $(OUT)
