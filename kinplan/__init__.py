@@ -16,6 +16,7 @@ from kinplan.errors import (
     KinplanError,
     RobotNotFoundError,
     URDFError,
+    ViewerError,
 )
 from kinplan.ik import IKResult
 from kinplan.robot import Robot, load_robot, planar_arm
@@ -33,6 +34,7 @@ __all__ = [
     "Robot",
     "RobotNotFoundError",
     "URDFError",
+    "ViewerError",
     "load_robot",
     "planar_arm",
 ]

@@ -30,3 +30,7 @@ class InputError(KinplanError, ValueError):
 
 class InfeasibleError(KinplanError):
     """A motion cannot satisfy the given limits (for example an acceleration that is too low)."""
+
+
+class ViewerError(KinplanError):
+    """The MeshCat viewer could not be started, reached or written."""
