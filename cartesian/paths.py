@@ -94,6 +94,7 @@ class Path:
     length: float = 0.0
     has_orientation: bool = False
     _fd_step: float = _FD_STEP  # [-] finite-difference step in s
+    slerp: Slerp | None = None  # start-to-end geodesic orientation, when the path uses one
 
     # -- to implement -------------------------------------------------------------------
     def position(self, s) -> np.ndarray:
@@ -101,7 +102,8 @@ class Path:
         raise NotImplementedError
 
     def _rotation(self, s: np.ndarray) -> np.ndarray:
-        raise NotImplementedError
+        """Rotations at clipped fractions s (oriented paths): the slerp unless overridden."""
+        return self.slerp(s)
 
     # -- shared -------------------------------------------------------------------------
     def rotation(self, s) -> np.ndarray | None:
@@ -128,6 +130,8 @@ class Path:
         if not self.has_orientation:
             zeros = np.zeros((len(s), 3))
             return zeros, zeros
+        if self.slerp is not None:
+            return self.slerp.rates(s)
         h = self._fd_step
         lo, hi = np.clip(s - h, 0, 1), np.clip(s + h, 0, 1)
         mid = 0.5 * (lo + hi)
@@ -182,14 +186,6 @@ class Line(Path):
         n = len(_as_s(s))
         return np.tile(self.delta, (n, 1)), np.zeros((n, 3))
 
-    def _rotation(self, s):
-        return self.slerp(s)
-
-    def angular_rates(self, s):
-        if self.slerp is None:
-            return super().angular_rates(s)
-        return self.slerp.rates(_as_s(s))
-
 
 class CircularArc(Path):
     """Arc of a circle: p(s) = c + r (cos(θs) e1 + sin(θs) e2), θ the swept angle [rad].
@@ -233,14 +229,6 @@ class CircularArc(Path):
         first = k * (-sin * self.e1 + cos * self.e2)
         second = -k * self.sweep * (cos * self.e1 + sin * self.e2)
         return first, second
-
-    def _rotation(self, s):
-        return self.slerp(s)
-
-    def angular_rates(self, s):
-        if self.slerp is None:
-            return super().angular_rates(s)
-        return self.slerp.rates(_as_s(s))
 
 
 class Arc(CircularArc):
