@@ -54,6 +54,7 @@ import yaml
 
 import cartesian
 from kinplan import trajectory
+from kinplan._profiles import quintic_coefficients
 from kinplan.errors import KinplanError
 from kinplan.robot import Robot, load_robot, manipulability_of
 from kinplan.sources import bundled_robots, known_names
@@ -941,13 +942,9 @@ def hermite_segments(
     every sample time ``t`` [s] (the samples' units: rad, rad/s, rad/s²)."""
     if len(t) == 1:
         return [Segment(0.0, 0.0, q[:1].T.copy())]
-    h = np.diff(t)[:, None]
-    p0, p1, v0, v1, a0, a1 = q[:-1], q[1:], qd[:-1], qd[1:], qdd[:-1], qdd[1:]
-    dp = p1 - p0
-    c3 = (20 * dp - (8 * v1 + 12 * v0) * h - (3 * a0 - a1) * h**2) / (2 * h**3)
-    c4 = (-30 * dp + (14 * v1 + 16 * v0) * h + (3 * a0 - 2 * a1) * h**2) / (2 * h**4)
-    c5 = (12 * dp - 6 * (v1 + v0) * h - (a0 - a1) * h**2) / (2 * h**5)
-    coefficients = np.stack([p0, v0, a0 / 2, c3, c4, c5], axis=2)  # (pieces, n, 6)
+    ends = [x.T for x in (q[:-1], q[1:], qd[:-1], qd[1:], qdd[:-1], qdd[1:])]  # (n, pieces)
+    coefficients = quintic_coefficients(*ends, np.diff(t))  # (n, 6, pieces)
+    coefficients = np.moveaxis(coefficients, 2, 0)  # (pieces, n, 6)
     return [Segment(float(t[k]), float(t[k + 1]), coefficients[k]) for k in range(len(t) - 1)]
 
 
