@@ -24,7 +24,7 @@ from kinplan.robot import Robot, manipulability_of
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 KINDS = ("unreachable", "joint_limit", "jump", "singular", "velocity_limit")
 #: Default singularity threshold, as a share of the arm's median manipulability.
-SINGULAR_FRACTION = 0.01
+SINGULAR_FRACTION = 0.05
 
 
 @dataclass
@@ -352,7 +352,7 @@ def follow(
         position_only: Ignore the tool orientation; default: when the arm has fewer than 6
             joints or the path was built from 3-vectors.
         acceleration: Tool acceleration of the trapezoid [m/s²] (default: cruise in 0.25 s).
-        singular_threshold: Manipulability under which a sample is singular; default 1 % of
+        singular_threshold: Manipulability under which a sample is singular; default 5 % of
             the arm's median manipulability over its joint space.
         velocity_scale: Fraction of the robot's joint speed limits allowed.
         jump_tolerance: Largest joint step [rad] beyond what the joint velocities explain.

@@ -198,7 +198,7 @@ def test_line_ending_at_the_stretched_arm_is_singular(planar_2r):
     line = cartesian.Line([1.0, 1.0, 0.0], [2.0, 0.0, 0.0])
     plan = cartesian.follow(planar_2r, line, duration=1.0, q_seed=[0.0, 1.5])
     assert plan.status == "singular" and not plan.ok
-    assert plan.fraction < 1.0 and plan.fraction < plan.events[0].s
+    assert plan.fraction < plan.events[0].s < 1.0  # caught before the last sample
     assert plan.events[0].value < plan.singular_threshold
     assert plan.min_manipulability >= plan.singular_threshold
 
@@ -263,11 +263,11 @@ def test_wrist_singularity_is_reported_and_retiming_slows_down(ur5):
 def test_check_reachability_for_6d_arms(ur5):
     qa, qb = np.radians([10, -80, 100, -110, 6, 20]), np.radians([-10, -80, 100, -110, -6, 20])
     line = cartesian.Line(ur5.fk(qa), ur5.fk(qb))  # passes within 0.4° of the wrist singularity
-    assert cartesian.check_reachability(ur5, line, q_seed=qa).ok  # (default threshold: 0.1°)
-    result = cartesian.check_reachability(ur5, line, q_seed=qa, singular_threshold=1e-3)
+    result = cartesian.check_reachability(ur5, line, q_seed=qa)  # default threshold: ~0.5°
     assert result.status == "singular"
     assert 0.3 < result.fraction < result.events[0].s < 0.5
-    assert result.events[0].value < 1e-3
+    assert result.events[0].value < result.events[0].limit
+    assert cartesian.check_reachability(ur5, line, q_seed=qa, singular_threshold=1e-5).ok
     assert len(result.q) == result.events[0].index
     far = cartesian.Line(ur5.fk(qa), pin.SE3(ur5.fk(qa).rotation, np.array([1.5, 0.0, 0.4])))
     result = cartesian.check_reachability(ur5, far, q_seed=qa)
@@ -291,10 +291,10 @@ def test_line_through_the_base_is_singular_then_a_jump(planar_2r):
     line = cartesian.Line([0.5, 0.0, 0.0], [-0.5, 0.0, 0.0])
     plan = cartesian.follow(planar_2r, line, duration=1.0, q_seed=[-1.3, 2.6])
     assert plan.status == "singular"
-    assert plan.events[0].position == pytest.approx([0.0, 0.0, 0.0], abs=1e-9)
+    assert np.linalg.norm(plan.events[0].position) < 0.05  # just before the base
     unchecked = cartesian.follow(
         planar_2r, line, duration=1.0, q_seed=[-1.3, 2.6], singular_threshold=0.0,
         velocity_scale=1e9,
     )  # fmt: skip
     assert unchecked.status == "jump" and unchecked.events[0].joint == "joint1"
-    assert unchecked.fraction == pytest.approx(plan.fraction)
+    assert plan.fraction < unchecked.fraction < 0.5 < unchecked.events[0].s + 1e-9
