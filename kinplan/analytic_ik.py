@@ -1400,8 +1400,9 @@ def _self_check(solver: _ClosedFormIK, robot, samples: int = 8) -> bool:
 def analytic_solver_for(robot, weights: np.ndarray | None = None) -> AnalyticIK | None:
     """A closed-form IK solver for ``robot`` when its geometry allows one, else None.
 
-    Planar 2R arms (two parallel revolute axes) and UR-type arms (see :func:`ur_geometry`) are
-    recognised from the Pinocchio model's joint placements and tool frame; the solver is then
+    Planar 2R arms (two parallel revolute axes), UR-type arms (see :func:`ur_geometry`) and
+    panda-type 7-joint arms (closed form for a given θ7, θ7 searched; :mod:`kinplan.panda_ik`)
+    are recognised from the Pinocchio model's joint placements and tool frame; the solver is then
     checked against Pinocchio's forward kinematics on a few random configurations. Any other arm
     gives None, and the caller falls back to the numerical solver (:meth:`Robot.ik`).
 
@@ -1410,6 +1411,10 @@ def analytic_solver_for(robot, weights: np.ndarray | None = None) -> AnalyticIK 
         weights: Joint weights w of the distance Σ wᵢ Δqᵢ² by which :meth:`nearest` and
             :meth:`nearest_batch` choose (default: all ones), shape (nq,).
     """
+    if robot.nq == 7:  # panda-type arms: semi-analytic, θ7 searched (see kinplan.panda_ik)
+        from kinplan.panda_ik import panda_solver_for  # imports this module: import it late
+
+        return panda_solver_for(robot, weights)
     if robot.nq not in (2, 6):
         return None
     screws = _screws_at_zero(robot)

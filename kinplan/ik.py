@@ -42,7 +42,8 @@ class IKResult:
         rotation_error: Tool rotation error, the angle of R* R(q)ᵀ [rad] (0 for position-only).
         iterations: Solver iterations over all attempts.
         attempts: Number of starts (1 = the seed; more = random restarts were needed).
-        method: "numerical" or "analytic" (the closed form of a planar 2R or a UR arm).
+        method: "numerical" or "analytic" (the closed form of a planar 2R, a UR arm or a
+            panda-type arm).
     """
 
     q: np.ndarray

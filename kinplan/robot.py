@@ -284,7 +284,7 @@ class Robot:
     ) -> IKResult:
         """Joint configuration that puts the tool at ``target``.
 
-        Arms with a closed form (planar 2R, UR family) get the solution nearest ``q_seed``
+        Arms with a closed form (planar 2R, UR family, panda) get the solution nearest ``q_seed``
         directly. Others iterate from ``q_seed`` (default: :meth:`neutral`) and, when that
         attempt fails, restart from a deterministic low-discrepancy set of configurations. Starting
         near a solution, it returns the solution on the seed's branch. Results always lie within
@@ -326,7 +326,7 @@ class Robot:
 
     @property
     def closed_form_ik(self):
-        """The closed-form IK solver of this arm (planar 2R, UR family), or None.
+        """The closed-form IK solver of this arm (planar 2R, UR family, panda), or None.
 
         Built on first use from the model's geometry and checked against its FK
         (:func:`kinplan.analytic_ik.analytic_solver_for`).

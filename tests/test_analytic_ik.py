@@ -22,6 +22,7 @@ from kinplan.analytic_ik import (
     wrap_angle,
 )
 from kinplan.errors import InputError
+from kinplan.panda_ik import PandaIK
 
 UR_ARMS = ["ur3", "ur5", "ur10"]
 
@@ -80,7 +81,7 @@ def follow_per_sample(solver, positions, rotations, q_ref) -> np.ndarray:
 def test_solver_kinds():
     assert all(isinstance(solver_of(name), URIK) for name in UR_ARMS)
     assert isinstance(solver_of("planar_2r"), Planar2RIK)
-    assert solver_of("panda") is None
+    assert isinstance(solver_of("panda"), PandaIK)  # q7-parametrised (kinplan.panda_ik)
     assert analytic_solver_for(kinplan.planar_arm([1.0, 1.0, 1.0])) is None
 
 

@@ -1,0 +1,634 @@
+"""Semi-analytic inverse kinematics for 7-joint arms of the Franka Emika panda type.
+
+With the last joint angle θ7 fixed, the remaining six joints have a closed form (the idea of He &
+Liu, *Analytical Inverse Kinematics for Franka Emika Panda – a Geometrical Solver for 7-DOF
+Manipulators with Unconventional Design*, 2021). It is derived here in the screw form of
+:mod:`kinplan.analytic_ik`, on the model's own frames: at q = 0 every joint i is a rotation about
+a unit axis ``ωᵢ`` through a point ``pᵢ`` (world frame), and the tool pose is
+``T(q) = exp(S1 θ1) ⋯ exp(S7 θ7) M``. The structure this needs, checked on the model:
+
+* axes 1, 2, 3 meet in one point ``s`` (the shoulder centre; 1 ∦ 2, 2 ∦ 3);
+* axes 5 and 6 meet in one point ``w`` (5 ∦ 6);
+* ``s`` and ``w`` both lie off axis 4 (the elbow changes their distance).
+
+Axis 7 and the tool frame are arbitrary (the panda's 0.088 m offset of axis 7 from the wrist is
+the reason θ7 cannot be solved with the others). For a target pose ``T`` and a given θ7:
+
+1. ``P = T M⁻¹ exp(−S7 θ7) = exp(S1 θ1) ⋯ exp(S6 θ6)``; joints 1–3 do not move ``s``, so
+   ``y = P⁻¹ s = exp(−S6 θ6) exp(−S5 θ5) exp(−S4 θ4) s``.
+2. θ4 (two branches): joints 5 and 6 do not change distances to ``w``, so
+   ``|exp(−S4 θ4) s − w| = |y − w|`` (Paden–Kahan subproblem 3).
+3. θ5, θ6 (two branches): rotate ``u = exp(−S4 θ4) s − w`` onto ``v = y − w`` about axes 5
+   then 6 (subproblem 2).
+4. θ1, θ2, θ3 (two branches): the shoulder rotation ``G = R1 R2 R3 = R_P R6ᵀ R5ᵀ R4ᵀ`` is
+   split like an Euler-angle triple: ``R1 R2 ω3 = G ω3`` (subproblem 2), then θ3 from ``G e``
+   for a unit ``e ⊥ ω3`` (subproblem 1).
+
+Up to 8 solutions per θ7. Joint angles are equivalent modulo 2π: :meth:`PandaIK.solutions_q7`
+lists each solution once, as its equivalent within the limits closest to mid-range;
+:meth:`PandaIK.nearest` picks per joint the equivalent within the limits closest to the
+reference. When θ7 of the reference admits no solution within the limits, θ7 is searched
+coarse to fine over its range.
+
+Everything per pose is plain Python floats (numpy's per-call overhead would dominate a 3-vector
+computation): vectors are 3-tuples, rotation matrices row-major 9-tuples.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from kinplan.analytic_ik import _screws_at_zero
+from kinplan.errors import InputError
+
+logger = logging.getLogger(__name__)
+
+TAU = 2.0 * math.pi
+Vec = tuple[float, float, float]
+Mat = tuple[float, float, float, float, float, float, float, float, float]
+
+#: Tolerance of the structural checks: intersections [m], parallel axes [–].
+_STRUCTURE_TOL = 1e-9
+#: Largest excess of a cosine ratio over 1 (or deficit of a squared length below 0, relative)
+#: still treated as reachable: rounding at the rim of the workspace.
+_CLAMP = 1e-10
+#: Below this length [m or –], a rotation angle is free (singular) and taken from the reference.
+_FREE_TOL = 1e-12
+#: Joint values this far outside a limit [rad] are accepted and clipped onto it.
+_LIMIT_TOL = 1e-12
+#: Solutions this close [rad, max-norm] are the same solution (they meet at singularities).
+_SAME_TOL = 1e-9
+#: θ7 search: offsets [rad] tried on either side of the reference θ7, in this order ...
+_Q7_STEPS = (0.05, 0.1, 0.2, 0.4, 0.8, 1.6, 3.2, 6.4)
+#: ... then uniform grids over the θ7 range with this many cells (cell centres), in this order.
+_Q7_GRIDS = (16, 64, 256, 1024)
+
+
+# ---------------------------------------------------------------------------- float vectors
+def _dot(a: Vec, b: Vec) -> float:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _cross(a: Vec, b: Vec) -> Vec:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _sub(a: Vec, b: Vec) -> Vec:
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def _matvec(m: Mat, v: Vec) -> Vec:
+    """``m`` (row-major 3×3) times ``v``."""
+    x, y, z = v
+    return (
+        m[0] * x + m[1] * y + m[2] * z,
+        m[3] * x + m[4] * y + m[5] * z,
+        m[6] * x + m[7] * y + m[8] * z,
+    )
+
+
+def _matmul(a: Mat, b: Mat) -> Mat:
+    """Product of two row-major 3×3 matrices."""
+    return tuple(  # type: ignore[return-value]
+        a[3 * i] * b[j] + a[3 * i + 1] * b[3 + j] + a[3 * i + 2] * b[6 + j]
+        for i in range(3)
+        for j in range(3)
+    )
+
+
+def _rotate(v: Vec, axis: Vec, angle: float) -> Vec:
+    """``v`` rotated about the unit ``axis`` by ``angle`` [rad] (Rodrigues)."""
+    return _rotate_cs(v, axis, math.cos(angle), math.sin(angle))
+
+
+def _rotate_cs(v: Vec, axis: Vec, c: float, s: float) -> Vec:
+    """``v`` rotated about the unit ``axis`` by the angle of cosine ``c`` and sine ``s``."""
+    k = _dot(axis, v) * (1.0 - c)
+    ax, ay, az = axis
+    x, y, z = v
+    return (
+        x * c + (ay * z - az * y) * s + ax * k,
+        y * c + (az * x - ax * z) * s + ay * k,
+        z * c + (ax * y - ay * x) * s + az * k,
+    )
+
+
+def _rotation_matrix(axis: Vec, angle: float) -> Mat:
+    """Row-major rotation matrix about the unit ``axis`` by ``angle`` [rad]."""
+    c, s = math.cos(angle), math.sin(angle)
+    t = 1.0 - c
+    x, y, z = axis
+    return (
+        c + x * x * t, x * y * t - z * s, x * z * t + y * s,
+        y * x * t + z * s, c + y * y * t, y * z * t - x * s,
+        z * x * t - y * s, z * y * t + x * s, c + z * z * t,
+    )  # fmt: skip
+
+
+# ---------------------------------------------------------------------------- subproblems
+def _angle_about(axis: Vec, a: Vec, b: Vec, free: float) -> float:
+    """The angle [rad] of the rotation about the unit ``axis`` taking ``a`` towards ``b``
+    (Paden–Kahan subproblem 1, on the components perpendicular to ``axis``); ``free`` when
+    ``a`` or ``b`` lies on the axis (then every angle is a solution)."""
+    ka, kb = _dot(axis, a), _dot(axis, b)
+    ap = (a[0] - ka * axis[0], a[1] - ka * axis[1], a[2] - ka * axis[2])
+    bp = (b[0] - kb * axis[0], b[1] - kb * axis[1], b[2] - kb * axis[2])
+    if _dot(ap, ap) < _FREE_TOL**2 or _dot(bp, bp) < _FREE_TOL**2:
+        return free
+    return math.atan2(_dot(axis, _cross(ap, bp)), _dot(ap, bp))
+
+
+@dataclass(frozen=True)
+class _AxisPair:
+    """Two non-parallel unit axes ``a`` and ``b`` with their precomputed products.
+
+    Attributes:
+        a, b: Unit axes (world frame at q = 0).
+        c: a·b.
+        normal: a × b.
+        normal2: |a × b|² = 1 − c².
+    """
+
+    a: Vec
+    b: Vec
+    c: float
+    normal: Vec
+    normal2: float
+
+    @classmethod
+    def of(cls, a: Vec, b: Vec) -> _AxisPair:
+        normal = _cross(a, b)
+        return cls(a, b, _dot(a, b), normal, _dot(normal, normal))
+
+    def solve(self, u: Vec, v: Vec, free_a: float, free_b: float) -> list[tuple[float, float]]:
+        """Angles (θa, θb) [rad] with ``Rb(θb) Ra(θa) u = v`` (Paden–Kahan subproblem 2).
+
+        ``u`` and ``v`` must have equal lengths (the caller's construction ensures it). The
+        intermediate ``z = Ra(θa) u = Rb(−θb) v`` lies on both cones: z·a = u·a, z·b = v·b.
+
+        Args:
+            u, v: Vectors relative to the axes' common point.
+            free_a, free_b: Angles used when the corresponding rotation is free (u on axis a,
+                v on axis b).
+
+        Returns:
+            Zero, one (tangent cones) or two solutions.
+        """
+        ka, kb = _dot(u, self.a), _dot(v, self.b)
+        c, n2 = self.c, self.normal2
+        alpha = (ka - c * kb) / n2
+        beta = (kb - c * ka) / n2
+        length2 = 0.5 * (_dot(u, u) + _dot(v, v))
+        rest = length2 - alpha * alpha - beta * beta - 2.0 * alpha * beta * c
+        if rest < -_CLAMP * max(length2, 1e-300):
+            return []
+        gamma = math.sqrt(max(rest, 0.0) / n2)
+        signs = (1.0, -1.0) if gamma > 0.0 else (1.0,)
+        a, b, n = self.a, self.b, self.normal
+        out = []
+        for sign in signs:
+            g = sign * gamma
+            z = (
+                alpha * a[0] + beta * b[0] + g * n[0],
+                alpha * a[1] + beta * b[1] + g * n[1],
+                alpha * a[2] + beta * b[2] + g * n[2],
+            )
+            out.append((_angle_about(a, u, z, free_a), _angle_about(b, z, v, free_b)))
+        return out
+
+
+def _in_limits(value: float, ref: float, lower: float, upper: float) -> float | None:
+    """The 2π-equivalent of ``value`` [rad] within [lower, upper] nearest ``ref``, or None.
+
+    ``ref`` should lie within the limits. A candidate outside a limit by at most
+    ``_LIMIT_TOL`` is clipped onto it.
+    """
+    k = round((ref - value) / TAU)
+    best, best_distance = None, math.inf
+    for shift in (k, k - 1, k + 1):
+        candidate = value + TAU * shift
+        if lower - _LIMIT_TOL <= candidate <= upper + _LIMIT_TOL:
+            distance = abs(candidate - ref)
+            if distance < best_distance:
+                best, best_distance = candidate, distance
+    return None if best is None else min(max(best, lower), upper)
+
+
+#: Per joint: (reference, reference clipped into the limits, lower, upper, weight) [rad, –].
+_Joint = tuple[float, float, float, float, float]
+_HALF_TURN_SAFE = math.pi - 1e-9
+
+
+def _choose(value: float, joint: _Joint) -> tuple[float, float] | None:
+    """One joint's 2π-equivalent of ``value`` [rad] within the limits nearest the reference,
+    and its share w·Δq² [rad²] of the distance; None when no equivalent is within the limits."""
+    ref, clipped, lower, upper, weight = joint
+    q = value + TAU * round((clipped - value) / TAU)
+    if not (lower <= q <= upper and -_HALF_TURN_SAFE < q - clipped < _HALF_TURN_SAFE):
+        q = _in_limits(value, clipped, lower, upper)  # near a limit or half a turn away
+        if q is None:
+            return None
+    return q, weight * (q - ref) ** 2
+
+
+# ---------------------------------------------------------------------------- geometry
+def _floats(v: np.ndarray) -> Vec:
+    return (float(v[0]), float(v[1]), float(v[2]))
+
+
+def _line_intersection(p: np.ndarray, u: np.ndarray, q: np.ndarray, v: np.ndarray):
+    """The common point of the lines p + t·u and q + r·v (unit u, v), or None when they are
+    parallel or miss each other by more than the structure tolerance."""
+    n = np.cross(u, v)
+    if np.linalg.norm(n) < _STRUCTURE_TOL:
+        return None
+    # closest points: solve [u, −v] (t, r) = q − p in the least-squares sense
+    t, r = np.linalg.lstsq(np.column_stack([u, -v]), q - p, rcond=None)[0]
+    a, b = p + t * u, q + r * v
+    if np.linalg.norm(a - b) > _STRUCTURE_TOL:
+        return None
+    return 0.5 * (a + b)
+
+
+def _distance_to_line(x: np.ndarray, p: np.ndarray, u: np.ndarray) -> float:
+    d = x - p
+    return float(np.linalg.norm(d - (d @ u) * u))
+
+
+@dataclass(frozen=True)
+class PandaGeometry:
+    """A panda-type arm at q = 0, in the world (base) frame.
+
+    Attributes:
+        axes: Unit joint axes ω1…ω7.
+        points: A point on each axis [m].
+        shoulder: Common point ``s`` of axes 1, 2, 3 [m].
+        wrist: Common point ``w`` of axes 5 and 6 [m].
+        tool_rotation: Rotation of the tool frame at q = 0 (row-major).
+        tool_translation: Position of the tool frame at q = 0 [m].
+    """
+
+    axes: tuple[Vec, ...]
+    points: tuple[Vec, ...]
+    shoulder: Vec
+    wrist: Vec
+    tool_rotation: Mat
+    tool_translation: Vec
+
+
+def panda_geometry(robot) -> PandaGeometry | None:
+    """The panda-type geometry of ``robot`` (see the module docstring), or None.
+
+    Read from the Pinocchio model's joint placements, axes and tool frame (via the world-frame
+    joint screws at q = 0); None for any arm without that structure.
+    """
+    if robot.nq != 7:
+        return None
+    screws = _screws_at_zero(robot)
+    if screws is None:
+        return None
+    u, p = screws.directions, screws.points
+    shoulder = _line_intersection(p[0], u[0], p[1], u[1])
+    if shoulder is None or _distance_to_line(shoulder, p[2], u[2]) > _STRUCTURE_TOL:
+        return None
+    if np.linalg.norm(np.cross(u[1], u[2])) < _STRUCTURE_TOL:
+        return None
+    wrist = _line_intersection(p[4], u[4], p[5], u[5])
+    if wrist is None:
+        return None
+    for point in (shoulder, wrist):  # θ4 must change the shoulder–wrist distance
+        if _distance_to_line(point, p[3], u[3]) < 1e3 * _STRUCTURE_TOL:
+            return None
+    tool = screws.tool
+    return PandaGeometry(
+        axes=tuple(_floats(a) for a in u),
+        points=tuple(_floats(x) for x in p),
+        shoulder=_floats(shoulder),
+        wrist=_floats(wrist),
+        tool_rotation=tuple(float(x) for x in tool.rotation.reshape(-1)),  # type: ignore[arg-type]
+        tool_translation=_floats(tool.translation),
+    )
+
+
+# ---------------------------------------------------------------------------- solver
+class PandaIK:
+    """Closed-form IK of a panda-type arm for a fixed θ7, with a θ7 search for :meth:`nearest`.
+
+    Args:
+        geometry: The arm at q = 0 (:func:`panda_geometry`).
+        lower: Lower joint limits [rad], shape (7,).
+        upper: Upper joint limits [rad], shape (7,).
+        weights: Joint weights w of the distance Σ wᵢ Δqᵢ² by which :meth:`nearest` chooses
+            (default: all ones), shape (7,).
+    """
+
+    nq = 7
+
+    def __init__(
+        self,
+        geometry: PandaGeometry,
+        lower: np.ndarray,
+        upper: np.ndarray,
+        weights: np.ndarray | None = None,
+    ):
+        self.geometry = geometry
+        self.lower = np.asarray(lower, dtype=float)
+        self.upper = np.asarray(upper, dtype=float)
+        self.weights = np.ones(7) if weights is None else np.asarray(weights, dtype=float)
+        self._lo = [float(x) for x in self.lower]
+        self._hi = [float(x) for x in self.upper]
+        self._w = [float(x) for x in self.weights]
+        self._mid_joints = self._joints(0.5 * (self.lower + self.upper))
+        g = geometry
+        self._wrist_pair = _AxisPair.of(g.axes[4], g.axes[5])  # Ra = axis 5, Rb = axis 6
+        self._shoulder_pair = _AxisPair.of(g.axes[1], g.axes[0])  # Ra = axis 2, Rb = axis 1
+        # a unit vector perpendicular to axis 3, for θ3
+        a3 = np.array(g.axes[2])
+        helper = np.eye(3)[int(np.argmin(np.abs(a3)))]
+        e3 = np.cross(a3, helper)
+        self._e3 = _floats(e3 / np.linalg.norm(e3))
+        # θ4: s and w relative to a point of axis 4, split along / across the axis
+        a4, p4 = g.axes[3], g.points[3]
+        s, w = _sub(g.shoulder, p4), _sub(g.wrist, p4)
+        self._s4, self._w4 = s, w
+        s_along = _dot(a4, s)
+        s_perp = (s[0] - s_along * a4[0], s[1] - s_along * a4[1], s[2] - s_along * a4[2])
+        self._q4_const = _dot(w, a4) * s_along  # w·s_par
+        self._q4_cos = _dot(w, s_perp)  # coefficient of cos(−θ4)
+        self._q4_sin = _dot(w, _cross(a4, s))  # coefficient of sin(−θ4)
+        self._q4_amplitude = math.hypot(self._q4_cos, self._q4_sin)
+        self._q4_phase = math.atan2(self._q4_sin, self._q4_cos)
+        self._q4_lengths = _dot(s, s) + _dot(w, w)
+        m = g.tool_rotation
+        self._tool_rotation_t: Mat = (m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8])
+        steps = [offset for step in _Q7_STEPS for offset in (step, -step)]
+        self._q7_steps = steps
+        span = self._hi[6] - self._lo[6]
+        self._q7_grids = [
+            [self._lo[6] + (i + 0.5) * span / cells for i in range(cells)] for cells in _Q7_GRIDS
+        ]
+
+    # ------------------------------------------------------------ input checks
+    def _pose(self, position, rotation) -> tuple[Vec, Mat]:
+        """(position, row-major rotation) as floats; InputError when malformed."""
+        p = np.asarray(position, dtype=float)
+        r = np.asarray(rotation, dtype=float)
+        if p.shape != (3,) or r.shape != (3, 3):
+            raise InputError(
+                f"a pose needs a 3-vector position [m] and a 3×3 rotation, got shapes "
+                f"{p.shape} and {r.shape}"
+            )
+        p_list, r_list = p.tolist(), r.reshape(-1).tolist()
+        if not math.isfinite(sum(p_list) + sum(r_list)):
+            raise InputError(f"the pose must be finite, got {p_list} and {r_list}")
+        return tuple(p_list), tuple(r_list)  # type: ignore[return-value]
+
+    def _joints(self, q_ref) -> list[_Joint]:
+        """Per joint: (reference, reference clipped into the limits, lower, upper, weight)."""
+        q = np.asarray(q_ref, dtype=float)
+        if q.shape != (7,):
+            raise InputError(f"q_ref must be a vector of 7 joint values, got shape {q.shape}")
+        ref = q.tolist()
+        if not math.isfinite(sum(ref)):
+            raise InputError(f"q_ref must be finite, got {ref}")
+        return [
+            (r, min(max(r, lo), hi), lo, hi, w)
+            for r, lo, hi, w in zip(ref, self._lo, self._hi, self._w)
+        ]
+
+    # ------------------------------------------------------------ the closed form
+    def _prepare(self, position: Vec, rotation: Mat) -> tuple[Vec, Mat]:
+        """The θ7-independent part of a pose (world frame).
+
+        Returns:
+            ``M T⁻¹ s`` [m] (the shoulder centre seen from the tool frame, placed at the tool's
+            zero pose) and ``R_T M_Rᵀ`` (row-major).
+        """
+        g = self.geometry
+        r = rotation
+        d = _sub(g.shoulder, position)
+        local = (  # R_Tᵀ (s − p_T)
+            r[0] * d[0] + r[3] * d[1] + r[6] * d[2],
+            r[1] * d[0] + r[4] * d[1] + r[7] * d[2],
+            r[2] * d[0] + r[5] * d[1] + r[8] * d[2],
+        )
+        moved = _matvec(g.tool_rotation, local)
+        t = g.tool_translation
+        seen = (moved[0] + t[0], moved[1] + t[1], moved[2] + t[2])
+        return seen, _matmul(rotation, self._tool_rotation_t)
+
+    def _solve(
+        self, prepared: tuple[Vec, Mat], q7: float, joints: list[_Joint], prune: bool
+    ) -> list[tuple[list[float], float]]:
+        """The solutions within the limits for one θ7.
+
+        Joint by joint (θ4, then θ5 and θ6, then the shoulder), each branch's value is replaced
+        by its 2π-equivalent within the limits nearest the reference (the branch is dropped when
+        there is none), and the weighted squared distance Σ wᵢ Δqᵢ² to the reference is summed.
+
+        Args:
+            prepared: :meth:`_prepare` of the pose.
+            q7: θ7 [rad], within its limits.
+            joints: :meth:`_joints` of the reference; free joints (singularities) take the
+                reference values.
+            prune: Only keep a solution nearer than every earlier one (branch and bound): the
+                last entry is then the nearest.
+
+        Returns:
+            (configuration [rad], distance [rad²]) pairs.
+        """
+        g = self.geometry
+        seen, rotation_tm = prepared
+        a4, a5, a6, a7, p7 = g.axes[3], g.axes[4], g.axes[5], g.axes[6], g.points[6]
+        # y = exp(S7 θ7) M T⁻¹ s: the shoulder centre as the wrist joints see it
+        y = _rotate(_sub(seen, p7), a7, q7)
+        v = (y[0] + p7[0] - g.wrist[0], y[1] + p7[1] - g.wrist[1], y[2] + p7[2] - g.wrist[2])
+        rotation_p = None  # R_P, computed when a branch gets as far as the shoulder
+        base = joints[6][4] * (q7 - joints[6][0]) ** 2
+        bound = math.inf
+        out: list[tuple[list[float], float]] = []
+        for raw4 in self._elbow(_dot(v, v)):
+            c4 = _choose(raw4, joints[3])
+            if c4 is None:
+                continue
+            q4, cost4 = c4[0], base + c4[1]
+            cos4, sin4 = math.cos(q4), -math.sin(q4)  # rotations by −θ4
+            u = _sub(_rotate_cs(self._s4, a4, cos4, sin4), self._w4)  # exp(−S4 θ4) s − w
+            for t5, t6 in self._wrist_pair.solve(u, v, -joints[4][1], -joints[5][1]):
+                c5, c6 = _choose(-t5, joints[4]), _choose(-t6, joints[5])
+                if c5 is None or c6 is None:
+                    continue
+                q5, q6 = c5[0], c6[0]
+                cost6 = cost4 + c5[1] + c6[1]
+                if prune and cost6 >= bound:
+                    continue
+                if rotation_p is None:
+                    rotation_p = _matmul(rotation_tm, _rotation_matrix(a7, -q7))
+                # G = R_P R6(−θ6) R5(−θ5) R4(−θ4) = R1 R2 R3, applied to ω3 and e
+                chain = ((a4, cos4, sin4), (a5, math.cos(q5), -math.sin(q5)))
+                chain += ((a6, math.cos(q6), -math.sin(q6)),)
+                g3, ge = g.axes[2], self._e3
+                for axis, c, s in chain:
+                    g3, ge = _rotate_cs(g3, axis, c, s), _rotate_cs(ge, axis, c, s)
+                g3, ge = _matvec(rotation_p, g3), _matvec(rotation_p, ge)
+                for t2, t1 in self._shoulder_pair.solve(g.axes[2], g3, joints[1][1], joints[0][1]):
+                    c1, c2 = _choose(t1, joints[0]), _choose(t2, joints[1])
+                    if c1 is None or c2 is None:
+                        continue
+                    cost2 = cost6 + c1[1] + c2[1]
+                    if prune and cost2 >= bound:
+                        continue
+                    # R3(θ3) e = R2(−θ2) R1(−θ1) G e
+                    h = _rotate(_rotate(ge, g.axes[0], -t1), g.axes[1], -t2)
+                    c3 = _choose(_angle_about(g.axes[2], self._e3, h, joints[2][1]), joints[2])
+                    if c3 is None:
+                        continue
+                    cost = cost2 + c3[1]
+                    if prune and cost >= bound:
+                        continue
+                    out.append(([c1[0], c2[0], c3[0], q4, q5, q6, q7], cost))
+                    if prune:
+                        bound = cost
+        return out
+
+    def _elbow(self, distance2: float) -> list[float]:
+        """θ4 [rad] (up to two) with |exp(−S4 θ4) s − w|² = ``distance2`` [m²]."""
+        # |R(φ)s − w|² = |s|² + |w|² − 2 w·R(φ)s, w·R(φ)s = w·s_par + A cos φ + B sin φ, φ = −θ4
+        target = 0.5 * (self._q4_lengths - distance2) - self._q4_const
+        ratio = target / self._q4_amplitude
+        if abs(ratio) > 1.0 + _CLAMP:
+            return []
+        spread = math.acos(min(max(ratio, -1.0), 1.0))
+        if spread == 0.0:
+            return [-self._q4_phase]
+        return [-(self._q4_phase + spread), -(self._q4_phase - spread)]
+
+    # ------------------------------------------------------------ public API
+    def solutions_q7(self, position, rotation, q7: float) -> np.ndarray:
+        """All solutions within the joint limits with the last joint at ``q7``.
+
+        Each solution appears once, as its 2π-equivalent within the limits closest to
+        mid-range. At a singularity a free joint takes its mid-range value.
+
+        Args:
+            position: Tool position in the base (world) frame [m], shape (3,).
+            rotation: Tool rotation (3×3) in the world frame.
+            q7: The last joint's angle [rad]; outside its limits there is no solution.
+
+        Returns:
+            Joint configurations [rad], shape (k, 7), 0 ≤ k ≤ 8.
+        """
+        q7 = float(q7)
+        prepared = self._prepare(*self._pose(position, rotation))
+        if not self._lo[6] - _LIMIT_TOL <= q7 <= self._hi[6] + _LIMIT_TOL:
+            return np.empty((0, 7))
+        q7 = min(max(q7, self._lo[6]), self._hi[6])
+        found: list[list[float]] = []
+        for q, _ in self._solve(prepared, q7, self._mid_joints, prune=False):
+            if not any(max(abs(a - b) for a, b in zip(q, other)) <= _SAME_TOL for other in found):
+                found.append(q)
+        return np.array(found).reshape(-1, 7)
+
+    def _best(
+        self, prepared: tuple[Vec, Mat], q7_values: list[float], joints: list[_Joint]
+    ) -> list[float] | None:
+        """The solution nearest the reference over the given θ7 values [rad], or None."""
+        best, best_cost = None, math.inf
+        for q7 in q7_values:
+            found = self._solve(prepared, q7, joints, prune=True)
+            if found and found[-1][1] < best_cost:
+                best, best_cost = found[-1]
+        return best
+
+    def _q7_stages(self, q7_ref: float):
+        """θ7 values [rad] to try, stage by stage: ±steps around ``q7_ref``, then finer grids."""
+        lo, hi = self._lo[6], self._hi[6]
+        for step in _Q7_STEPS:
+            stage = [q for q in (q7_ref + step, q7_ref - step) if lo <= q <= hi]
+            if stage:
+                yield stage
+        yield from self._q7_grids
+
+    def nearest(self, position, rotation, q_ref) -> np.ndarray | None:
+        """The solution nearest ``q_ref`` (weighted distance Σ wᵢ Δqᵢ²), or None.
+
+        First with θ7 = ``q_ref[6]`` (clipped into its limits); when that gives no solution
+        within the limits, θ7 is searched stage by stage (``q_ref[6]`` ± 0.05, 0.1, 0.2, … rad,
+        then grids of 16, 64, 256, 1024 cells over its range) and the nearest solution of the
+        first stage that has one is returned.
+
+        Args:
+            position: Tool position in the base (world) frame [m], shape (3,).
+            rotation: Tool rotation (3×3) in the world frame, or None (then None: a redundant
+                arm's position-only IK is left to the numerical solver).
+            q_ref: Reference configuration [rad], shape (7,).
+
+        Returns:
+            The configuration [rad], shape (7,), or None when the search finds no solution.
+        """
+        if rotation is None:
+            return None
+        joints = self._joints(q_ref)
+        prepared = self._prepare(*self._pose(position, rotation))
+        best = self._best(prepared, [joints[6][1]], joints)
+        if best is None:
+            for stage in self._q7_stages(joints[6][1]):
+                best = self._best(prepared, stage, joints)
+                if best is not None:
+                    break
+        return None if best is None else np.array(best)
+
+    def nearest_batch(self, positions, rotations, q_ref) -> np.ndarray:
+        """:meth:`nearest` sample by sample, each from the previous solution (the last one
+        found; ``q_ref`` first). Rows of NaN where none is found. Shapes (N, 3), (N, 3, 3)."""
+        previous = np.asarray(q_ref, dtype=float)
+        out = np.full((len(positions), 7), np.nan)
+        for i, (position, rotation) in enumerate(zip(positions, rotations)):
+            q = self.nearest(position, rotation, previous)
+            if q is not None:
+                out[i] = previous = q
+        return out
+
+
+# ---------------------------------------------------------------------------- factory
+def _self_check(solver: PandaIK, robot, samples: int = 8) -> bool:
+    """Whether the solver reproduces random configurations of ``robot`` (Pinocchio FK)."""
+    rng = np.random.default_rng(12345)
+    for _ in range(samples):
+        q = robot.random_configuration(rng)
+        pose = robot.fk(q)
+        found = solver.solutions_q7(pose.translation, pose.rotation, q[6])
+        if not any(np.max(np.abs(s - q)) < 1e-7 for s in found):
+            return False
+        for s in found:
+            reached = robot.fk(s)
+            if np.linalg.norm(reached.translation - pose.translation) > 1e-8:
+                return False
+            if np.linalg.norm(pin.log3(reached.rotation.T @ pose.rotation)) > 1e-8:
+                return False
+    return True
+
+
+def panda_solver_for(robot, weights: np.ndarray | None = None) -> PandaIK | None:
+    """The semi-analytic IK of a panda-type ``robot``, or None for any other arm.
+
+    The structure is read from the Pinocchio model (:func:`panda_geometry`) and the solver is
+    checked against Pinocchio's forward kinematics on random configurations.
+
+    Args:
+        robot: A :class:`kinplan.Robot`.
+        weights: Joint weights of the distance by which :meth:`PandaIK.nearest` chooses.
+    """
+    geometry = panda_geometry(robot)
+    if geometry is None:
+        return None
+    solver = PandaIK(geometry, robot.lower, robot.upper, weights)
+    if not _self_check(solver, robot):
+        logger.debug("panda-type IK of %s disagrees with its forward kinematics", robot.name)
+        return None
+    return solver
