@@ -101,6 +101,19 @@ class IKSolver:
             self._restarts = self.lower + (self.upper - self.lower) * unit
         return self._restarts[attempt - 1]
 
+    def errors(
+        self, q: np.ndarray, position: np.ndarray, rotation: np.ndarray | None
+    ) -> tuple[float, float]:
+        """Position error [m] and rotation error [rad] of the tool at ``q`` (one FK pass)."""
+        pin.forwardKinematics(self.model, self.data, q)
+        pose = pin.updateFramePlacement(self.model, self.data, self.frame_id)
+        ep = position - pose.translation
+        perr = math.sqrt(ep @ ep)
+        if rotation is None:
+            return perr, 0.0
+        er = pin.log3(rotation @ pose.rotation.T)
+        return perr, math.sqrt(er @ er)
+
     def descend(
         self,
         q: np.ndarray,
@@ -212,10 +225,13 @@ class IKSolver:
             # The closed form gives the solution nearest the seed at once (polished by Newton).
             q = closed_form.nearest(position, rotation, q_seed)
             if q is not None:
-                q, ok, perr, rerr, its = self.descend(
-                    q, position, rotation, position_tolerance, rotation_tolerance, 3
-                )
-                if ok:
+                perr, rerr = self.errors(q, position, rotation)
+                its = 0
+                if perr > position_tolerance or rerr > rotation_tolerance:
+                    q, _, perr, rerr, its = self.descend(
+                        q, position, rotation, position_tolerance, rotation_tolerance, 3
+                    )
+                if perr <= position_tolerance and rerr <= rotation_tolerance:
                     return IKResult(q, True, perr, rerr, its, 1, "analytic")
         for attempt in range(max_restarts + 1):
             start = q_seed if attempt == 0 else self.restart_configuration(attempt)

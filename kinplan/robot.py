@@ -23,7 +23,7 @@ from kinplan.planar import planar_arm_urdf, write_planar_arm
 from kinplan.sources import RobotSpec, resolve_source
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-_DIAGONAL3 = np.diag_indices(3)
+_IDENTITY3 = np.eye(3)
 _ONE_DOF_JOINTS = {
     "JointModelRX",
     "JointModelRY",
@@ -384,9 +384,7 @@ def parse_target(
     if not math.isfinite(total):
         raise InputError(f"{what} must be finite, got position {position}")
     if rotation is not None:
-        gram = rotation.T @ rotation
-        gram[_DIAGONAL3] -= 1.0
-        if abs(gram).max() > 1e-6:
+        if abs(rotation.T @ rotation - _IDENTITY3).max() > 1e-6:
             raise InputError(f"the rotation of {what} is not a rotation matrix (RᵀR ≠ I)")
     return position, rotation
 
