@@ -427,7 +427,7 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
         else:
             h = steps[k]
             guess = q_prev + (qd_prev + (0.5 * h) * qdd_prev) * h
-        q, ok, *_ = tracker.solve(guess, positions[k], rotation)
+        q, ok, _, _, corrections = tracker.solve(guess, positions[k], rotation)
         if not ok:
             events.append(tracker.diagnose(k, t[k], s[k], guess, q_prev, positions[k], rotation))
             break
@@ -437,9 +437,10 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
         if event is None:
             tool[k] = tracker.tool_position()
             qd = tracker.rates(xd[k])
-            event = tracker.jump_event(
-                k, t[k], s[k], q, q_prev, qd, qd_prev, steps[k], positions[k]
-            )
+            if corrections:  # an uncorrected prediction (q = guess) cannot jump
+                event = tracker.jump_event(
+                    k, t[k], s[k], q, q_prev, qd, qd_prev, steps[k], positions[k]
+                )
         event = event or tracker.speed_event(k, t[k], s[k], qd, positions[k])
         if event is not None:
             events.append(event)
