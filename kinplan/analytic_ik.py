@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -1379,13 +1380,20 @@ class URIK(_ClosedFormIK):
 
 
 # ---------------------------------------------------------------------------- factory
-def _self_check(solver: _ClosedFormIK, robot, samples: int = 8) -> bool:
-    """Whether the solver reproduces random configurations of ``robot`` (Pinocchio FK)."""
+def self_check(robot, solutions_for: Callable, samples: int = 8) -> bool:
+    """Whether a closed form reproduces random configurations of ``robot`` (Pinocchio FK).
+
+    Args:
+        robot: The arm.
+        solutions_for: ``(pose, q) -> (k, nq)`` solutions of the tool pose of q (q may be used
+            for a free parameter, e.g. the panda's θ7).
+        samples: Random configurations checked.
+    """
     rng = np.random.default_rng(12345)
     for _ in range(samples):
         q = robot.random_configuration(rng)
         pose = robot.fk(q)
-        found = solver.solutions(pose.translation, pose.rotation)
+        found = solutions_for(pose, q)
         if not any(np.max(np.abs(wrap_angle(s - q))) < 1e-7 for s in found):
             return False
         for s in found:
@@ -1427,7 +1435,7 @@ def analytic_solver_for(robot, weights: np.ndarray | None = None) -> AnalyticIK 
         solver = None if geometry is None else URIK(geometry, robot.lower, robot.upper, weights)
     if solver is None:
         return None
-    if not _self_check(solver, robot):
+    if not self_check(robot, lambda pose, q: solver.solutions(pose.translation, pose.rotation)):
         logger.debug("closed-form IK of %s disagrees with its forward kinematics", robot.name)
         return None
     return solver

@@ -41,9 +41,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import pinocchio as pin
 
-from kinplan.analytic_ik import _screws_at_zero
+from kinplan.analytic_ik import _screws_at_zero, self_check
 from kinplan.errors import InputError
 
 logger = logging.getLogger(__name__)
@@ -596,24 +595,6 @@ class PandaIK:
 
 
 # ---------------------------------------------------------------------------- factory
-def _self_check(solver: PandaIK, robot, samples: int = 8) -> bool:
-    """Whether the solver reproduces random configurations of ``robot`` (Pinocchio FK)."""
-    rng = np.random.default_rng(12345)
-    for _ in range(samples):
-        q = robot.random_configuration(rng)
-        pose = robot.fk(q)
-        found = solver.solutions_q7(pose.translation, pose.rotation, q[6])
-        if not any(np.max(np.abs(s - q)) < 1e-7 for s in found):
-            return False
-        for s in found:
-            reached = robot.fk(s)
-            if np.linalg.norm(reached.translation - pose.translation) > 1e-8:
-                return False
-            if np.linalg.norm(pin.log3(reached.rotation.T @ pose.rotation)) > 1e-8:
-                return False
-    return True
-
-
 def panda_solver_for(robot, weights: np.ndarray | None = None) -> PandaIK | None:
     """The semi-analytic IK of a panda-type ``robot``, or None for any other arm.
 
@@ -628,7 +609,8 @@ def panda_solver_for(robot, weights: np.ndarray | None = None) -> PandaIK | None
     if geometry is None:
         return None
     solver = PandaIK(geometry, robot.lower, robot.upper, weights)
-    if not _self_check(solver, robot):
+    check = lambda pose, q: solver.solutions_q7(pose.translation, pose.rotation, q[6])  # noqa: E731
+    if not self_check(robot, check):
         logger.debug("panda-type IK of %s disagrees with its forward kinematics", robot.name)
         return None
     return solver
