@@ -298,3 +298,24 @@ def test_line_through_the_base_is_singular_then_a_jump(planar_2r):
     )  # fmt: skip
     assert unchecked.status == "jump" and unchecked.events[0].joint == "joint1"
     assert plan.fraction < unchecked.fraction < 0.5 < unchecked.events[0].s + 1e-9
+
+
+def test_weld_seam_function_path_at_constant_speed(ur5):
+    """A sine seam given as p(u): tracked to 1e-6 m at 50 mm/s (arc-length timing)."""
+    q0 = np.radians([0, -100, 100, -90, -90, 0])
+    start = ur5.fk(q0)
+    c = start.translation
+
+    def seam_points(u):
+        return np.stack(
+            [c[0] + 0.1 * np.sin(2 * np.pi * u), c[1] + 0.25 * u, np.full_like(u, c[2])], axis=-1
+        )
+
+    seam = cartesian.FunctionPath(seam_points, orientation=start.rotation)
+    plan = cartesian.follow(ur5, seam, speed=0.05, q_seed=q0)
+    assert plan.ok, plan
+    tips = np.array([ur5.fk(q).translation for q in plan.q])
+    np.testing.assert_allclose(tips, seam.position(plan.s), atol=1e-6)
+    speed = np.linalg.norm(np.gradient(tips, plan.t, axis=0), axis=1)
+    cruise = speed[len(speed) // 3 : 2 * len(speed) // 3]
+    np.testing.assert_allclose(cruise, 0.05, rtol=1e-3)  # uniform tool speed along the curve
