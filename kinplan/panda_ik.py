@@ -42,12 +42,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kinplan.analytic_ik import _screws_at_zero, self_check
+from kinplan.analytic_ik import _LIMIT_TOL, _joint_choice, _screws_at_zero, self_check
 from kinplan.errors import InputError
 
 logger = logging.getLogger(__name__)
 
-TAU = 2.0 * math.pi
 Vec = tuple[float, float, float]
 Mat = tuple[float, float, float, float, float, float, float, float, float]
 
@@ -58,8 +57,6 @@ _STRUCTURE_TOL = 1e-9
 _CLAMP = 1e-10
 #: Below this length [m or –], a rotation angle is free (singular) and taken from the reference.
 _FREE_TOL = 1e-12
-#: Joint values this far outside a limit [rad] are accepted and clipped onto it.
-_LIMIT_TOL = 1e-12
 #: Solutions this close [rad, max-norm] are the same solution (they meet at singularities).
 _SAME_TOL = 1e-9
 #: θ7 search: offsets [rad] tried on either side of the reference θ7, in this order ...
@@ -201,38 +198,8 @@ class _AxisPair:
         return out
 
 
-def _in_limits(value: float, ref: float, lower: float, upper: float) -> float | None:
-    """The 2π-equivalent of ``value`` [rad] within [lower, upper] nearest ``ref``, or None.
-
-    ``ref`` should lie within the limits. A candidate outside a limit by at most
-    ``_LIMIT_TOL`` is clipped onto it.
-    """
-    k = round((ref - value) / TAU)
-    best, best_distance = None, math.inf
-    for shift in (k, k - 1, k + 1):
-        candidate = value + TAU * shift
-        if lower - _LIMIT_TOL <= candidate <= upper + _LIMIT_TOL:
-            distance = abs(candidate - ref)
-            if distance < best_distance:
-                best, best_distance = candidate, distance
-    return None if best is None else min(max(best, lower), upper)
-
-
 #: Per joint: (reference, reference clipped into the limits, lower, upper, weight) [rad, –].
 _Joint = tuple[float, float, float, float, float]
-_HALF_TURN_SAFE = math.pi - 1e-9
-
-
-def _choose(value: float, joint: _Joint) -> tuple[float, float] | None:
-    """One joint's 2π-equivalent of ``value`` [rad] within the limits nearest the reference,
-    and its share w·Δq² [rad²] of the distance; None when no equivalent is within the limits."""
-    ref, clipped, lower, upper, weight = joint
-    q = value + TAU * round((clipped - value) / TAU)
-    if not (lower <= q <= upper and -_HALF_TURN_SAFE < q - clipped < _HALF_TURN_SAFE):
-        q = _in_limits(value, clipped, lower, upper)  # near a limit or half a turn away
-        if q is None:
-            return None
-    return q, weight * (q - ref) ** 2
 
 
 # ---------------------------------------------------------------------------- geometry
@@ -452,14 +419,14 @@ class PandaIK:
         bound = math.inf
         out: list[tuple[list[float], float]] = []
         for raw4 in self._elbow(_dot(v, v)):
-            c4 = _choose(raw4, joints[3])
+            c4 = _joint_choice(raw4, joints[3])
             if c4 is None:
                 continue
             q4, cost4 = c4[0], base + c4[1]
             cos4, sin4 = math.cos(q4), -math.sin(q4)  # rotations by −θ4
             u = _sub(_rotate_cs(self._s4, a4, cos4, sin4), self._w4)  # exp(−S4 θ4) s − w
             for t5, t6 in self._wrist_pair.solve(u, v, -joints[4][1], -joints[5][1]):
-                c5, c6 = _choose(-t5, joints[4]), _choose(-t6, joints[5])
+                c5, c6 = _joint_choice(-t5, joints[4]), _joint_choice(-t6, joints[5])
                 if c5 is None or c6 is None:
                     continue
                 q5, q6 = c5[0], c6[0]
@@ -476,7 +443,7 @@ class PandaIK:
                     g3, ge = _rotate_cs(g3, axis, c, s), _rotate_cs(ge, axis, c, s)
                 g3, ge = _matvec(rotation_p, g3), _matvec(rotation_p, ge)
                 for t2, t1 in self._shoulder_pair.solve(g.axes[2], g3, joints[1][1], joints[0][1]):
-                    c1, c2 = _choose(t1, joints[0]), _choose(t2, joints[1])
+                    c1, c2 = _joint_choice(t1, joints[0]), _joint_choice(t2, joints[1])
                     if c1 is None or c2 is None:
                         continue
                     cost2 = cost6 + c1[1] + c2[1]
@@ -484,7 +451,8 @@ class PandaIK:
                         continue
                     # R3(θ3) e = R2(−θ2) R1(−θ1) G e
                     h = _rotate(_rotate(ge, g.axes[0], -t1), g.axes[1], -t2)
-                    c3 = _choose(_angle_about(g.axes[2], self._e3, h, joints[2][1]), joints[2])
+                    t3 = _angle_about(g.axes[2], self._e3, h, joints[2][1])
+                    c3 = _joint_choice(t3, joints[2])
                     if c3 is None:
                         continue
                     cost = cost2 + c3[1]
