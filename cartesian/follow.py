@@ -22,7 +22,6 @@ from kinplan.errors import InputError
 from kinplan.robot import Robot, manipulability_of
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-KINDS = ("unreachable", "joint_limit", "jump", "singular", "velocity_limit")
 #: Default singularity threshold, as a share of the arm's median manipulability.
 SINGULAR_FRACTION = 0.05
 

@@ -646,7 +646,6 @@ class _URGeometry:
         delta5: θ5 at which axis 6 is parallel to ``a`` (wrist singularity) [rad].
         u5_cross_a: ``u5 × a``.
         centre_in_tool: Wrist centre (axes 5 ∩ 6) in the tool frame [m].
-        u6_in_tool: Axis 6 in the tool frame.
         tool_rotation: Tool rotation at q = 0.
         tool_position: Tool position at q = 0 [m].
     """
@@ -673,7 +672,6 @@ class _URGeometry:
     delta5: float
     u5_cross_a: np.ndarray
     centre_in_tool: np.ndarray
-    u6_in_tool: np.ndarray
     tool_rotation: np.ndarray
     tool_position: np.ndarray
 
@@ -744,7 +742,6 @@ def ur_geometry(screws: _Screws) -> _URGeometry | None:
         delta5=float(np.arctan2(a @ np.cross(u[4], u[5]), a @ u[5])),
         u5_cross_a=np.cross(u[4], a),
         centre_in_tool=tool_rotation.T @ (centre - tool_position),
-        u6_in_tool=tool_rotation.T @ u[5],
         tool_rotation=tool_rotation,
         tool_position=tool_position,
     )

@@ -332,8 +332,6 @@ class PandaIK:
         self._q4_lengths = _dot(s, s) + _dot(w, w)
         m = g.tool_rotation
         self._tool_rotation_t: Mat = (m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8])
-        steps = [offset for step in _Q7_STEPS for offset in (step, -step)]
-        self._q7_steps = steps
         span = self._hi[6] - self._lo[6]
         self._q7_grids = [
             [self._lo[6] + (i + 0.5) * span / cells for i in range(cells)] for cells in _Q7_GRIDS
