@@ -247,6 +247,16 @@ class _Tracker:
             position, name, float(qd[j]), float(self.speed_limit[j]),
         )  # fmt: skip
 
+    def start(self, position, rotation, seed: np.ndarray) -> np.ndarray:
+        """Configuration for the first point: full IK from ``seed`` (the seed's branch), or the
+        seed itself when IK fails (the tracking step then diagnoses why)."""
+        target = position if rotation is None else pin.SE3(rotation, position)
+        first = self.robot.ik(
+            target, q_seed=seed, position_only=rotation is None,
+            position_tolerance=self.tolerance, rotation_tolerance=self.rotation_tolerance,
+        )  # fmt: skip
+        return first.q if first.success else seed
+
     def diagnose(self, k, t, s, guess, q_prev, position, rotation) -> Event:
         """Why sample k has no continuous IK solution: joint_limit, jump or unreachable."""
         robot = self.robot
@@ -313,10 +323,32 @@ def _resolve_position_only(robot: Robot, path: Path, position_only: bool | None)
     return bool(position_only)
 
 
-def _targets(path: Path, s: np.ndarray, position_only: bool):
-    positions = path.position(s)
-    rotations = None if position_only else path.rotation(s)
-    return positions, rotations
+@dataclass
+class _Targets:
+    """Tool targets along a path at fractions s, in the task rows of the arm.
+
+    Attributes:
+        positions: Tool positions [m], (N, 3).
+        rotations: Tool rotations (N, 3, 3), or None for a position-only task.
+        rate: dx/ds of the task rows (linear [m], angular [rad] per unit s), (N, r).
+        curvature: d²x/ds² of the task rows, (N, r).
+    """
+
+    positions: np.ndarray
+    rotations: np.ndarray | None
+    rate: np.ndarray
+    curvature: np.ndarray
+
+
+def _targets(path: Path, s: np.ndarray, position_only: bool, rows: np.ndarray) -> _Targets:
+    """Evaluate the path at fractions ``s`` (vectorised): poses and their s-derivatives."""
+    first, second = np.zeros((len(s), 6)), np.zeros((len(s), 6))
+    first[:, :3], second[:, :3] = path.position_derivatives(s)
+    rotations = None
+    if not position_only:
+        rotations = path.rotation(s)
+        first[:, 3:], second[:, 3:] = path.angular_rates(s)
+    return _Targets(path.position(s), rotations, first[:, rows], second[:, rows])
 
 
 # ------------------------------------------------------------------------------------------
@@ -389,21 +421,13 @@ def follow(
 def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -> CartesianPlan:
     robot = tracker.robot
     position_only = tracker.position_only
-    rows = tracker.rows
     t, s, sd, sdd = timing.t, timing.s, timing.sd, timing.sdd
     n, nq = len(t), robot.nq
 
-    positions, rotations = _targets(path, s, position_only)
-    dp, ddp = path.position_derivatives(s)
-    xd = np.zeros((n, 6))
-    xdd = np.zeros((n, 6))
-    xd[:, :3] = dp * sd[:, None]
-    xdd[:, :3] = ddp * (sd**2)[:, None] + dp * sdd[:, None]
-    if not position_only:
-        w, dw = path.angular_rates(s)
-        xd[:, 3:] = w * sd[:, None]
-        xdd[:, 3:] = dw * (sd**2)[:, None] + w * sdd[:, None]
-    xd, xdd = xd[:, rows], xdd[:, rows]
+    targets = _targets(path, s, position_only, tracker.rows)
+    positions, rotations = targets.positions, targets.rotations
+    xd = targets.rate * sd[:, None]  # task velocity ẋ = x' ṡ
+    xdd = targets.curvature * (sd**2)[:, None] + targets.rate * sdd[:, None]  # x'' ṡ² + x' s̈
 
     q_out = np.empty((n, nq))
     qd_out = np.empty((n, nq))
@@ -417,12 +441,7 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
     for k in range(n):
         rotation = None if rotations is None else rotations[k]
         if k == 0:
-            target = positions[0] if rotation is None else pin.SE3(rotation, positions[0])
-            first = robot.ik(
-                target, q_seed=seed, position_only=rotation is None,
-                position_tolerance=tracker.tolerance, rotation_tolerance=tracker.rotation_tolerance,
-            )  # fmt: skip
-            guess = first.q if first.success else seed
+            guess = tracker.start(positions[0], rotation, seed)
         else:
             h = steps[k]
             guess = q_prev + (qd_prev + (0.5 * h) * qdd_prev) * h
@@ -566,6 +585,13 @@ MAX_JOINT_STEP = 0.1
 MIN_REFINE_DS = 1e-7
 
 
+def _points(tracker: _Tracker, path: Path, s: np.ndarray) -> list[tuple]:
+    """(s, position, rotation or None, dx/ds) of each path fraction in ``s``."""
+    targets = _targets(path, s, tracker.position_only, tracker.rows)
+    rotations = [None] * len(s) if targets.rotations is None else list(targets.rotations)
+    return list(zip(s.tolist(), targets.positions, rotations, targets.rate))
+
+
 def trace_geometry(tracker: _Tracker, path: Path, s: np.ndarray, seed: np.ndarray) -> Geometry:
     """Warm-started IK at path fractions ``s`` with joint-limit/jump/singularity checks.
 
@@ -574,26 +600,22 @@ def trace_geometry(tracker: _Tracker, path: Path, s: np.ndarray, seed: np.ndarra
     returns dq/ds = J⁺ dx/ds at every solved point.
     """
     robot = tracker.robot
-    pending = list(s[::-1])  # a stack: the next point to check is at the end
+    # A stack of (s, position, rotation, dx/ds): the next point to check is at the end.
+    pending = _points(tracker, path, s)[::-1]
     solved_s: list[float] = []
     qs, dqs, events = [], [], []
     q_prev = None
     while pending:
-        sk = pending[-1]
+        sk, position, rotation, dx = pending[-1]
         k = len(qs)
-        point = np.array([sk])
-        position = path.position(point)[0]
-        rotation = None if tracker.position_only else path.rotation(point)[0]
         if q_prev is None:
-            target = position if rotation is None else pin.SE3(rotation, position)
-            first = robot.ik(target, q_seed=seed, position_only=rotation is None)
-            guess = first.q if first.success else seed
+            guess = tracker.start(position, rotation, seed)
         else:
             guess = q_prev + dqs[-1] * (sk - solved_s[-1])
         q, ok, *_ = tracker.solve(guess, position, rotation)
         if q_prev is not None and sk - solved_s[-1] > MIN_REFINE_DS:
             if not ok or np.max(np.abs(q - q_prev)) > MAX_JOINT_STEP:
-                pending.append(0.5 * (sk + solved_s[-1]))
+                pending += _points(tracker, path, np.array([0.5 * (sk + solved_s[-1])]))
                 continue
         if not ok:
             events.append(tracker.diagnose(k, 0.0, sk, guess, q_prev, position, rotation))
@@ -602,11 +624,7 @@ def trace_geometry(tracker: _Tracker, path: Path, s: np.ndarray, seed: np.ndarra
         event = tracker.singular_event(k, 0.0, sk, m, position)
         dq = None
         if event is None:
-            dx = np.zeros(6)
-            dx[:3] = path.position_derivatives(point)[0][0]
-            if rotation is not None:
-                dx[3:] = path.angular_rates(point)[0][0]
-            dq = tracker.rates(dx[tracker.rows])
+            dq = tracker.rates(dx)
             h = sk - solved_s[-1] if solved_s else 0.0
             rate_prev = dqs[-1] if dqs else None
             event = tracker.jump_event(k, 0.0, sk, q, q_prev, dq, rate_prev, h, position)
