@@ -888,12 +888,11 @@ class ProgramPlan(Trajectory):
         rows, rank = robot.task_rows(position_only), robot.task_rank(position_only)
         previous = None
         for k in range(n):
-            pose = robot.fk(self.q[k])
+            pose, J = robot.pose_and_jacobian(self.q[k])
             quat = pin.Quaternion(pose.rotation).coeffs().copy()  # x, y, z, w
             if previous is not None and quat @ previous < 0:
                 quat = -quat
             previous = quat
-            J = robot.jacobian(self.q[k])
             self.tool_positions[k] = pose.translation
             self.tool_quaternions[k] = quat
             self.tool_speed[k] = np.linalg.norm(J[:3] @ self.qd[k])

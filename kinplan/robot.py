@@ -193,6 +193,14 @@ class Robot:
         J = pin.computeFrameJacobian(self.model, self.data, q, self.tip_id, _LWA)
         return J.reshape(6, self.nq).copy()  # eigenpy gives a 1-D array when nq == 1
 
+    def pose_and_jacobian(self, q: Sequence[float] | np.ndarray) -> tuple[pin.SE3, np.ndarray]:
+        """:meth:`fk` and :meth:`jacobian` of ``q`` from one kinematics pass."""
+        q = self.check_q(q)
+        pin.computeJointJacobians(self.model, self.data, q)
+        pose = pin.SE3(pin.updateFramePlacement(self.model, self.data, self.tip_id))
+        J = pin.getFrameJacobian(self.model, self.data, self.tip_id, _LWA)
+        return pose, J.reshape(6, self.nq).copy()
+
     def _task_structure(self) -> dict[bool, tuple[np.ndarray, int]]:
         """Task rows and rank of the position-only and full tool Jacobian.
 

@@ -198,3 +198,10 @@ def test_load_by_path_and_custom_tip(ur5):
     assert robot.nq == 6 and robot.tip_frame == "wrist_3_link"
     short = kinplan.load_robot("ur5", tip="forearm_link")
     assert short.nq == 3
+
+
+def test_pose_and_jacobian_in_one_pass(panda):
+    q = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.5])
+    pose, J = panda.pose_and_jacobian(q)
+    np.testing.assert_array_equal(pose.homogeneous, panda.fk(q).homogeneous)
+    np.testing.assert_allclose(J, panda.jacobian(q), atol=1e-15)
