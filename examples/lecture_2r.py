@@ -25,34 +25,21 @@ import numpy as np
 
 import kinplan
 from kinplan import plot, trajectory
+from kinplan.lecture import (
+    DURATION,
+    END_XY,
+    JOINTS,
+    START_SEED,
+    START_XY,
+    VIA_TIME,
+    VIA_XY,
+    solve_ik,
+    tip_path,
+)
 
-TIP = (1.0 + np.sqrt(3.0)) / 2.0  # 1.366 m
-START_XY = (TIP, TIP)
-VIA_XY = (0.0, TIP)
-END_XY = (-TIP, TIP)
-DURATION = 1.0  # [s]
-VIA_TIME = 0.5  # [s]
 TRAPEZOID_ACCELERATION = 12.0  # [rad/s²]; θ1's move needs at least 4|Δ|/T² = 8.38 rad/s²
 BLEND_ACCELERATION = 60.0  # [rad/s²] for the blended via-point motions
 DT = 0.005  # sampling step of plots and tip paths [s]
-JOINTS = ("θ1", "θ2")
-
-
-def solve_ik(robot: kinplan.Robot, xy: tuple[float, float], seed: np.ndarray) -> np.ndarray:
-    """Joint angles [rad] that put the tip at ``xy`` [m], on the seed's branch."""
-    result = robot.ik(np.array([xy[0], xy[1], 0.0]), q_seed=seed, position_only=True)
-    if not result.success:
-        raise kinplan.KinplanError(
-            f"no inverse kinematics solution for the tip at {xy} m "
-            f"(error {result.position_error:.3g} m)"
-        )
-    return result.q
-
-
-def tip_path(robot: kinplan.Robot, motion: trajectory.Trajectory) -> np.ndarray:
-    """Tip positions [m] along a joint motion, shape (k, 3), sampled every DT."""
-    q, _, _ = motion.sample(motion.time_grid(DT))
-    return np.array([robot.fk(qi).translation for qi in q])
 
 
 def coefficient_table(title: str, motion: trajectory.Trajectory, segment_names: list[str]) -> str:
@@ -86,7 +73,7 @@ def main(out_dir: str | Path = "out/lecture", show: bool = False) -> dict:
     robot = kinplan.load_robot("planar_2r")
 
     # Step 1: tip positions -> joint angles, on the lecture's branch.
-    q_start = solve_ik(robot, START_XY, np.radians([30.0, 30.0]))
+    q_start = solve_ik(robot, START_XY, START_SEED)
     q_via = solve_ik(robot, VIA_XY, q_start)
     q_end = solve_ik(robot, END_XY, np.array([np.pi - q_start[0], -q_start[1]]))  # mirror
     angles = {"start": q_start, "via": q_via, "end": q_end}
@@ -122,10 +109,10 @@ def main(out_dir: str | Path = "out/lecture", show: bool = False) -> dict:
 
     # Step 3: tip paths by forward kinematics.
     paths = {
-        "one cubic per joint": tip_path(robot, single),
-        "cubic through the via point": tip_path(robot, via),
-        "blends (no pass-through)": tip_path(robot, blended),
-        "blends through the via point": tip_path(robot, through),
+        "one cubic per joint": tip_path(robot, single, DT),
+        "cubic through the via point": tip_path(robot, via, DT),
+        "blends (no pass-through)": tip_path(robot, blended, DT),
+        "blends through the via point": tip_path(robot, through, DT),
     }
     straight = (np.array(START_XY), np.array(END_XY))
     names = list(paths)

@@ -17,12 +17,10 @@ library itself prints nothing.
 
 from __future__ import annotations
 
-import importlib.util
 import logging
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 import numpy as np
@@ -31,6 +29,8 @@ import pinocchio as pin
 import cartesian
 import kinplan
 from kinplan import export, plot, trajectory
+from kinplan import lecture as lecture_data
+from kinplan.lecture import DURATION, END_XY, START_XY, VIA_TIME, VIA_XY
 from kinplan.program import (
     MotionBuilder,
     MoveError,
@@ -90,52 +90,6 @@ LECTURE_VIA_DEG = (43.08, 93.84)
 """The via point's joint angles given in the lecture [deg]."""
 
 
-def _lecture_example() -> ModuleType | None:
-    """examples/lecture_2r.py as a module (its IK and tip-path helpers), if it is there."""
-    path = EXAMPLES / "lecture_2r.py"
-    if not path.is_file():
-        return None
-    spec = importlib.util.spec_from_file_location("kinplan_lecture_2r_example", path)
-    module = importlib.util.module_from_spec(spec)
-    try:
-        spec.loader.exec_module(module)
-    except Exception:  # noqa: BLE001 - a broken example must not break the demo
-        logger.warning("could not load %s; using the demo's own helpers", path, exc_info=True)
-        return None
-    return module
-
-
-class _LectureHelpers:
-    """The lecture's numbers and helpers: from examples/lecture_2r.py when available."""
-
-    def __init__(self) -> None:
-        example = _lecture_example()
-        tip = (1.0 + np.sqrt(3.0)) / 2.0
-        self.start_xy = getattr(example, "START_XY", (tip, tip))
-        self.via_xy = getattr(example, "VIA_XY", (0.0, tip))
-        self.end_xy = getattr(example, "END_XY", (-tip, tip))
-        self.duration = getattr(example, "DURATION", 1.0)
-        self.via_time = getattr(example, "VIA_TIME", 0.5)
-        self.joints = getattr(example, "JOINTS", ("θ1", "θ2"))
-        self._solve_ik = getattr(example, "solve_ik", None)
-        self.source = "examples/lecture_2r.py" if example is not None else "kinplan.demos"
-
-    def solve_ik(self, robot: kinplan.Robot, xy, seed: np.ndarray) -> np.ndarray:
-        """Joint angles [rad] that put the tip at ``xy`` [m], on the seed's branch."""
-        if self._solve_ik is not None:
-            return self._solve_ik(robot, tuple(xy), seed)
-        result = robot.ik(np.array([xy[0], xy[1], 0.0]), q_seed=seed, position_only=True)
-        if not result.success:
-            raise kinplan.KinplanError(f"no IK solution for the tip at {xy} m")
-        return result.q
-
-
-def _tip_path(robot: kinplan.Robot, motion: Trajectory, dt: float) -> np.ndarray:
-    """Tip positions [m] along a joint motion, shape (k, 3)."""
-    q, _, _ = motion.sample(motion.time_grid(dt))
-    return np.array([robot.fk(qi).translation for qi in q])
-
-
 def _plan_trajectory(plan: cartesian.CartesianPlan) -> Trajectory:
     """A Cartesian plan's samples as a joint Trajectory (for kinplan.plot)."""
     segments = hermite_segments(plan.t, plan.q, plan.qd, plan.qdd)
@@ -162,25 +116,24 @@ def lecture(
     dt = 0.005 if dt is None else float(dt)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    lec = _LectureHelpers()
     robot = kinplan.load_robot("planar_2r")
     result = DemoResult("lecture", ok=True, out_dir=out)
     lines = result.lines
 
-    q_start = lec.solve_ik(robot, lec.start_xy, np.radians([30.0, 30.0]))
-    q_via = lec.solve_ik(robot, lec.via_xy, q_start)
-    q_end = lec.solve_ik(robot, lec.end_xy, np.array([np.pi - q_start[0], -q_start[1]]))
-    single = trajectory.cubic(q_start, q_end, lec.duration)
-    via = trajectory.cubic_via([q_start, q_via, q_end], [0.0, lec.via_time, lec.duration])
-    start3 = np.array([*lec.start_xy, 0.0])
-    end3 = np.array([*lec.end_xy, 0.0])
+    q_start = lecture_data.solve_ik(robot, START_XY, lecture_data.START_SEED)
+    q_via = lecture_data.solve_ik(robot, VIA_XY, q_start)
+    q_end = lecture_data.solve_ik(robot, END_XY, np.array([np.pi - q_start[0], -q_start[1]]))
+    single = trajectory.cubic(q_start, q_end, DURATION)
+    via = trajectory.cubic_via([q_start, q_via, q_end], [0.0, VIA_TIME, DURATION])
+    start3 = np.array([*START_XY, 0.0])
+    end3 = np.array([*END_XY, 0.0])
     line = cartesian.follow(
-        robot, cartesian.Line(start3, end3), duration=lec.duration, profile="cubic", dt=dt,
+        robot, cartesian.Line(start3, end3), duration=DURATION, profile="cubic", dt=dt,
         q_seed=q_start,
     )  # fmt: skip
     paths = {
-        "one cubic per joint": _tip_path(robot, single, dt),
-        "two cubics through the via point": _tip_path(robot, via, dt),
+        "one cubic per joint": lecture_data.tip_path(robot, single, dt),
+        "two cubics through the via point": lecture_data.tip_path(robot, via, dt),
         "Cartesian straight line": line.tool_positions,
     }
     result.ok = line.ok
@@ -190,14 +143,14 @@ def lecture(
     def angles(q: np.ndarray) -> str:
         return f"θ1 = {np.degrees(q[0]):7.2f}°, θ2 = {np.degrees(q[1]):7.2f}°"
 
-    x0, y0 = lec.start_xy
-    x1, y1 = lec.end_xy
+    x0, y0 = START_XY
+    x1, y1 = END_XY
     lines += [
         f"The lecture's 2R arm (l1 = l2 = 1 m): tip B from ({x0:.3f}, {y0:.3f}) m to "
-        f"({x1:.3f}, {y1:.3f}) m in {lec.duration:g} s",
+        f"({x1:.3f}, {y1:.3f}) m in {DURATION:g} s",
         f"  start  {angles(q_start)}",
-        f"  via    {angles(q_via)}   at ({lec.via_xy[0]:g}, {lec.via_xy[1]:.3f}) m, "
-        f"t = {lec.via_time:g} s (lecture: {LECTURE_VIA_DEG[0]}°, {LECTURE_VIA_DEG[1]}°)",
+        f"  via    {angles(q_via)}   at ({VIA_XY[0]:g}, {VIA_XY[1]:.3f}) m, "
+        f"t = {VIA_TIME:g} s (lecture: {LECTURE_VIA_DEG[0]}°, {LECTURE_VIA_DEG[1]}°)",
         f"  end    {angles(q_end)}",
         "  largest distance of the tip from the straight line:",
     ]
@@ -221,12 +174,12 @@ def lecture(
     files["tip paths"] = out / "tip_paths.png"
     files["joint angles"] = out / "joint_angles.png"
     files["short forearm"] = out / "short_forearm.png"
-    straight = (np.array(lec.start_xy), np.array(lec.end_xy))
+    straight = (np.array(START_XY), np.array(END_XY))
     plot.plot_tip_path(
         {name: tip[:, :2] for name, tip in paths.items()},
         files["tip paths"],
         reference=straight,
-        points=[lec.via_xy],
+        points=[VIA_XY],
         title="Tip path of B: joint space, via point, Cartesian line",
     )
     plot.plot_trajectory(
@@ -235,27 +188,24 @@ def lecture(
         dt=dt,
         title="Joint angles: one cubic, via point at 0.5 s, Cartesian straight line",
         labels=["one cubic", "via point", "straight line"],
-        joint_names=list(lec.joints),
+        joint_names=list(lecture_data.JOINTS),
         show_knots=False,
     )
     _plot_short_forearm(short, files["short forearm"])
     if html is not None:
         from kinplan import viewer
 
-        files["playback"] = viewer.save_html(
-            robot, line, _html_path(html), markers=paths_marks(lec)
-        )
-    lines.append(f"(lecture helpers from {lec.source})")
+        files["playback"] = viewer.save_html(robot, line, _html_path(html), markers=paths_marks())
     result.seconds = time.perf_counter() - began
     return result
 
 
-def paths_marks(lec: _LectureHelpers) -> dict[str, np.ndarray]:
+def paths_marks() -> dict[str, np.ndarray]:
     """Start, via and end of the lecture's line as named 3-D points [m]."""
     return {
-        "start": np.array([*lec.start_xy, 0.0]),
-        "via": np.array([*lec.via_xy, 0.0]),
-        "end": np.array([*lec.end_xy, 0.0]),
+        "start": np.array([*START_XY, 0.0]),
+        "via": np.array([*VIA_XY, 0.0]),
+        "end": np.array([*END_XY, 0.0]),
     }
 
 
@@ -275,7 +225,7 @@ def _short_forearm(lines: list[str], dt: float) -> dict[str, Any]:
         robot, path, duration=SHORT_DURATION, profile="cubic", dt=dt, q_seed=q0
     )
     joint_space = trajectory.cubic(q0, q1, SHORT_DURATION)
-    around = _tip_path(robot, joint_space, dt)
+    around = lecture_data.tip_path(robot, joint_space, dt)
     radius = np.hypot(around[:, 0], around[:, 1])
     lines += [
         "",
