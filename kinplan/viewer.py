@@ -46,6 +46,7 @@ import pinocchio as pin
 from kinplan import _meshcat_scene as ms
 from kinplan._robot_visuals import RobotVisuals
 from kinplan.errors import InputError, ViewerError
+from kinplan.trajectory import time_grid
 
 logger = logging.getLogger(__name__)
 
@@ -114,15 +115,6 @@ class _Motion:
         return [*self.planned, *self.failed, *extra, self.via]
 
 
-def _frame_times(duration: float, fps: float) -> np.ndarray:
-    """0, 1/fps, 2/fps, ... and exactly ``duration`` last [s]."""
-    n = int(math.floor(duration * fps + 1e-9))
-    times = np.arange(n + 1) / fps
-    if duration - times[-1] > 1e-9:
-        times = np.append(times, duration)
-    return times
-
-
 def _joint_rows(robot: Any, values: Any, what: str) -> np.ndarray:
     """``values`` as a finite float array of shape (N, robot.nq)."""
     arr = np.asarray(values, dtype=float)
@@ -140,6 +132,11 @@ def _joint_rows(robot: Any, values: Any, what: str) -> np.ndarray:
 
 def _tool_positions(visuals: RobotVisuals, qs: np.ndarray) -> np.ndarray:
     return np.array([visuals.placements(q)[1][:3, 3] for q in qs]).reshape(-1, 3)
+
+
+def _frames(duration: float, fps: float) -> np.ndarray:
+    """Key-frame times 0, 1/fps, ..., the last exactly at ``duration`` [s]."""
+    return time_grid(duration, 1.0 / fps)
 
 
 def _positive(name: str, value: Any) -> float:
@@ -168,7 +165,7 @@ def _sample_trajectory(robot: Any, visuals: RobotVisuals, trajectory: Any, fps: 
     duration = float(trajectory.duration)
     if not (math.isfinite(duration) and duration >= 0.0):
         raise InputError(f"the trajectory's duration must be finite and ≥ 0 s, got {duration}")
-    t = _frame_times(duration, fps)
+    t = _frames(duration, fps)
     q = _joint_rows(robot, trajectory.sample(t)[0], "the trajectory's samples")
     dense = np.linspace(0.0, duration, _PATH_SAMPLES) if duration > 0 else np.zeros(1)
     tool_path = _tool_positions(visuals, _joint_rows(robot, trajectory.sample(dense)[0], "q"))
@@ -210,7 +207,7 @@ def _sample_plan(robot: Any, visuals: RobotVisuals, plan: Any, fps: float) -> _M
         logger.warning("the plan has no achieved sample; showing the robot at its neutral pose")
         t, frames = np.zeros(1), robot.neutral()[None, :]
     else:
-        t = _frame_times(float(times[-1] - times[0]), fps)
+        t = _frames(float(times[-1] - times[0]), fps)
         frames = np.column_stack([np.interp(t + times[0], times, q[:, j]) for j in range(robot.nq)])
     achieved = _tool_positions(visuals, q[:: max(1, len(q) // 2000)]) if len(q) else None
     planned, failed = [], []
