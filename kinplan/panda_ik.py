@@ -50,6 +50,7 @@ logger = logging.getLogger(__name__)
 Vec = tuple[float, float, float]
 Mat = tuple[float, float, float, float, float, float, float, float, float]
 
+TAU = 2.0 * math.pi
 #: Tolerance of the structural checks: intersections [m], parallel axes [–].
 _STRUCTURE_TOL = 1e-9
 #: Largest excess of a cosine ratio over 1 (or deficit of a squared length below 0, relative)
@@ -63,6 +64,9 @@ _SAME_TOL = 1e-9
 _Q7_STEPS = (0.05, 0.1, 0.2, 0.4, 0.8, 1.6, 3.2, 6.4)
 #: ... then uniform grids over the θ7 range with this many cells (cell centres), in this order.
 _Q7_GRIDS = (16, 64, 256, 1024)
+#: A θ7 value moved onto the edge of the set where the elbow can reach goes this far inside
+#: (or to the middle of a narrower interval) [rad], clear of the rounding at the edge.
+_Q7_EDGE_MARGIN = 1e-7
 
 
 # ---------------------------------------------------------------------------- float vectors
@@ -90,11 +94,13 @@ def _matvec(m: Mat, v: Vec) -> Vec:
 
 def _matmul(a: Mat, b: Mat) -> Mat:
     """Product of two row-major 3×3 matrices."""
-    return tuple(  # type: ignore[return-value]
-        a[3 * i] * b[j] + a[3 * i + 1] * b[3 + j] + a[3 * i + 2] * b[6 + j]
-        for i in range(3)
-        for j in range(3)
-    )
+    a0, a1, a2, a3, a4, a5, a6, a7, a8 = a
+    b0, b1, b2, b3, b4, b5, b6, b7, b8 = b
+    return (
+        a0 * b0 + a1 * b3 + a2 * b6, a0 * b1 + a1 * b4 + a2 * b7, a0 * b2 + a1 * b5 + a2 * b8,
+        a3 * b0 + a4 * b3 + a5 * b6, a3 * b1 + a4 * b4 + a5 * b7, a3 * b2 + a4 * b5 + a5 * b8,
+        a6 * b0 + a7 * b3 + a8 * b6, a6 * b1 + a7 * b4 + a8 * b7, a6 * b2 + a7 * b5 + a8 * b8,
+    )  # fmt: skip
 
 
 def _rotate(v: Vec, axis: Vec, angle: float) -> Vec:
@@ -104,9 +110,9 @@ def _rotate(v: Vec, axis: Vec, angle: float) -> Vec:
 
 def _rotate_cs(v: Vec, axis: Vec, c: float, s: float) -> Vec:
     """``v`` rotated about the unit ``axis`` by the angle of cosine ``c`` and sine ``s``."""
-    k = _dot(axis, v) * (1.0 - c)
     ax, ay, az = axis
     x, y, z = v
+    k = (ax * x + ay * y + az * z) * (1.0 - c)
     return (
         x * c + (ay * z - az * y) * s + ax * k,
         y * c + (az * x - ax * z) * s + ay * k,
@@ -126,17 +132,69 @@ def _rotation_matrix(axis: Vec, angle: float) -> Mat:
     )  # fmt: skip
 
 
+def _cos_range(x0: float, x1: float) -> tuple[float, float]:
+    """(min, max) of cos x over the interval [x0, x1] [rad]."""
+    if x1 - x0 >= TAU:
+        return -1.0, 1.0
+    c0, c1 = math.cos(x0), math.cos(x1)
+    high = 1.0 if math.floor(x1 / TAU) * TAU >= x0 else max(c0, c1)
+    low = -1.0 if math.floor((x1 - math.pi) / TAU) * TAU + math.pi >= x0 else min(c0, c1)
+    return low, high
+
+
+def _intervals_within(
+    pieces: list[tuple[float, float]], lower: float, upper: float
+) -> list[tuple[float, float]]:
+    """The union of ``pieces`` (angle intervals [rad], each taken modulo 2π) within
+    [lower, upper], as sorted disjoint intervals."""
+    found = []
+    for start, end in pieces:
+        for k in range(math.ceil((lower - end) / TAU), math.floor((upper - start) / TAU) + 1):
+            a, b = max(start + k * TAU, lower), min(end + k * TAU, upper)
+            if a <= b:
+                found.append((a, b))
+    found.sort()
+    merged: list[tuple[float, float]] = []
+    for a, b in found:
+        if merged and a <= merged[-1][1]:
+            merged[-1] = (merged[-1][0], max(merged[-1][1], b))
+        else:
+            merged.append((a, b))
+    return merged
+
+
+def _project(value: float, intervals: list[tuple[float, float]]) -> float:
+    """``value`` if it lies in one of ``intervals``, else the nearest edge moved
+    ``_Q7_EDGE_MARGIN`` inside (or to the middle of a narrower interval)."""
+    best, best_distance = value, math.inf
+    for a, b in intervals:
+        if a <= value <= b:
+            return value
+        margin = min(_Q7_EDGE_MARGIN, 0.5 * (b - a))
+        edge = a + margin if value < a else b - margin
+        distance = abs(edge - value)
+        if distance < best_distance:
+            best, best_distance = edge, distance
+    return best
+
+
 # ---------------------------------------------------------------------------- subproblems
 def _angle_about(axis: Vec, a: Vec, b: Vec, free: float) -> float:
     """The angle [rad] of the rotation about the unit ``axis`` taking ``a`` towards ``b``
     (Paden–Kahan subproblem 1, on the components perpendicular to ``axis``); ``free`` when
     ``a`` or ``b`` lies on the axis (then every angle is a solution)."""
-    ka, kb = _dot(axis, a), _dot(axis, b)
-    ap = (a[0] - ka * axis[0], a[1] - ka * axis[1], a[2] - ka * axis[2])
-    bp = (b[0] - kb * axis[0], b[1] - kb * axis[1], b[2] - kb * axis[2])
-    if _dot(ap, ap) < _FREE_TOL**2 or _dot(bp, bp) < _FREE_TOL**2:
+    ux, uy, uz = axis
+    x, y, z = a
+    k = ux * x + uy * y + uz * z
+    x, y, z = x - k * ux, y - k * uy, z - k * uz  # a without its axis component
+    u, v, w = b
+    k = ux * u + uy * v + uz * w
+    u, v, w = u - k * ux, v - k * uy, w - k * uz
+    if x * x + y * y + z * z < _FREE_TOL**2 or u * u + v * v + w * w < _FREE_TOL**2:
         return free
-    return math.atan2(_dot(axis, _cross(ap, bp)), _dot(ap, bp))
+    return math.atan2(
+        ux * (y * w - z * v) + uy * (z * u - x * w) + uz * (x * v - y * u), x * u + y * v + z * w
+    )
 
 
 @dataclass(frozen=True)
@@ -175,26 +233,35 @@ class _AxisPair:
         Returns:
             Zero, one (tangent cones) or two solutions.
         """
-        ka, kb = _dot(u, self.a), _dot(v, self.b)
+        (ax, ay, az), (bx, by, bz), (nx, ny, nz) = self.a, self.b, self.normal
+        (ux, uy, uz), (vx, vy, vz) = u, v
+        ka, kb = ux * ax + uy * ay + uz * az, vx * bx + vy * by + vz * bz
         c, n2 = self.c, self.normal2
         alpha = (ka - c * kb) / n2
         beta = (kb - c * ka) / n2
-        length2 = 0.5 * (_dot(u, u) + _dot(v, v))
+        length2 = 0.5 * (ux * ux + uy * uy + uz * uz + vx * vx + vy * vy + vz * vz)
         rest = length2 - alpha * alpha - beta * beta - 2.0 * alpha * beta * c
         if rest < -_CLAMP * max(length2, 1e-300):
             return []
         gamma = math.sqrt(max(rest, 0.0) / n2)
-        signs = (1.0, -1.0) if gamma > 0.0 else (1.0,)
-        a, b, n = self.a, self.b, self.normal
+        # z = m ± γ n with m = α a + β b. Subproblem 1 about a (u to z) and about b (z to v):
+        # θa = atan2(a·(u × z), u·z − ka²), θb = atan2(b·(z × v), z·v − kb²), where the
+        # triple products reduce to a·(u × m) = −β u·n, a·(u × n) = u·b − c ka,
+        # b·(m × v) = −α v·n, b·(n × v) = v·a − c kb.
+        un, ub = ux * nx + uy * ny + uz * nz, ux * bx + uy * by + uz * bz
+        vn, va = vx * nx + vy * ny + vz * nz, vx * ax + vy * ay + vz * az
+        sin_a, sin_a_g, cos_a = -beta * un, ub - c * ka, alpha * ka + beta * ub - ka * ka
+        sin_b, sin_b_g, cos_b = -alpha * vn, va - c * kb, alpha * va + beta * kb - kb * kb
+        # u (v) on axis a (b): every angle θa (θb) is a solution
+        px, py, pz = ux - ka * ax, uy - ka * ay, uz - ka * az
+        a_free = px * px + py * py + pz * pz < _FREE_TOL**2
+        px, py, pz = vx - kb * bx, vy - kb * by, vz - kb * bz
+        b_free = px * px + py * py + pz * pz < _FREE_TOL**2
         out = []
-        for sign in signs:
-            g = sign * gamma
-            z = (
-                alpha * a[0] + beta * b[0] + g * n[0],
-                alpha * a[1] + beta * b[1] + g * n[1],
-                alpha * a[2] + beta * b[2] + g * n[2],
-            )
-            out.append((_angle_about(a, u, z, free_a), _angle_about(b, z, v, free_b)))
+        for g in (gamma, -gamma) if gamma > 0.0 else (gamma,):
+            theta_a = free_a if a_free else math.atan2(sin_a + g * sin_a_g, cos_a + g * un)
+            theta_b = free_b if b_free else math.atan2(sin_b + g * sin_b_g, cos_b + g * vn)
+            out.append((theta_a, theta_b))
         return out
 
 
@@ -309,6 +376,7 @@ class PandaIK:
         self._lo = [float(x) for x in self.lower]
         self._hi = [float(x) for x in self.upper]
         self._w = [float(x) for x in self.weights]
+        self._limits = tuple(zip(self._lo, self._hi, self._w))
         self._mid_joints = self._joints(0.5 * (self.lower + self.upper))
         g = geometry
         self._wrist_pair = _AxisPair.of(g.axes[4], g.axes[5])  # Ra = axis 5, Rb = axis 6
@@ -330,6 +398,14 @@ class PandaIK:
         self._q4_amplitude = math.hypot(self._q4_cos, self._q4_sin)
         self._q4_phase = math.atan2(self._q4_sin, self._q4_cos)
         self._q4_lengths = _dot(s, s) + _dot(w, w)
+        # |y − w|² (y as in _solve) for which θ4 has a value within its limits: cos(θ4 + phase)
+        # is the ratio of _elbow, which falls as |y − w|² grows
+        low, high = _cos_range(self._lo[3] + self._q4_phase, self._hi[3] + self._q4_phase)
+        self._elbow_distance2 = tuple(
+            self._q4_lengths - 2.0 * (self._q4_const + self._q4_amplitude * ratio)
+            for ratio in (high, low)
+        )
+        self._p7_from_wrist = _sub(g.points[6], g.wrist)
         m = g.tool_rotation
         self._tool_rotation_t: Mat = (m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8])
         span = self._hi[6] - self._lo[6]
@@ -360,10 +436,7 @@ class PandaIK:
         ref = q.tolist()
         if not math.isfinite(sum(ref)):
             raise InputError(f"q_ref must be finite, got {ref}")
-        return [
-            (r, min(max(r, lo), hi), lo, hi, w)
-            for r, lo, hi, w in zip(ref, self._lo, self._hi, self._w)
-        ]
+        return [(r, min(max(r, lo), hi), lo, hi, w) for r, (lo, hi, w) in zip(ref, self._limits)]
 
     # ------------------------------------------------------------ the closed form
     def _prepare(self, position: Vec, rotation: Mat) -> tuple[Vec, Mat]:
@@ -423,6 +496,8 @@ class PandaIK:
             q4, cost4 = c4[0], base + c4[1]
             cos4, sin4 = math.cos(q4), -math.sin(q4)  # rotations by −θ4
             u = _sub(_rotate_cs(self._s4, a4, cos4, sin4), self._w4)  # exp(−S4 θ4) s − w
+            # R4(−θ4) ω3 and R4(−θ4) e, the start of G ω3 and G e below
+            g3_4, ge_4 = _rotate_cs(g.axes[2], a4, cos4, sin4), _rotate_cs(self._e3, a4, cos4, sin4)
             for t5, t6 in self._wrist_pair.solve(u, v, -joints[4][1], -joints[5][1]):
                 c5, c6 = _joint_choice(-t5, joints[4]), _joint_choice(-t6, joints[5])
                 if c5 is None or c6 is None:
@@ -434,11 +509,9 @@ class PandaIK:
                 if rotation_p is None:
                     rotation_p = _matmul(rotation_tm, _rotation_matrix(a7, -q7))
                 # G = R_P R6(−θ6) R5(−θ5) R4(−θ4) = R1 R2 R3, applied to ω3 and e
-                chain = ((a4, cos4, sin4), (a5, math.cos(q5), -math.sin(q5)))
-                chain += ((a6, math.cos(q6), -math.sin(q6)),)
-                g3, ge = g.axes[2], self._e3
-                for axis, c, s in chain:
-                    g3, ge = _rotate_cs(g3, axis, c, s), _rotate_cs(ge, axis, c, s)
+                c5, s5, c6, s6 = math.cos(q5), -math.sin(q5), math.cos(q6), -math.sin(q6)
+                g3 = _rotate_cs(_rotate_cs(g3_4, a5, c5, s5), a6, c6, s6)
+                ge = _rotate_cs(_rotate_cs(ge_4, a5, c5, s5), a6, c6, s6)
                 g3, ge = _matvec(rotation_p, g3), _matvec(rotation_p, ge)
                 for t2, t1 in self._shoulder_pair.solve(g.axes[2], g3, joints[1][1], joints[0][1]):
                     c1, c2 = _joint_choice(t1, joints[0]), _joint_choice(t2, joints[1])
@@ -460,6 +533,34 @@ class PandaIK:
                     if prune:
                         bound = cost
         return out
+
+    def _elbow_q7_intervals(self, prepared: tuple[Vec, Mat]) -> list[tuple[float, float]]:
+        """The θ7 values [rad] within its limits for which θ4 has a solution within its limits.
+
+        With d = ``M T⁻¹ s`` − p7 and c = p7 − w, |y − w|² = |Rot(ω7, θ7) d + c|²
+        = K + 2 (A cos θ7 + B sin θ7) (Rodrigues); θ4 exists within its limits exactly when
+        this lies in the range precomputed from those limits (see ``__init__``).
+
+        Returns:
+            Sorted disjoint intervals (possibly none: then no θ7 gives a solution).
+        """
+        a, c = self.geometry.axes[6], self._p7_from_wrist
+        d = _sub(prepared[0], self.geometry.points[6])
+        ad, ac = _dot(a, d), _dot(a, c)
+        cos_part, sin_part = _dot(c, d) - ac * ad, _dot(c, _cross(a, d))
+        mean = _dot(d, d) + _dot(c, c) + 2.0 * ac * ad
+        amplitude = 2.0 * math.hypot(cos_part, sin_part)
+        low, high = self._elbow_distance2
+        lo7, hi7 = self._lo[6], self._hi[6]
+        if amplitude < _FREE_TOL:  # θ7 does not change the distance
+            return [(lo7, hi7)] if low <= mean <= high else []
+        c_low, c_high = (low - mean) / amplitude, (high - mean) / amplitude
+        if c_low > 1.0 or c_high < -1.0:
+            return []
+        near = math.acos(min(c_high, 1.0))  # cos(θ7 − φ) ∈ [c_low, c_high]
+        far = math.acos(max(c_low, -1.0))
+        phi = math.atan2(sin_part, cos_part)
+        return _intervals_within([(phi + near, phi + far), (phi - far, phi - near)], lo7, hi7)
 
     def _elbow(self, distance2: float) -> list[float]:
         """θ4 [rad] (up to two) with |exp(−S4 θ4) s − w|² = ``distance2`` [m²]."""
@@ -510,22 +611,31 @@ class PandaIK:
                 best, best_cost = found[-1]
         return best
 
-    def _q7_stages(self, q7_ref: float):
-        """θ7 values [rad] to try, stage by stage: ±steps around ``q7_ref``, then finer grids."""
-        lo, hi = self._lo[6], self._hi[6]
-        for step in _Q7_STEPS:
-            stage = [q for q in (q7_ref + step, q7_ref - step) if lo <= q <= hi]
-            if stage:
-                yield stage
-        yield from self._q7_grids
+    def _q7_stages(self, q7_ref: float, intervals: list[tuple[float, float]], tried: set[float]):
+        """θ7 values [rad] to try after ``tried``, stage by stage: ±steps around ``q7_ref``, then
+        finer grids over the range, each value moved into the set where the elbow can reach
+        (``intervals``, see :meth:`_elbow_q7_intervals`); values tried before are skipped."""
+        stages = [[q7_ref + step, q7_ref - step] for step in _Q7_STEPS]
+        for stage in stages + self._q7_grids:
+            values = []
+            for value in stage:
+                value = _project(min(max(value, self._lo[6]), self._hi[6]), intervals)
+                if value not in tried:
+                    tried.add(value)
+                    values.append(value)
+            if values:
+                yield values
 
     def nearest(self, position, rotation, q_ref) -> np.ndarray | None:
         """The solution nearest ``q_ref`` (weighted distance Σ wᵢ Δqᵢ²), or None.
 
-        First with θ7 = ``q_ref[6]`` (clipped into its limits); when that gives no solution
-        within the limits, θ7 is searched stage by stage (``q_ref[6]`` ± 0.05, 0.1, 0.2, … rad,
-        then grids of 16, 64, 256, 1024 cells over its range) and the nearest solution of the
-        first stage that has one is returned.
+        θ7 is searched stage by stage: ``q_ref[6]`` (clipped into its limits), then
+        ``q_ref[6]`` ± 0.05, 0.1, 0.2, … rad, then grids of 16, 64, 256, 1024 cells over its
+        range; the nearest solution of the first stage that has one is returned. Every θ7 value
+        is first moved to the nearest point of the set where θ4 exists within its limits
+        (computed in closed form for the pose), so the search starts at the θ7 nearest the
+        reference for which the elbow can reach, and a pose the elbow cannot reach for any θ7
+        ends the search at once.
 
         Args:
             position: Tool position in the base (world) frame [m], shape (3,).
@@ -540,9 +650,14 @@ class PandaIK:
             return None
         joints = self._joints(q_ref)
         prepared = self._prepare(*self._pose(position, rotation))
-        best = self._best(prepared, [joints[6][1]], joints)
+        intervals = self._elbow_q7_intervals(prepared)
+        if not intervals:
+            return None
+        q7_ref = joints[6][1]
+        first = _project(q7_ref, intervals)
+        best = self._best(prepared, [first], joints)
         if best is None:
-            for stage in self._q7_stages(joints[6][1]):
+            for stage in self._q7_stages(q7_ref, intervals, {first}):
                 best = self._best(prepared, stage, joints)
                 if best is not None:
                     break

@@ -24,6 +24,8 @@ from kinplan.sources import RobotSpec, resolve_source
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 _IDENTITY3 = np.eye(3)
+_ONES3 = np.ones(3)
+_ONES16 = np.ones(16)
 _ONE_DOF_JOINTS = {
     "JointModelRX",
     "JointModelRY",
@@ -375,25 +377,25 @@ def parse_target(
         InputError: another shape, a non-finite value, or a matrix that is not a rotation.
     """
     if isinstance(target, pin.SE3):
-        position, rotation = target.translation.copy(), target.rotation.copy()
+        matrix = target.homogeneous  # a fresh copy: the views below are the caller's to keep
     else:
-        arr = np.asarray(target, dtype=float)
-        if arr.shape == (3,):
-            position, rotation = arr.copy(), None
-        elif arr.shape == (4, 4):
-            position, rotation = arr[:3, 3].copy(), arr[:3, :3].copy()
-        else:
+        matrix = np.array(target, dtype=float)
+        if matrix.shape == (3,):
+            if not math.isfinite(matrix @ _ONES3):  # finite only when every term is
+                raise InputError(f"{what} must be finite, got position {matrix}")
+            return matrix, None
+        if matrix.shape != (4, 4):
             raise InputError(
                 f"{what} must be a pinocchio.SE3, a 4×4 homogeneous matrix or a position "
-                f"3-vector [m]; got an array of shape {arr.shape}"
+                f"3-vector [m]; got an array of shape {matrix.shape}"
             )
-    # A sum is finite only when every term is (inf − inf and NaN give NaN).
-    total = position.sum() + (0.0 if rotation is None else rotation.sum())
-    if not math.isfinite(total):
-        raise InputError(f"{what} must be finite, got position {position}")
-    if rotation is not None:
-        if abs(rotation.T @ rotation - _IDENTITY3).max() > 1e-6:
-            raise InputError(f"the rotation of {what} is not a rotation matrix (RᵀR ≠ I)")
+    position, rotation = matrix[:3, 3], matrix[:3, :3]
+    if not math.isfinite(matrix.reshape(16) @ _ONES16):  # NaN or inf anywhere gives NaN or inf
+        raise InputError(f"{what} must be finite, got\n{matrix}")
+    defect = rotation.T @ rotation - _IDENTITY3
+    defect = defect.reshape(9)
+    if defect @ defect > 1e-12:  # ‖RᵀR − I‖_F > 1e-6
+        raise InputError(f"the rotation of {what} is not a rotation matrix (RᵀR ≠ I)")
     return position, rotation
 
 

@@ -76,6 +76,36 @@ def test_unreachable_pose_has_no_solution(panda_solver):
     assert panda_solver.nearest(np.array([2.0, 0.0, 0.5]), np.eye(3), np.zeros(7)) is None
 
 
+def test_elbow_q7_intervals_match_a_scan_of_q7(panda, panda_solver):
+    """θ7 lies in the closed-form intervals exactly where θ4 has a value within its limits."""
+    from kinplan.analytic_ik import _joint_choice
+    from kinplan.panda_ik import _dot, _rotate, _sub
+
+    g, solver = panda_solver.geometry, panda_solver
+    rng = np.random.default_rng(16)
+    grid = np.linspace(solver.lower[6], solver.upper[6], 3001)
+    joints = solver._joints(np.zeros(7))
+    checked = empty = 0
+    for k in range(120):
+        if k % 4 == 3:  # poses the arm may not reach at all
+            target = pin.SE3(pin.exp3(rng.normal(size=3)), rng.uniform(-1.2, 1.2, 3))
+        else:
+            target = panda.fk(panda.random_configuration(rng))
+        prepared = solver._prepare(*solver._pose(target.translation, target.rotation))
+        intervals = solver._elbow_q7_intervals(prepared)
+        empty += not intervals
+        for q7 in grid:
+            y = _rotate(_sub(prepared[0], g.points[6]), g.axes[6], q7)
+            v = _sub((y[0] + g.points[6][0], y[1] + g.points[6][1], y[2] + g.points[6][2]), g.wrist)
+            feasible = any(_joint_choice(t, joints[3]) for t in solver._elbow(_dot(v, v)))
+            distance = min((min(abs(q7 - a), abs(q7 - b)) for a, b in intervals), default=1.0)
+            if distance > 1e-6:  # away from the edges, where rounding decides
+                inside = any(a <= q7 <= b for a, b in intervals)
+                assert inside == feasible, (k, q7, intervals)
+                checked += 1
+    assert checked > 300_000 and empty > 5
+
+
 # ---------------------------------------------------------------------------- nearest
 def test_nearest_from_random_seeds_solves_almost_every_reachable_target(panda, panda_solver):
     rng = np.random.default_rng(7)

@@ -144,6 +144,22 @@ def test_ik_round_trip_from_random_configurations(name):
         assert np.linalg.norm(pin.log3(reached.rotation @ target.rotation.T)) < 1e-6
 
 
+def test_ik_reported_errors_match_log3_and_the_position_distance(panda):
+    """IKSolver.errors (angle from ‖R* − R‖_F) against pin.log3, small to half-turn angles."""
+    rng = np.random.default_rng(15)
+    q = panda.random_configuration(rng)
+    pose = panda.fk(q)
+    for angle in (0.0, 1e-9, 3e-7, 1e-3, 0.5, 2.0, 3.1):
+        axis = rng.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        rotation = pin.exp3(angle * axis) @ pose.rotation
+        position = pose.translation + rng.normal(size=3) * angle
+        perr, rerr = panda._ik.errors(q, position, rotation)
+        assert perr == pytest.approx(np.linalg.norm(position - pose.translation), abs=1e-15)
+        expected = np.linalg.norm(pin.log3(rotation @ pose.rotation.T))
+        assert rerr == pytest.approx(expected, abs=1e-15 + 1e-7 * angle)
+
+
 def test_ik_near_seed_returns_seed_branch(ur5):
     rng = np.random.default_rng(6)
     for _ in range(10):
