@@ -265,6 +265,10 @@ class _AxisPair:
         return out
 
 
+def _first(item: tuple) -> float:
+    return item[0]
+
+
 #: Per joint: (reference, reference clipped into the limits, lower, upper, weight) [rad, –].
 _Joint = tuple[float, float, float, float, float]
 
@@ -489,6 +493,8 @@ class PandaIK:
         base = joints[6][4] * (q7 - joints[6][0]) ** 2
         bound = math.inf
         out: list[tuple[list[float], float]] = []
+        # the wrist part of every branch first: (distance so far, θ4, θ5, θ6, R4(−θ4) ω3 and e)
+        wrists = []
         for raw4 in self._elbow(_dot(v, v)):
             c4 = _joint_choice(raw4, joints[3])
             if c4 is None:
@@ -496,42 +502,41 @@ class PandaIK:
             q4, cost4 = c4[0], base + c4[1]
             cos4, sin4 = math.cos(q4), -math.sin(q4)  # rotations by −θ4
             u = _sub(_rotate_cs(self._s4, a4, cos4, sin4), self._w4)  # exp(−S4 θ4) s − w
-            # R4(−θ4) ω3 and R4(−θ4) e, the start of G ω3 and G e below
-            g3_4, ge_4 = _rotate_cs(g.axes[2], a4, cos4, sin4), _rotate_cs(self._e3, a4, cos4, sin4)
+            turned = (_rotate_cs(g.axes[2], a4, cos4, sin4), _rotate_cs(self._e3, a4, cos4, sin4))
             for t5, t6 in self._wrist_pair.solve(u, v, -joints[4][1], -joints[5][1]):
                 c5, c6 = _joint_choice(-t5, joints[4]), _joint_choice(-t6, joints[5])
-                if c5 is None or c6 is None:
+                if c5 is not None and c6 is not None:
+                    wrists.append((cost4 + c5[1] + c6[1], q4, c5[0], c6[0], turned))
+        if prune:  # nearest first: its bound then cuts the most
+            wrists.sort(key=_first)
+        for cost6, q4, q5, q6, (g3, ge) in wrists:
+            if prune and cost6 >= bound:
+                break
+            if rotation_p is None:
+                rotation_p = _matmul(rotation_tm, _rotation_matrix(a7, -q7))
+            # G = R_P R6(−θ6) R5(−θ5) R4(−θ4) = R1 R2 R3, applied to ω3 and e
+            c5, s5, c6, s6 = math.cos(q5), -math.sin(q5), math.cos(q6), -math.sin(q6)
+            g3 = _matvec(rotation_p, _rotate_cs(_rotate_cs(g3, a5, c5, s5), a6, c6, s6))
+            ge = _matvec(rotation_p, _rotate_cs(_rotate_cs(ge, a5, c5, s5), a6, c6, s6))
+            for t2, t1 in self._shoulder_pair.solve(g.axes[2], g3, joints[1][1], joints[0][1]):
+                c1, c2 = _joint_choice(t1, joints[0]), _joint_choice(t2, joints[1])
+                if c1 is None or c2 is None:
                     continue
-                q5, q6 = c5[0], c6[0]
-                cost6 = cost4 + c5[1] + c6[1]
-                if prune and cost6 >= bound:
+                cost2 = cost6 + c1[1] + c2[1]
+                if prune and cost2 >= bound:
                     continue
-                if rotation_p is None:
-                    rotation_p = _matmul(rotation_tm, _rotation_matrix(a7, -q7))
-                # G = R_P R6(−θ6) R5(−θ5) R4(−θ4) = R1 R2 R3, applied to ω3 and e
-                c5, s5, c6, s6 = math.cos(q5), -math.sin(q5), math.cos(q6), -math.sin(q6)
-                g3 = _rotate_cs(_rotate_cs(g3_4, a5, c5, s5), a6, c6, s6)
-                ge = _rotate_cs(_rotate_cs(ge_4, a5, c5, s5), a6, c6, s6)
-                g3, ge = _matvec(rotation_p, g3), _matvec(rotation_p, ge)
-                for t2, t1 in self._shoulder_pair.solve(g.axes[2], g3, joints[1][1], joints[0][1]):
-                    c1, c2 = _joint_choice(t1, joints[0]), _joint_choice(t2, joints[1])
-                    if c1 is None or c2 is None:
-                        continue
-                    cost2 = cost6 + c1[1] + c2[1]
-                    if prune and cost2 >= bound:
-                        continue
-                    # R3(θ3) e = R2(−θ2) R1(−θ1) G e
-                    h = _rotate(_rotate(ge, g.axes[0], -t1), g.axes[1], -t2)
-                    t3 = _angle_about(g.axes[2], self._e3, h, joints[2][1])
-                    c3 = _joint_choice(t3, joints[2])
-                    if c3 is None:
-                        continue
-                    cost = cost2 + c3[1]
-                    if prune and cost >= bound:
-                        continue
-                    out.append(([c1[0], c2[0], c3[0], q4, q5, q6, q7], cost))
-                    if prune:
-                        bound = cost
+                # R3(θ3) e = R2(−θ2) R1(−θ1) G e
+                h = _rotate(_rotate(ge, g.axes[0], -t1), g.axes[1], -t2)
+                t3 = _angle_about(g.axes[2], self._e3, h, joints[2][1])
+                c3 = _joint_choice(t3, joints[2])
+                if c3 is None:
+                    continue
+                cost = cost2 + c3[1]
+                if prune and cost >= bound:
+                    continue
+                out.append(([c1[0], c2[0], c3[0], q4, q5, q6, q7], cost))
+                if prune:
+                    bound = cost
         return out
 
     def _elbow_q7_intervals(self, prepared: tuple[Vec, Mat]) -> list[tuple[float, float]]:
@@ -629,13 +634,15 @@ class PandaIK:
     def nearest(self, position, rotation, q_ref) -> np.ndarray | None:
         """The solution nearest ``q_ref`` (weighted distance Σ wᵢ Δqᵢ²), or None.
 
-        θ7 is searched stage by stage: ``q_ref[6]`` (clipped into its limits), then
-        ``q_ref[6]`` ± 0.05, 0.1, 0.2, … rad, then grids of 16, 64, 256, 1024 cells over its
-        range; the nearest solution of the first stage that has one is returned. Every θ7 value
-        is first moved to the nearest point of the set where θ4 exists within its limits
-        (computed in closed form for the pose), so the search starts at the θ7 nearest the
-        reference for which the elbow can reach, and a pose the elbow cannot reach for any θ7
-        ends the search at once.
+        θ7 is searched stage by stage; the nearest solution of the first stage that has one
+        is returned. The search runs within the set of θ7 values for which θ4 exists within its
+        limits (:meth:`_elbow_q7_intervals`, closed form; when it is empty there is no
+        solution). Stages: ``q_ref[6]`` (clipped into its limits) when that set holds it, else
+        the point a quarter of the way into the set's nearest interval; then the middle of that
+        interval; then ``q_ref[6]`` ± 0.05, 0.1, 0.2, … rad, then grids of 16, 64, 256, 1024
+        cells over the range, each value moved to the nearest point of the set. (On random
+        pairs of targets and references, the middle of the interval has a solution twice as
+        often as its edge.)
 
         Args:
             position: Tool position in the base (world) frame [m], shape (3,).
@@ -654,10 +661,17 @@ class PandaIK:
         if not intervals:
             return None
         q7_ref = joints[6][1]
-        first = _project(q7_ref, intervals)
+        start, end = min(intervals, key=lambda ab: max(ab[0] - q7_ref, q7_ref - ab[1]))
+        if start <= q7_ref <= end:
+            first = q7_ref
+        else:
+            first = start + 0.25 * (end - start) if q7_ref < start else end - 0.25 * (end - start)
         best = self._best(prepared, [first], joints)
+        middle = 0.5 * (start + end)
+        if best is None and middle != first:
+            best = self._best(prepared, [middle], joints)
         if best is None:
-            for stage in self._q7_stages(q7_ref, intervals, {first}):
+            for stage in self._q7_stages(q7_ref, intervals, {first, middle}):
                 best = self._best(prepared, stage, joints)
                 if best is not None:
                     break
