@@ -112,12 +112,17 @@ class IKSolver:
         """
         pin.forwardKinematics(self.model, self.data, q)
         pose = pin.updateFramePlacement(self.model, self.data, self.frame_id)
-        ep = position - pose.translation
-        perr = math.sqrt(ep @ ep)
+        # plain floats: a handful of numpy calls on 3-vectors would cost more than the FK
+        (a0, a1, a2, x), (a3, a4, a5, y), (a6, a7, a8, z), _ = pose.homogeneous.tolist()
+        px, py, pz = position.tolist()
+        perr = math.sqrt((px - x) ** 2 + (py - y) ** 2 + (pz - z) ** 2)
         if rotation is None:
             return perr, 0.0
-        er = (rotation - pose.rotation).reshape(9)
-        return perr, 2.0 * math.asin(min(math.sqrt(er @ er) / _SQRT8, 1.0))
+        (b0, b1, b2), (b3, b4, b5), (b6, b7, b8) = rotation.tolist()
+        squares = (b0 - a0) ** 2 + (b1 - a1) ** 2 + (b2 - a2) ** 2 + (b3 - a3) ** 2
+        squares += (b4 - a4) ** 2 + (b5 - a5) ** 2 + (b6 - a6) ** 2 + (b7 - a7) ** 2
+        squares += (b8 - a8) ** 2
+        return perr, 2.0 * math.asin(min(math.sqrt(squares) / _SQRT8, 1.0))
 
     def descend(
         self,

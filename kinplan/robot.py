@@ -23,9 +23,7 @@ from kinplan.planar import planar_arm_urdf, write_planar_arm
 from kinplan.sources import RobotSpec, resolve_source
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-_IDENTITY3 = np.eye(3)
 _ONES3 = np.ones(3)
-_ONES16 = np.ones(16)
 _ONE_DOF_JOINTS = {
     "JointModelRX",
     "JointModelRY",
@@ -389,14 +387,18 @@ def parse_target(
                 f"{what} must be a pinocchio.SE3, a 4×4 homogeneous matrix or a position "
                 f"3-vector [m]; got an array of shape {matrix.shape}"
             )
-    position, rotation = matrix[:3, 3], matrix[:3, :3]
-    if not math.isfinite(matrix.reshape(16) @ _ONES16):  # NaN or inf anywhere gives NaN or inf
+    # plain floats: cheaper than numpy for a 4×4
+    (a, b, c, x), (d, e, f, y), (g, h, i, z), _ = matrix.tolist()
+    if not math.isfinite(a + b + c + d + e + f + g + h + i + x + y + z):  # NaN or inf in a term
         raise InputError(f"{what} must be finite, got\n{matrix}")
-    defect = rotation.T @ rotation - _IDENTITY3
-    defect = defect.reshape(9)
-    if defect @ defect > 1e-12:  # ‖RᵀR − I‖_F > 1e-6
+    # ‖RᵀR − I‖_F² from the columns' lengths and mutual products
+    defect = (a * a + d * d + g * g - 1.0) ** 2 + (b * b + e * e + h * h - 1.0) ** 2
+    defect += (c * c + f * f + i * i - 1.0) ** 2
+    defect += 2.0 * ((a * b + d * e + g * h) ** 2 + (a * c + d * f + g * i) ** 2)
+    defect += 2.0 * (b * c + e * f + h * i) ** 2
+    if defect > 1e-12:  # ‖RᵀR − I‖_F > 1e-6
         raise InputError(f"the rotation of {what} is not a rotation matrix (RᵀR ≠ I)")
-    return position, rotation
+    return matrix[:3, 3], matrix[:3, :3]
 
 
 def load_robot(source: str | os.PathLike[str], tip: str | None = None) -> Robot:
