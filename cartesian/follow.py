@@ -10,6 +10,7 @@ joint. The plan says where and why (:class:`Event`) and how much of the path was
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import eigenpy
@@ -155,6 +156,10 @@ class _Tracker:
         self.model, self.data, self.fid = robot.model, robot._ik.data, robot.tip_id
         self.position_only = position_only
         self.rows, self.rank = robot.task_rows(position_only), robot.task_rank(position_only)
+        # the same rows as a slice when they are consecutive: a view instead of a copy
+        first, last = int(self.rows[0]), int(self.rows[-1])
+        consecutive = np.array_equal(self.rows, np.arange(first, last + 1))
+        self._row_index = slice(first, last + 1) if consecutive else self.rows
         self.tolerance, self.rotation_tolerance = tolerance, rotation_tolerance
         self.singular_threshold = singular_threshold
         self.speed_limit = robot.velocity_limit * velocity_scale
@@ -168,45 +173,53 @@ class _Tracker:
 
     def jacobian(self) -> np.ndarray:
         """Task rows of the tool Jacobian at the last converged q (no new kinematics pass)."""
-        return pin.getFrameJacobian(self.model, self.data, self.fid, _LWA).reshape(6, -1)[self.rows]
+        J = pin.getFrameJacobian(self.model, self.data, self.fid, _LWA)
+        return J.reshape(6, -1)[self._row_index]
 
     def tool_position(self) -> np.ndarray:
-        return self.data.oMf[self.fid].translation.copy()
+        """Tool position [m] at the last converged q (a view into the IK data: copy to keep)."""
+        return self.data.oMf[self.fid].translation
 
     def bias_acceleration(self, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """J̇q̇: the tool's classical acceleration at zero joint acceleration (task rows)."""
         pin.forwardKinematics(self.model, self.data, q, qd, self._zeros)
         acc = pin.getFrameClassicalAcceleration(self.model, self.data, self.fid, _LWA)
-        return acc.vector[self.rows]
+        return acc.vector[self._row_index]
 
     def factor(self, J: np.ndarray) -> float:
         """Factor the task Jacobian J for :meth:`rates`; return its manipulability.
 
-        One Cholesky factorisation of the smaller Gram matrix (JᵀJ or JJᵀ) serves the joint
-        velocities, the accelerations and the manipulability (the product of the factor's
-        diagonal). A structurally rank-deficient task falls back to the pseudo-inverse.
+        One LU factorisation (partial pivoting) serves the joint velocities, the accelerations
+        and the manipulability: of J itself when it is square (manipulability |det J|), else
+        of the smaller Gram matrix JJᵀ or JᵀJ (manipulability √det). A structurally
+        rank-deficient task falls back to the pseudo-inverse. An exactly singular J gives 0.
         """
         self._J = J
         rows, cols = J.shape
-        self._wide = rows < cols
+        self._shape = (rows > cols) - (rows < cols)  # −1 wide, 0 square, 1 tall
         if self.rank != min(rows, cols):
-            self._llt = None
+            self._lu = None
             return manipulability_of(J, self.rank)
-        self._llt = eigenpy.LLT(J @ J.T if self._wide else J.T @ J)
-        if self._llt.info() != eigenpy.ComputationInfo.Success:
-            return 0.0
-        return float(self._llt.matrixL().diagonal().prod())
+        if self._shape == 0:
+            self._lu = eigenpy.PartialPivLU(J)
+            return abs(self._lu.determinant())
+        self._lu = eigenpy.PartialPivLU(J @ J.T if self._shape < 0 else J.T @ J)
+        return math.sqrt(max(self._lu.determinant(), 0.0))
 
     def rates(self, b: np.ndarray) -> np.ndarray:
-        """J⁺ b for the last factored J: least squares (tall/square) or minimum norm (wide)."""
-        J, llt = self._J, self._llt
-        if llt is None:
+        """J⁺ b for the last factored J: the solution (square), least squares (tall) or minimum
+        norm (wide)."""
+        J, lu, shape = self._J, self._lu, self._shape
+        if lu is None:
             return np.linalg.pinv(J) @ b
-        return J.T @ llt.solve(b) if self._wide else llt.solve(J.T @ b)
+        if shape == 0:
+            return lu.solve(b)
+        return J.T @ lu.solve(b) if shape < 0 else lu.solve(J.T @ b)
 
     def singular_event(self, k, t, s, m, position) -> Event | None:
-        """A "singular" event when the manipulability m is under the threshold."""
-        if m >= self.singular_threshold:
+        """A "singular" event when the manipulability m is under the threshold (or 0: then no
+        joint rates exist, whatever the threshold)."""
+        if m >= self.singular_threshold and m > 0.0:
             return None
         return Event(
             "singular", float(t), float(s), k,
@@ -231,6 +244,12 @@ class _Tracker:
             "flip); use a smaller dt or another start configuration",
             position, name, float(q[j] - q_prev[j]), self.jump_tolerance,
         )  # fmt: skip
+
+    def first_too_fast(self, qd: np.ndarray) -> int | None:
+        """Index of the first row of joint velocities ``qd`` (N, nq) [rad/s] with a joint above
+        its (scaled) limit, or None."""
+        over = np.flatnonzero((abs(qd) > self.speed_limit).any(axis=1))
+        return int(over[0]) if len(over) else None
 
     def speed_event(self, k, t, s, qd, position) -> Event | None:
         """A "velocity_limit" event when a joint speed exceeds its (scaled) limit."""
@@ -450,23 +469,30 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
             events.append(tracker.diagnose(k, t[k], s[k], guess, q_prev, positions[k], rotation))
             break
         m = tracker.factor(tracker.jacobian())
-        event = tracker.singular_event(k, t[k], s[k], m, positions[k])
-        qd = None
-        if event is None:
-            tool[k] = tracker.tool_position()
-            qd = tracker.rates(xd[k])
-            if corrections:  # an uncorrected prediction (q = guess) cannot jump
-                event = tracker.jump_event(
-                    k, t[k], s[k], q, q_prev, qd, qd_prev, steps[k], positions[k]
-                )
-        event = event or tracker.speed_event(k, t[k], s[k], qd, positions[k])
-        if event is not None:
-            events.append(event)
+        if not m >= tracker.singular_threshold or m == 0.0:  # as in singular_event
+            events.append(tracker.singular_event(k, t[k], s[k], m, positions[k]))
             break
+        tool[k] = tracker.tool_position()
+        qd = tracker.rates(xd[k])
+        if corrections:  # an uncorrected prediction (q = guess) cannot jump
+            event = tracker.jump_event(
+                k, t[k], s[k], q, q_prev, qd, qd_prev, steps[k], positions[k]
+            )
+            if event is not None:
+                events.append(event)
+                break
         qdd = tracker.rates(xdd[k] - tracker.bias_acceleration(q, qd))
         q_out[k], qd_out[k], qdd_out[k], manip[k] = q, qd, qdd, m
         q_prev, qd_prev, qdd_prev = q, qd, qdd
         done = k + 1
+
+    # joint speeds are checked once, vectorised; a sample too fast comes before any event the
+    # loop stopped at (those stop the loop at index `done`), so it is the first event
+    too_fast = tracker.first_too_fast(qd_out[:done])
+    if too_fast is not None:
+        k = too_fast
+        events = [tracker.speed_event(k, t[k], s[k], qd_out[k], positions[k])]
+        done = k
 
     ok = not events
     deviation = np.linalg.norm(tool[:done] - positions[:done], axis=1)

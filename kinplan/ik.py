@@ -153,24 +153,31 @@ class IKSolver:
         diagonal = self._diagonal
         e = np.zeros(6)
         position_tolerance2 = position_tolerance * position_tolerance
-        rotation_tolerance2 = rotation_tolerance * rotation_tolerance
+        # the convergence test in plain floats, on ‖R* − R‖_F² = 8 sin²(θ/2) (see errors())
+        px, py, pz = position.tolist()
+        target_rotation = () if rotation is None else rotation.reshape(9).tolist()
+        frobenius_tolerance2 = 8.0 * math.sin(0.5 * min(rotation_tolerance, math.pi)) ** 2
         best_cost = np.inf
         stalled = 0
         perr2 = rerr2 = np.inf
         for it in range(max_iterations + 1):
             pin.computeJointJacobians(model, data, q)
             pose = pin.updateFramePlacement(model, data, fid)
-            ep = position - pose.translation
-            e[:3] = ep
-            perr2 = float(ep @ ep)
+            (a0, a1, a2, x), (a3, a4, a5, y), (a6, a7, a8, z), _ = pose.homogeneous.tolist()
+            perr2 = (px - x) ** 2 + (py - y) ** 2 + (pz - z) ** 2
+            frobenius2 = 0.0
+            for b, a in zip(target_rotation, (a0, a1, a2, a3, a4, a5, a6, a7, a8)):
+                frobenius2 += (b - a) ** 2
+            if perr2 <= position_tolerance2 and frobenius2 <= frobenius_tolerance2:
+                rerr = 2.0 * math.asin(min(math.sqrt(frobenius2) / _SQRT8, 1.0))
+                return q, True, math.sqrt(perr2), rerr, it
+            e[:3] = (px - x, py - y, pz - z)
             if rotation is not None:
                 er = pin.log3(rotation @ pose.rotation.T)
                 e[3:] = er
                 rerr2 = float(er @ er)
             else:
                 rerr2 = 0.0
-            if perr2 <= position_tolerance2 and rerr2 <= rotation_tolerance2:
-                return q, True, math.sqrt(perr2), math.sqrt(rerr2), it
             if it == max_iterations:
                 break
             cost = 0.5 * (perr2 + rerr2)
