@@ -56,6 +56,37 @@ class IKResult:
     method: str = "numerical"
 
 
+def _pose_differences(
+    pose: pin.SE3, position: list[float], rotation: list[float] | None
+) -> tuple[float, float, float, float]:
+    """The target minus the tool ``pose``, in plain floats (a handful of numpy calls on
+    3-vectors would cost more than the kinematics pass that gave the pose).
+
+    Args:
+        pose: Tool pose.
+        position: Target position [m], 3 floats.
+        rotation: Target rotation, 9 floats (row-major), or None (position only).
+
+    Returns:
+        (Δx, Δy, Δz [m], ‖R* − R‖_F²), the last 0 for position only. For a rotation error of
+        angle θ, ‖R* − R‖_F² = 8 sin²(θ/2) (see :func:`_angle_of`).
+    """
+    (a0, a1, a2, x), (a3, a4, a5, y), (a6, a7, a8, z), _ = pose.homogeneous.tolist()
+    px, py, pz = position
+    if rotation is None:
+        return px - x, py - y, pz - z, 0.0
+    b0, b1, b2, b3, b4, b5, b6, b7, b8 = rotation
+    squares = (b0 - a0) ** 2 + (b1 - a1) ** 2 + (b2 - a2) ** 2 + (b3 - a3) ** 2
+    squares += (b4 - a4) ** 2 + (b5 - a5) ** 2 + (b6 - a6) ** 2 + (b7 - a7) ** 2
+    return px - x, py - y, pz - z, squares + (b8 - a8) ** 2
+
+
+def _angle_of(frobenius2: float) -> float:
+    """The angle θ [rad] of a rotation error from ‖R* − R‖_F² = 8 sin²(θ/2): as precise as the
+    matrices for small angles, unlike the trace's arccos."""
+    return 2.0 * math.asin(min(math.sqrt(frobenius2) / _SQRT8, 1.0))
+
+
 def halton(index: int, dim: int) -> np.ndarray:
     """Point ``index`` (≥ 1) of the Halton low-discrepancy sequence in [0, 1)^dim."""
     out = np.empty(dim)
@@ -105,24 +136,13 @@ class IKSolver:
     def errors(
         self, q: np.ndarray, position: np.ndarray, rotation: np.ndarray | None
     ) -> tuple[float, float]:
-        """Position error [m] and rotation error [rad] of the tool at ``q`` (one FK pass).
-
-        The rotation error is the angle θ of R* Rᵀ, from ‖R* − R‖_F = 2√2 sin(θ/2): as precise
-        as the matrices for small angles, unlike the trace's arccos.
-        """
+        """Position error [m] and rotation error [rad] (see :func:`_angle_of`) of the tool at
+        ``q`` (one FK pass)."""
         pin.forwardKinematics(self.model, self.data, q)
         pose = pin.updateFramePlacement(self.model, self.data, self.frame_id)
-        # plain floats: a handful of numpy calls on 3-vectors would cost more than the FK
-        (a0, a1, a2, x), (a3, a4, a5, y), (a6, a7, a8, z), _ = pose.homogeneous.tolist()
-        px, py, pz = position.tolist()
-        perr = math.sqrt((px - x) ** 2 + (py - y) ** 2 + (pz - z) ** 2)
-        if rotation is None:
-            return perr, 0.0
-        (b0, b1, b2), (b3, b4, b5), (b6, b7, b8) = rotation.tolist()
-        squares = (b0 - a0) ** 2 + (b1 - a1) ** 2 + (b2 - a2) ** 2 + (b3 - a3) ** 2
-        squares += (b4 - a4) ** 2 + (b5 - a5) ** 2 + (b6 - a6) ** 2 + (b7 - a7) ** 2
-        squares += (b8 - a8) ** 2
-        return perr, 2.0 * math.asin(min(math.sqrt(squares) / _SQRT8, 1.0))
+        target_rotation = None if rotation is None else rotation.reshape(9).tolist()
+        dx, dy, dz, frobenius2 = _pose_differences(pose, position.tolist(), target_rotation)
+        return math.sqrt(dx * dx + dy * dy + dz * dz), _angle_of(frobenius2)
 
     def descend(
         self,
@@ -153,9 +173,9 @@ class IKSolver:
         diagonal = self._diagonal
         e = np.zeros(6)
         position_tolerance2 = position_tolerance * position_tolerance
-        # the convergence test in plain floats, on ‖R* − R‖_F² = 8 sin²(θ/2) (see errors())
-        px, py, pz = position.tolist()
-        target_rotation = () if rotation is None else rotation.reshape(9).tolist()
+        # the convergence test in plain floats, on ‖R* − R‖_F² = 8 sin²(θ/2)
+        target_position = position.tolist()
+        target_rotation = None if rotation is None else rotation.reshape(9).tolist()
         frobenius_tolerance2 = 8.0 * math.sin(0.5 * min(rotation_tolerance, math.pi)) ** 2
         best_cost = np.inf
         stalled = 0
@@ -163,15 +183,11 @@ class IKSolver:
         for it in range(max_iterations + 1):
             pin.computeJointJacobians(model, data, q)
             pose = pin.updateFramePlacement(model, data, fid)
-            (a0, a1, a2, x), (a3, a4, a5, y), (a6, a7, a8, z), _ = pose.homogeneous.tolist()
-            perr2 = (px - x) ** 2 + (py - y) ** 2 + (pz - z) ** 2
-            frobenius2 = 0.0
-            for b, a in zip(target_rotation, (a0, a1, a2, a3, a4, a5, a6, a7, a8)):
-                frobenius2 += (b - a) ** 2
+            dx, dy, dz, frobenius2 = _pose_differences(pose, target_position, target_rotation)
+            perr2 = dx * dx + dy * dy + dz * dz
             if perr2 <= position_tolerance2 and frobenius2 <= frobenius_tolerance2:
-                rerr = 2.0 * math.asin(min(math.sqrt(frobenius2) / _SQRT8, 1.0))
-                return q, True, math.sqrt(perr2), rerr, it
-            e[:3] = (px - x, py - y, pz - z)
+                return q, True, math.sqrt(perr2), _angle_of(frobenius2), it
+            e[:3] = (dx, dy, dz)
             if rotation is not None:
                 er = pin.log3(rotation @ pose.rotation.T)
                 e[3:] = er
