@@ -2,7 +2,8 @@
 
 :func:`follow` times the path with a 1-D profile, solves IK at every sample warm-started from the
 previous one (so the arm stays on its branch), derives joint velocities and accelerations from the
-timed path (q̇ = J⁺ẋ, q̈ = J⁺(ẍ − J̇q̇)), and stops at the first sample that is unreachable,
+timed path (q̇ = J⁺ẋ, q̈ = dq̇/dt = J⁺(ẍ − J̇q̇) plus, for a redundant arm, the null-space part
+of the derivative of its minimum-norm q̇), and stops at the first sample that is unreachable,
 beyond a joint limit, needs a branch flip ("jump"), is near a singularity or too fast for a
 joint. The plan says where and why (:class:`Event`) and how much of the path was achieved.
 :func:`check_reachability` runs the same monitoring on the geometry alone, before any timing.
@@ -160,6 +161,8 @@ class _Tracker:
         first, last = int(self.rows[0]), int(self.rows[-1])
         consecutive = np.array_equal(self.rows, np.arange(first, last + 1))
         self._row_index = slice(first, last + 1) if consecutive else self.rows
+        # Pinocchio's 6×nq matrices need neither a reshape (nq > 1) nor a row selection
+        self._all_rows = consecutive and (first, last) == (0, 5) and robot.nq > 1
         self.tolerance, self.rotation_tolerance = tolerance, rotation_tolerance
         self.singular_threshold = singular_threshold
         self.speed_limit = robot.velocity_limit * velocity_scale
@@ -174,7 +177,7 @@ class _Tracker:
     def jacobian(self) -> np.ndarray:
         """Task rows of the tool Jacobian at the last converged q (no new kinematics pass)."""
         J = pin.getFrameJacobian(self.model, self.data, self.fid, _LWA)
-        return J.reshape(6, -1)[self._row_index]
+        return J if self._all_rows else J.reshape(6, -1)[self._row_index]
 
     def tool_position(self) -> np.ndarray:
         """Tool position [m] at the last converged q (a view into the IK data: copy to keep)."""
@@ -215,6 +218,34 @@ class _Tracker:
         if shape == 0:
             return lu.solve(b)
         return J.T @ lu.solve(b) if shape < 0 else lu.solve(J.T @ b)
+
+    def joint_rates(
+        self, q: np.ndarray, xd: np.ndarray, xdd: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """q̇ = J⁺ẋ [rad/s] and q̈ = dq̇/dt [rad/s²] at ``q`` for the last factored J.
+
+        Square or tall J: q̈ = J⁺(ẍ − J̇q̇). Redundant arms (wide J, full row rank): q̇ is the
+        minimum-norm rate, and its time derivative has a null-space part as well,
+        q̈ = J⁺(ẍ − J̇q̇) + (I − J⁺J) J̇ᵀy with y = (JJᵀ)⁻¹ẋ, computed as
+        z + J⁺(ẍ − J̇q̇ − Jz) with z = J̇ᵀy, J̇ from Pinocchio's Jacobian time variation.
+
+        Args:
+            q: Configuration of the last factored J.
+            xd: Task velocity ẋ (task rows: [m/s; rad/s]).
+            xdd: Task acceleration ẍ (the tool origin's classical acceleration [m/s²]; rad/s²).
+        """
+        J, lu = self._J, self._lu
+        if lu is None or self._shape >= 0:
+            qd = self.rates(xd)
+            return qd, self.rates(xdd - self.bias_acceleration(q, qd))
+        y = lu.solve(xd)
+        qd = J.T @ y
+        pin.computeJointJacobiansTimeVariation(self.model, self.data, q, qd)
+        J_dot = pin.getFrameJacobianTimeVariation(self.model, self.data, self.fid, _LWA)
+        if not self._all_rows:
+            J_dot = J_dot.reshape(6, -1)[self._row_index]
+        z = J_dot.T @ y
+        return qd, z + J.T @ lu.solve(xdd - J_dot @ qd - J @ z)
 
     def singular_event(self, k, t, s, m, position) -> Event | None:
         """A "singular" event when the manipulability m is under the threshold (or 0: then no
@@ -473,7 +504,7 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
             events.append(tracker.singular_event(k, t[k], s[k], m, positions[k]))
             break
         tool[k] = tracker.tool_position()
-        qd = tracker.rates(xd[k])
+        qd, qdd = tracker.joint_rates(q, xd[k], xdd[k])
         if corrections:  # an uncorrected prediction (q = guess) cannot jump
             event = tracker.jump_event(
                 k, t[k], s[k], q, q_prev, qd, qd_prev, steps[k], positions[k]
@@ -481,7 +512,6 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
             if event is not None:
                 events.append(event)
                 break
-        qdd = tracker.rates(xdd[k] - tracker.bias_acceleration(q, qd))
         q_out[k], qd_out[k], qdd_out[k], manip[k] = q, qd, qdd, m
         q_prev, qd_prev, qdd_prev = q, qd, qdd
         done = k + 1

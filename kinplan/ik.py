@@ -171,7 +171,7 @@ class IKSolver:
         touching = True  # whether q may sit on a limit (then the active set is checked)
         rows = 3 if rotation is None else 6
         diagonal = self._diagonal
-        e = np.zeros(6)
+        e = None  # the error vector, made when a step is needed
         position_tolerance2 = position_tolerance * position_tolerance
         # the convergence test in plain floats, on ‖R* − R‖_F² = 8 sin²(θ/2)
         target_position = position.tolist()
@@ -187,6 +187,8 @@ class IKSolver:
             perr2 = dx * dx + dy * dy + dz * dz
             if perr2 <= position_tolerance2 and frobenius2 <= frobenius_tolerance2:
                 return q, True, math.sqrt(perr2), _angle_of(frobenius2), it
+            if e is None:
+                e = np.zeros(6)
             e[:3] = (dx, dy, dz)
             if rotation is not None:
                 er = pin.log3(rotation @ pose.rotation.T)

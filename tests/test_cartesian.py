@@ -239,6 +239,50 @@ def test_lines_and_arcs_at_fixed_orientation(name):
         assert np.all(np.abs(plan.qd) <= robot.velocity_limit)
 
 
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_joint_rates_of_square_and_redundant_arms(name):
+    """q̇ and q̈ (from one LU of J, or of JJᵀ for the 7-joint panda) against finite differences
+    of q; the tool twist J q̇ against the path's; the panda's q̇ is the minimum-norm one."""
+    robot = kinplan.load_robot(name)
+    q0 = {
+        "ur5": np.radians([0, -100, 100, -90, -90, 0]),
+        "panda": np.array([0, -0.3, 0, -2.2, 0, 2.0, 0.78]),
+    }[name]
+    start = robot.fk(q0)
+    end = pin.SE3(pin.exp3(np.array([0.0, 0.0, 0.4])) @ start.rotation, start.translation)
+    end.translation += np.array([0.05, 0.1, -0.05])
+    line = cartesian.Line(start, end)
+    # q solved to 1e-11, so that its rounding stays out of the finite differences
+    plan = cartesian.follow(
+        robot,
+        line,
+        1.0,
+        profile="quintic",
+        dt=0.001,
+        q_seed=q0,
+        tolerance=1e-11,
+        rotation_tolerance=1e-11,
+    )
+    assert plan.ok, plan
+    qd_fd = np.gradient(plan.q, plan.t, axis=0)
+    qdd_fd = np.gradient(plan.qd, plan.t, axis=0)
+    assert np.abs(qd_fd[1:-1] - plan.qd[1:-1]).max() < 1e-4 * np.abs(plan.qd).max()
+    assert np.abs(qdd_fd[2:-2] - plan.qdd[2:-2]).max() < 1e-4 * np.abs(plan.qdd).max()
+    tau = plan.t
+    s_dot = 30 * tau**2 - 60 * tau**3 + 30 * tau**4  # the quintic time law over 1 s
+    for k in range(1, len(plan.t) - 1, 97):
+        J = robot.jacobian(plan.q[k])
+        twist = np.concatenate(
+            [
+                (end.translation - start.translation) * s_dot[k],
+                line.angular_rates(plan.s[k : k + 1])[0][0] * s_dot[k],
+            ]
+        )
+        np.testing.assert_allclose(J @ plan.qd[k], twist, atol=1e-5 * np.abs(twist).max())
+        # minimum norm: no component in the null space of J
+        np.testing.assert_allclose(np.linalg.pinv(J) @ (J @ plan.qd[k]), plan.qd[k], atol=1e-10)
+
+
 def wrist_path(ur5):
     qa = np.radians([10, -80, 100, -110, 6, 20])
     qb = np.radians([-10, -80, 100, -110, -6, 60])

@@ -1,7 +1,8 @@
 """Inverse-kinematics benchmark: kinplan beside a plain Pinocchio loop and roboticstoolbox.
 
-Every method solves the same targets from the same seeds in one run, one target at a time
-(methods interleaved, so machine drift hits all of them alike). Targets are the forward
+Every method solves the same targets from the same seeds in one run: in turn (each method all
+targets in a row, the order rotating over several rounds, so machine drift hits all of them
+alike) and once more interleaved target by target (the cold-cache figure). Targets are the forward
 kinematics of random in-limit configurations; each seed is another random in-limit
 configuration. Every answer is checked here with kinplan's forward kinematics, never by the
 solver's own flag: success is a position error below 1e-4 m, a rotation error below 1e-3 rad
@@ -16,7 +17,7 @@ Methods:
         (``pip install -e ".[bench]"``).
 
 Usage:
-    python tests/bench/bench_ik.py [--robots ur5 panda] [--n 500] [--seed 0]
+    python tests/bench/bench_ik.py [--robots ur5 panda] [--n 500] [--seed 0] [--rounds 3]
 """
 
 from __future__ import annotations
@@ -75,6 +76,7 @@ class Row:
     mean_iterations: float = float("nan")
     pose_failures: int = 0
     limit_failures: int = 0
+    interleaved_median_ms: float = float("nan")
     note: str = ""
 
 
@@ -265,44 +267,68 @@ def classify(robot: Robot, target: pin.SE3, q: np.ndarray) -> str:
     return "ok"
 
 
+def _run(robot: Robot, method: Method, target: pin.SE3, seed: np.ndarray, log: dict) -> None:
+    """Solve one target with one method (only the solve is timed) and log the outcome."""
+    prepared = method.prepare(target)
+    start = time.perf_counter()
+    q, its = method.solve(prepared, seed.copy())
+    log["times"].append(time.perf_counter() - start)
+    log["iterations"].append(its)
+    log["outcomes"].append(classify(robot, target, q))
+
+
 def measure(
-    robot: Robot, methods: list[Method], targets: list[pin.SE3], seeds: np.ndarray
+    robot: Robot,
+    methods: list[Method],
+    targets: list[pin.SE3],
+    seeds: np.ndarray,
+    rounds: int = 3,
 ) -> list[Row]:
-    """Run every method on every (target, seed), interleaved; one Row per method."""
+    """Run every method on every (target, seed); one Row per method.
+
+    Two schedules. **In turn**: ``rounds`` rounds; in each, every method solves all targets in
+    a row (the order of the methods rotates from round to round, so a slow spell of the machine
+    does not fall on one method); success, iterations, median and p95 come from these pooled
+    solves. **Interleaved**: one more pass, target by target, every method in turn on each
+    target; only its median is reported, as the cold-cache figure (the other methods run in
+    between and evict each solver's code and data from the CPU caches, which costs Python code
+    far more than compact C++).
+    """
     runnable = [m for m in methods if m.unavailable is None]
     for method in runnable:  # warm-up: first-call costs (imports, allocations) stay out
         for target, seed in zip(targets[:WARMUP], seeds[:WARMUP]):
             method.solve(method.prepare(target), seed)
 
-    times = {m.name: [] for m in runnable}
-    iterations = {m.name: [] for m in runnable}
-    outcomes = {m.name: [] for m in runnable}
+    logs = {m.name: {"times": [], "iterations": [], "outcomes": []} for m in runnable}
+    for r in range(rounds):
+        for method in runnable[r % len(runnable) :] + runnable[: r % len(runnable)]:
+            gc.collect()
+            for target, seed in zip(targets, seeds):
+                _run(robot, method, target, seed, logs[method.name])
+    interleaved = {m.name: {"times": [], "iterations": [], "outcomes": []} for m in runnable}
     gc.collect()
     for target, seed in zip(targets, seeds):
         for method in runnable:
-            prepared = method.prepare(target)
-            start = time.perf_counter()
-            q, its = method.solve(prepared, seed.copy())
-            times[method.name].append(time.perf_counter() - start)
-            iterations[method.name].append(its)
-            outcomes[method.name].append(classify(robot, target, q))
+            _run(robot, method, target, seed, interleaved[method.name])
 
     rows = []
     for method in methods:
         if method.unavailable is not None:
             rows.append(Row(method.name, note=method.unavailable))
             continue
-        ms = 1e3 * np.array(times[method.name])
-        outcome = outcomes[method.name]
+        log = logs[method.name]
+        ms = 1e3 * np.array(log["times"])
+        outcome = log["outcomes"]
         rows.append(
             Row(
                 method.name,
                 success_percent=100.0 * outcome.count("ok") / len(outcome),
                 median_ms=float(np.median(ms)),
                 p95_ms=float(np.percentile(ms, 95)),
-                mean_iterations=float(np.mean(iterations[method.name])),
+                mean_iterations=float(np.mean(log["iterations"])),
                 pose_failures=outcome.count("pose"),
                 limit_failures=outcome.count("limits"),
+                interleaved_median_ms=1e3 * float(np.median(interleaved[method.name]["times"])),
             )
         )
     return rows
@@ -334,20 +360,21 @@ def machine_info() -> str:
     )
 
 
-def format_table(robot: Robot, n: int, rows: list[Row]) -> str:
+def format_table(robot: Robot, n: int, rows: list[Row], rounds: int = 1) -> str:
+    solves = f"{n} targets" + (f" × {rounds} rounds" if rounds > 1 else "")
     lines = [
-        f"### {robot.name} ({robot.nq} joints, tool {robot.tip_frame!r}, {n} targets)",
+        f"### {robot.name} ({robot.nq} joints, tool {robot.tip_frame!r}, {solves})",
         "",
-        "| method | success % | median ms | p95 ms | mean iterations |",
-        "|---|---:|---:|---:|---:|",
+        "| method | success % | median ms | p95 ms | mean iterations | median ms, interleaved |",
+        "|---|---:|---:|---:|---:|---:|",
     ]
     for row in rows:
         if row.note:
-            lines.append(f"| {row.method} | {row.note} | | | |")
+            lines.append(f"| {row.method} | {row.note} | | | | |")
         else:
             lines.append(
                 f"| {row.method} | {row.success_percent:.1f} | {row.median_ms:.3f} | "
-                f"{row.p95_ms:.3f} | {row.mean_iterations:.1f} |"
+                f"{row.p95_ms:.3f} | {row.mean_iterations:.1f} | {row.interleaved_median_ms:.3f} |"
             )
     failures = [
         f"{row.method}: {row.pose_failures} pose, {row.limit_failures} limits"
@@ -357,13 +384,17 @@ def format_table(robot: Robot, n: int, rows: list[Row]) -> str:
     if failures:
         lines += ["", "failures: " + "; ".join(failures)]
     reference = rows[0]
-    ratios = [
-        f"{row.method} {row.median_ms / reference.median_ms:.2f}×"
-        for row in rows[1:]
-        if not row.note
-    ]
-    if ratios and not reference.note:
-        lines += ["", f"median time relative to {reference.method}: " + ", ".join(ratios)]
+    others = [row for row in rows[1:] if not row.note]
+    if others and not reference.note:
+        for label, field in (("", "median_ms"), (", interleaved", "interleaved_median_ms")):
+            ratios = [
+                f"{row.method} {getattr(row, field) / getattr(reference, field):.2f}×"
+                for row in others
+            ]
+            lines += [
+                "",
+                f"median time{label} relative to {reference.method}: " + ", ".join(ratios),
+            ]
     return "\n".join(lines)
 
 
@@ -372,6 +403,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--robots", nargs="+", default=["ur5", "panda"], help="robot names")
     parser.add_argument("--n", type=int, default=500, help="targets per robot")
     parser.add_argument("--seed", type=int, default=0, help="seed of the numpy Generator")
+    parser.add_argument(
+        "--rounds", type=int, default=3, help="passes over the targets (times are pooled)"
+    )
     args = parser.parse_args(argv)
 
     print(machine_info())
@@ -390,8 +424,8 @@ def main(argv: list[str] | None = None) -> int:
             dls_method(robot, args.seed),
             rtb_method(robot, np.random.default_rng([args.seed, 2])),
         ]
-        rows = measure(robot, methods, targets, seeds)
-        print(format_table(robot, args.n, rows))
+        rows = measure(robot, methods, targets, seeds, args.rounds)
+        print(format_table(robot, args.n, rows, args.rounds))
         print()
     return 0
 
