@@ -179,9 +179,9 @@ class _Tracker:
         J = pin.getFrameJacobian(self.model, self.data, self.fid, _LWA)
         return J if self._all_rows else J.reshape(6, -1)[self._row_index]
 
-    def tool_position(self) -> np.ndarray:
-        """Tool position [m] at the last converged q (a view into the IK data: copy to keep)."""
-        return self.data.oMf[self.fid].translation
+    def tool_position(self) -> tuple[float, float, float]:
+        """Tool position [m] at the last converged q."""
+        return self.solver.converged_position
 
     def bias_acceleration(self, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """J̇q̇: the tool's classical acceleration at zero joint acceleration (task rows)."""

@@ -124,6 +124,7 @@ class IKSolver:
         self._no_lower = np.full(model.nq, -np.inf)
         self._no_upper = np.full(model.nq, np.inf)
         self._restarts: np.ndarray = np.empty((0, model.nq))
+        self.converged_position: tuple[float, float, float] = (math.nan,) * 3
 
     def restart_configuration(self, attempt: int) -> np.ndarray:
         """Start of restart ``attempt`` (≥ 1): a Halton point spread over the joint limits."""
@@ -156,7 +157,8 @@ class IKSolver:
     ) -> tuple[np.ndarray, bool, float, float, int]:
         """Iterate from ``q`` (not modified) until converged, stalled or out of iterations.
 
-        On convergence ``self.data`` holds the kinematics and joint Jacobians at the returned q.
+        On convergence ``self.data`` holds the kinematics and joint Jacobians at the returned q,
+        and ``self.converged_position`` the tool position there [m] (3 floats).
 
         Args:
             clamp: Keep every iterate within the joint limits (False: ignore the limits, to tell
@@ -186,6 +188,8 @@ class IKSolver:
             dx, dy, dz, frobenius2 = _pose_differences(pose, target_position, target_rotation)
             perr2 = dx * dx + dy * dy + dz * dz
             if perr2 <= position_tolerance2 and frobenius2 <= frobenius_tolerance2:
+                px, py, pz = target_position
+                self.converged_position = (px - dx, py - dy, pz - dz)
                 return q, True, math.sqrt(perr2), _angle_of(frobenius2), it
             if e is None:
                 e = np.zeros(6)

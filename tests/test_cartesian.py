@@ -231,8 +231,9 @@ def test_lines_and_arcs_at_fixed_orientation(name):
         plan = cartesian.follow(robot, path, speed=0.05, dt=0.01, q_seed=q0)
         assert plan.ok, plan
         targets = path.position(plan.s)
-        for q, target in zip(plan.q, targets):
+        for q, target, tool in zip(plan.q, targets, plan.tool_positions):
             pose = robot.fk(q)
+            np.testing.assert_allclose(tool, pose.translation, rtol=0, atol=1e-14)
             assert np.linalg.norm(pose.translation - target) < 1e-4
             assert rotation_error(pose.rotation, rot) < 1e-4
         assert plan.max_deviation < 1e-6
