@@ -247,10 +247,14 @@ class _Tracker:
         z = J_dot.T @ y
         return qd, z + J.T @ lu.solve(xdd - J_dot @ qd - J @ z)
 
+    def is_singular(self, m: float) -> bool:
+        """Whether manipulability ``m`` is under the threshold (or 0: then no joint rates exist,
+        whatever the threshold)."""
+        return not m >= self.singular_threshold or m == 0.0
+
     def singular_event(self, k, t, s, m, position) -> Event | None:
-        """A "singular" event when the manipulability m is under the threshold (or 0: then no
-        joint rates exist, whatever the threshold)."""
-        if m >= self.singular_threshold and m > 0.0:
+        """A "singular" event when :meth:`is_singular` holds for the manipulability m."""
+        if not self.is_singular(m):
             return None
         return Event(
             "singular", float(t), float(s), k,
@@ -282,12 +286,10 @@ class _Tracker:
         over = np.flatnonzero((abs(qd) > self.speed_limit).any(axis=1))
         return int(over[0]) if len(over) else None
 
-    def speed_event(self, k, t, s, qd, position) -> Event | None:
-        """A "velocity_limit" event when a joint speed exceeds its (scaled) limit."""
-        over = abs(qd) / self.speed_limit
-        if over.max() <= 1.0:
-            return None
-        j = int(np.argmax(over))
+    def speed_event(self, k, t, s, qd, position) -> Event:
+        """The "velocity_limit" event of joint velocities ``qd`` (see :meth:`first_too_fast`),
+        for the joint furthest above its (scaled) limit."""
+        j = int(np.argmax(abs(qd) / self.speed_limit))
         name = self.robot.joint_names[j]
         return Event(
             "velocity_limit", float(t), float(s), k,
@@ -500,7 +502,7 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
             events.append(tracker.diagnose(k, t[k], s[k], guess, q_prev, positions[k], rotation))
             break
         m = tracker.factor(tracker.jacobian())
-        if not m >= tracker.singular_threshold or m == 0.0:  # as in singular_event
+        if tracker.is_singular(m):
             events.append(tracker.singular_event(k, t[k], s[k], m, positions[k]))
             break
         tool[k] = tracker.tool_position()

@@ -39,6 +39,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
+from operator import itemgetter
 
 import numpy as np
 
@@ -263,10 +264,6 @@ class _AxisPair:
             theta_b = free_b if b_free else math.atan2(sin_b + g * sin_b_g, cos_b + g * vn)
             out.append((theta_a, theta_b))
         return out
-
-
-def _first(item: tuple) -> float:
-    return item[0]
 
 
 #: Per joint: (reference, reference clipped into the limits, lower, upper, weight) [rad, –].
@@ -508,7 +505,7 @@ class PandaIK:
                 if c5 is not None and c6 is not None:
                     wrists.append((cost4 + c5[1] + c6[1], q4, c5[0], c6[0], turned))
         if prune:  # nearest first: its bound then cuts the most
-            wrists.sort(key=_first)
+            wrists.sort(key=itemgetter(0))
         for cost6, q4, q5, q6, (g3, ge) in wrists:
             if prune and cost6 >= bound:
                 break

@@ -143,18 +143,6 @@ def test_ur_singular_configurations(ur5, q):
     np.testing.assert_allclose(nearest, q, atol=1e-6)
 
 
-def test_ur_wrist_singularity_keeps_reference_theta6(ur5):
-    solver = solver_of("ur5")
-    q = np.array([0.4, -1.0, 1.2, 0.3, 0.0, 0.7])
-    target = ur5.fk(q)
-    for theta6 in (-2.5, 0.0, 1.9):
-        reference = q.copy()
-        reference[5] = theta6
-        nearest = solver.nearest(target.translation, target.rotation, reference)
-        assert nearest[5] == pytest.approx(theta6, abs=1e-12)
-        assert_solves(ur5, nearest[None], target)
-
-
 def test_nearest_is_the_solution_nearest_the_reference(ur5):
     solver = solver_of("ur5")
     rng = np.random.default_rng(3)
@@ -525,14 +513,17 @@ def test_fast_nearest_near_singularities(name, case, expected_path):
         )
 
 
-def test_fast_nearest_keeps_theta6_at_the_wrist_singularity(ur5):
+def test_ur_wrist_singularity_keeps_reference_theta6(ur5):
+    """At θ5 = 0 the single-pose and batch paths agree and keep the reference θ6."""
     solver = solver_of("ur5")
     q = np.array([0.4, -1.0, 1.2, 0.3, 0.0, 0.7])
     target = ur5.fk(q)
     for theta6 in (-2.5, 0.0, 1.9):
         reference = q.copy()
         reference[5] = theta6
-        assert assert_same_answer(solver, ur5, target, reference)[5] == theta6
+        nearest = assert_same_answer(solver, ur5, target, reference)
+        assert nearest[5] == theta6
+        assert_solves(ur5, nearest[None], target)
 
 
 @pytest.mark.parametrize("name", UR_ARMS)

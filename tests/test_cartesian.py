@@ -15,6 +15,11 @@ from kinplan.errors import InputError
 B_START = np.array([1.366, 1.366, 0.0])
 B_END = np.array([-1.366, 1.366, 0.0])
 LECTURE_SEED = np.radians([30.0, 30.0])
+#: Start configurations away from limits and singularities, for lines and arcs of the tool.
+COMFORTABLE_Q = {
+    "ur5": np.radians([0, -100, 100, -90, -90, 0]),
+    "panda": np.array([0, -0.3, 0, -2.2, 0, 2.0, 0.78]),
+}
 
 
 def rotation_error(a: np.ndarray, b: np.ndarray) -> float:
@@ -216,10 +221,7 @@ def test_joint_limit_is_reported():
 @pytest.mark.parametrize("name", ["ur5", "panda"])
 def test_lines_and_arcs_at_fixed_orientation(name):
     robot = kinplan.load_robot(name)
-    q0 = {
-        "ur5": np.radians([0, -100, 100, -90, -90, 0]),
-        "panda": np.array([0, -0.3, 0, -2.2, 0, 2.0, 0.78]),
-    }[name]
+    q0 = COMFORTABLE_Q[name]
     start = robot.fk(q0)
     rot = start.rotation
     offset = lambda d: pin.SE3(rot, start.translation + np.asarray(d))  # noqa: E731
@@ -245,10 +247,7 @@ def test_joint_rates_of_square_and_redundant_arms(name):
     """q̇ and q̈ (from one LU of J, or of JJᵀ for the 7-joint panda) against finite differences
     of q; the tool twist J q̇ against the path's; the panda's q̇ is the minimum-norm one."""
     robot = kinplan.load_robot(name)
-    q0 = {
-        "ur5": np.radians([0, -100, 100, -90, -90, 0]),
-        "panda": np.array([0, -0.3, 0, -2.2, 0, 2.0, 0.78]),
-    }[name]
+    q0 = COMFORTABLE_Q[name]
     start = robot.fk(q0)
     end = pin.SE3(pin.exp3(np.array([0.0, 0.0, 0.4])) @ start.rotation, start.translation)
     end.translation += np.array([0.05, 0.1, -0.05])
