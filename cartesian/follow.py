@@ -21,7 +21,7 @@ import pinocchio as pin
 from cartesian.paths import Path
 from cartesian.timing import PathTiming, time_path
 from kinplan.errors import InputError
-from kinplan.robot import Robot, manipulability_of
+from kinplan.robot import Robot, jacobian_time_variation, manipulability_of
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 #: Default singularity threshold, as a share of the arm's median manipulability.
@@ -161,13 +161,15 @@ class _Tracker:
         first, last = int(self.rows[0]), int(self.rows[-1])
         consecutive = np.array_equal(self.rows, np.arange(first, last + 1))
         self._row_index = slice(first, last + 1) if consecutive else self.rows
-        # Pinocchio's 6×nq matrices need neither a reshape (nq > 1) nor a row selection
-        self._all_rows = consecutive and (first, last) == (0, 5) and robot.nq > 1
+        self._all_rows = consecutive and (first, last) == (0, 5)
+        self._flat_jacobian = robot.nq == 1  # eigenpy gives a 1-D array for one column
+        rows, cols = len(self.rows), robot.nq
+        self._shape = (rows > cols) - (rows < cols)  # −1 wide, 0 square, 1 tall
+        self._full_rank = self.rank == min(rows, cols)
         self.tolerance, self.rotation_tolerance = tolerance, rotation_tolerance
         self.singular_threshold = singular_threshold
         self.speed_limit = robot.velocity_limit * velocity_scale
         self.jump_tolerance = jump_tolerance
-        self._zeros = np.zeros(robot.nq)
 
     def solve(self, guess, position, rotation, iterations: int = 12):
         return self.solver.descend(
@@ -175,38 +177,31 @@ class _Tracker:
         )
 
     def jacobian(self) -> np.ndarray:
-        """Task rows of the tool Jacobian at the last converged q (no new kinematics pass)."""
+        """Tool Jacobian (6, nq) at the last converged q (no new kinematics pass)."""
         J = pin.getFrameJacobian(self.model, self.data, self.fid, _LWA)
-        return J if self._all_rows else J.reshape(6, -1)[self._row_index]
+        return J.reshape(6, 1) if self._flat_jacobian else J
 
     def tool_position(self) -> tuple[float, float, float]:
         """Tool position [m] at the last converged q."""
         return self.solver.converged_position
 
-    def bias_acceleration(self, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-        """J̇q̇: the tool's classical acceleration at zero joint acceleration (task rows)."""
-        pin.forwardKinematics(self.model, self.data, q, qd, self._zeros)
-        acc = pin.getFrameClassicalAcceleration(self.model, self.data, self.fid, _LWA)
-        return acc.vector[self._row_index]
+    def factor(self, jacobian: np.ndarray) -> float:
+        """Factor the task rows J of a tool ``jacobian`` (6, nq) for :meth:`rates`; return the
+        manipulability.
 
-    def factor(self, J: np.ndarray) -> float:
-        """Factor the task Jacobian J for :meth:`rates`; return its manipulability.
-
-        One LU factorisation (partial pivoting) serves the joint velocities, the accelerations
-        and the manipulability: of J itself when it is square (manipulability |det J|), else
-        of the smaller Gram matrix JJᵀ or JᵀJ (manipulability √det). A structurally
-        rank-deficient task falls back to the pseudo-inverse. An exactly singular J gives 0.
+        One LU factorisation (partial pivoting) serves the joint velocities and the
+        manipulability: of J itself when it is square (manipulability |det J|), else of the
+        smaller Gram matrix JJᵀ or JᵀJ (manipulability √det). A structurally rank-deficient
+        task falls back to the pseudo-inverse. An exactly singular J gives 0.
         """
-        self._J = J
-        rows, cols = J.shape
-        self._shape = (rows > cols) - (rows < cols)  # −1 wide, 0 square, 1 tall
-        if self.rank != min(rows, cols):
+        J = self._J = jacobian if self._all_rows else jacobian[self._row_index]
+        if not self._full_rank:
             self._lu = None
             return manipulability_of(J, self.rank)
         if self._shape == 0:
             self._lu = eigenpy.PartialPivLU(J)
             return abs(self._lu.determinant())
-        self._lu = eigenpy.PartialPivLU(J @ J.T if self._shape < 0 else J.T @ J)
+        self._lu = eigenpy.PartialPivLU(J.dot(J.T) if self._shape < 0 else J.T.dot(J))
         return math.sqrt(max(self._lu.determinant(), 0.0))
 
     def rates(self, b: np.ndarray) -> np.ndarray:
@@ -217,35 +212,30 @@ class _Tracker:
             return np.linalg.pinv(J) @ b
         if shape == 0:
             return lu.solve(b)
-        return J.T @ lu.solve(b) if shape < 0 else lu.solve(J.T @ b)
+        return lu.solve(b).dot(J) if shape < 0 else lu.solve(b.dot(J))
 
-    def joint_rates(
-        self, q: np.ndarray, xd: np.ndarray, xdd: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """q̇ = J⁺ẋ [rad/s] and q̈ = dq̇/dt [rad/s²] at ``q`` for the last factored J.
+    def accelerations(self, jacobians: np.ndarray, qd: np.ndarray, xdd: np.ndarray) -> np.ndarray:
+        """q̈ = dq̇/dt [rad/s²] of the rates q̇ = J⁺ẋ, at many samples at once.
 
-        Square or tall J: q̈ = J⁺(ẍ − J̇q̇). Redundant arms (wide J, full row rank): q̇ is the
-        minimum-norm rate, and its time derivative has a null-space part as well,
-        q̈ = J⁺(ẍ − J̇q̇) + (I − J⁺J) J̇ᵀy with y = (JJᵀ)⁻¹ẋ, computed as
-        z + J⁺(ẍ − J̇q̇ − Jz) with z = J̇ᵀy, J̇ from Pinocchio's Jacobian time variation.
+        q̈ = J⁺(ẍ − J̇q̇) + (I − J⁺J) J̇ᵀJ⁺ᵀq̇, computed as z + J⁺(ẍ − J̇q̇ − Jz) with
+        z = J̇ᵀJ⁺ᵀq̇. The second term is the null-space part of the derivative of a redundant
+        arm's minimum-norm rate; it vanishes when J has full column rank (square or tall J).
+        J̇ comes from the Jacobians and the rates (:func:`~kinplan.robot.jacobian_time_variation`):
+        no kinematics pass.
 
         Args:
-            q: Configuration of the last factored J.
-            xd: Task velocity ẋ (task rows: [m/s; rad/s]).
-            xdd: Task acceleration ẍ (the tool origin's classical acceleration [m/s²]; rad/s²).
+            jacobians: Tool Jacobians (N, 6, nq) of the samples (:meth:`jacobian`).
+            qd: Joint velocities (N, nq) [rad/s] there.
+            xdd: Task accelerations (N, r): the tool origin's classical acceleration [m/s²] and
+                the angular acceleration [rad/s²], in the task rows.
         """
-        J, lu = self._J, self._lu
-        if lu is None or self._shape >= 0:
-            qd = self.rates(xd)
-            return qd, self.rates(xdd - self.bias_acceleration(q, qd))
-        y = lu.solve(xd)
-        qd = J.T @ y
-        pin.computeJointJacobiansTimeVariation(self.model, self.data, q, qd)
-        J_dot = pin.getFrameJacobianTimeVariation(self.model, self.data, self.fid, _LWA)
+        J_dot = jacobian_time_variation(jacobians, qd)
+        J = jacobians
         if not self._all_rows:
-            J_dot = J_dot.reshape(6, -1)[self._row_index]
-        z = J_dot.T @ y
-        return qd, z + J.T @ lu.solve(xdd - J_dot @ qd - J @ z)
+            J_dot, J = J_dot[:, self.rows], J[:, self.rows]
+        pinv = _pseudo_inverses(J, self.rank)
+        z = _matvec(J_dot.transpose(0, 2, 1), _matvec(pinv.transpose(0, 2, 1), qd))
+        return z + _matvec(pinv, xdd - _matvec(J_dot, qd) - _matvec(J, z))
 
     def is_singular(self, m: float) -> bool:
         """Whether manipulability ``m`` is under the threshold (or 0: then no joint rates exist,
@@ -350,6 +340,25 @@ class _Tracker:
 
 def _where(position: np.ndarray) -> str:
     return "(" + ", ".join(f"{x:.4f}" for x in position) + ") m"
+
+
+def _matvec(A: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """A x for stacks of matrices (N, r, c) and vectors (N, c)."""
+    return (A @ x[:, :, None])[:, :, 0]
+
+
+def _pseudo_inverses(J: np.ndarray, rank: int) -> np.ndarray:
+    """Pseudo-inverses J⁺ (N, c, r) of a stack of task Jacobians (N, r, c) of the given rank:
+    from the inverse of J or of its smaller Gram matrix when the rank is full, else by SVD."""
+    rows, cols = J.shape[1:]
+    J_t = J.transpose(0, 2, 1)
+    if rank == rows == cols:
+        return np.linalg.inv(J)
+    if rank == rows:
+        return J_t @ np.linalg.inv(J @ J_t)
+    if rank == cols:
+        return np.linalg.inv(J_t @ J) @ J_t
+    return np.linalg.pinv(J)
 
 
 def reference_manipulability(robot: Robot, position_only: bool) -> float:
@@ -477,36 +486,36 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
     n, nq = len(t), robot.nq
 
     targets = _targets(path, s, position_only, tracker.rows)
-    positions, rotations = targets.positions, targets.rotations
+    positions = targets.positions
+    rotations = [None] * n if targets.rotations is None else list(targets.rotations)
     xd = targets.rate * sd[:, None]  # task velocity ẋ = x' ṡ
     xdd = targets.curvature * (sd**2)[:, None] + targets.rate * sdd[:, None]  # x'' ṡ² + x' s̈
 
-    q_out = np.empty((n, nq))
-    qd_out = np.empty((n, nq))
-    qdd_out = np.empty((n, nq))
-    tool = np.empty((n, 3))
-    manip = np.empty(n)
+    # per sample: IK, Jacobian, manipulability, q̇ (for the next prediction); q̈ after the loop
+    qs, qds, jacobians, tools, manips = [], [], [], [], []
     events: list[Event] = []
-    q_prev = qd_prev = qdd_prev = None
+    q_prev = qd_prev = qd_before = None
     steps = np.diff(t, prepend=0.0).tolist()  # h_k = t_k − t_(k−1) [s]
-    done = 0
     for k in range(n):
-        rotation = None if rotations is None else rotations[k]
         if k == 0:
-            guess = tracker.start(positions[0], rotation, seed)
-        else:
+            guess = tracker.start(positions[0], rotations[0], seed)
+        elif qd_before is None:
+            guess = q_prev + steps[k] * qd_prev
+        else:  # two-step Adams–Bashforth on q̇: q + h q̇ + (h²/2) (q̇ − q̇_before)/h_prev
             h = steps[k]
-            guess = q_prev + (qd_prev + (0.5 * h) * qdd_prev) * h
-        q, ok, _, _, corrections = tracker.solve(guess, positions[k], rotation)
+            guess = q_prev + (qd_prev + (0.5 * h / steps[k - 1]) * (qd_prev - qd_before)) * h
+        q, ok, _, _, corrections = tracker.solve(guess, positions[k], rotations[k])
         if not ok:
-            events.append(tracker.diagnose(k, t[k], s[k], guess, q_prev, positions[k], rotation))
+            events.append(
+                tracker.diagnose(k, t[k], s[k], guess, q_prev, positions[k], rotations[k])
+            )
             break
-        m = tracker.factor(tracker.jacobian())
+        J = tracker.jacobian()
+        m = tracker.factor(J)
         if tracker.is_singular(m):
             events.append(tracker.singular_event(k, t[k], s[k], m, positions[k]))
             break
-        tool[k] = tracker.tool_position()
-        qd, qdd = tracker.joint_rates(q, xd[k], xdd[k])
+        qd = tracker.rates(xd[k])
         if corrections:  # an uncorrected prediction (q = guess) cannot jump
             event = tracker.jump_event(
                 k, t[k], s[k], q, q_prev, qd, qd_prev, steps[k], positions[k]
@@ -514,38 +523,49 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
             if event is not None:
                 events.append(event)
                 break
-        q_out[k], qd_out[k], qdd_out[k], manip[k] = q, qd, qdd, m
-        q_prev, qd_prev, qdd_prev = q, qd, qdd
-        done = k + 1
+        qs.append(q)
+        qds.append(qd)
+        jacobians.append(J)
+        tools.append(tracker.tool_position())
+        manips.append(m)
+        q_prev, qd_prev, qd_before = q, qd, qd_prev
 
+    done = len(qs)
+    q_out = np.array(qs).reshape(done, nq)
+    qd_out = np.array(qds).reshape(done, nq)
     # joint speeds are checked once, vectorised; a sample too fast comes before any event the
     # loop stopped at (those stop the loop at index `done`), so it is the first event
-    too_fast = tracker.first_too_fast(qd_out[:done])
+    too_fast = tracker.first_too_fast(qd_out)
     if too_fast is not None:
         k = too_fast
         events = [tracker.speed_event(k, t[k], s[k], qd_out[k], positions[k])]
         done = k
+    q_out, qd_out = q_out[:done], qd_out[:done]
+    jacobian_stack = np.array(jacobians[:done]).reshape(done, 6, nq)
+    qdd_out = tracker.accelerations(jacobian_stack, qd_out, xdd[:done])
+    tool = np.array(tools[:done]).reshape(done, 3)
+    manip = np.array(manips[:done])
 
     ok = not events
-    deviation = np.linalg.norm(tool[:done] - positions[:done], axis=1)
+    deviation = np.linalg.norm(tool - positions[:done], axis=1)
     return CartesianPlan(
         t=t[:done].copy(),
-        q=q_out[:done],
-        qd=qd_out[:done],
-        qdd=qdd_out[:done],
+        q=q_out,
+        qd=qd_out,
+        qdd=qdd_out,
         s=s[:done].copy(),
         ok=ok,
         status="ok" if ok else events[0].kind,
         fraction=1.0 if ok else (float(s[done - 1]) if done else 0.0),
         events=events,
         max_deviation=float(deviation.max()) if done else 0.0,
-        min_manipulability=float(manip[:done].min()) if done else 0.0,
+        min_manipulability=float(manip.min()) if done else 0.0,
         duration=float(timing.duration),
         path=path,
         position_only=position_only,
         singular_threshold=float(tracker.singular_threshold),
-        tool_positions=tool[:done],
-        manipulability=manip[:done],
+        tool_positions=tool,
+        manipulability=manip,
     )
 
 

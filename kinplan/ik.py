@@ -197,7 +197,7 @@ class IKSolver:
             if rotation is not None:
                 er = pin.log3(rotation @ pose.rotation.T)
                 e[3:] = er
-                rerr2 = float(er @ er)
+                rerr2 = float(er.dot(er))
             else:
                 rerr2 = 0.0
             if it == max_iterations:
@@ -210,9 +210,9 @@ class IKSolver:
                 if stalled >= STALL_ITERATIONS:
                     break
             J = pin.getFrameJacobian(model, data, fid, _LWA).reshape(6, -1)[:rows]
-            A = J.T @ J
+            A = J.T.dot(J)
             A[diagonal] += DAMPING_GAIN * cost + DAMPING_FLOOR
-            g = J.T @ e[:rows]
+            g = e[:rows].dot(J)
             dq = eigenpy.LLT(A).solve(g)
             if touching:
                 # Joints at a limit that the step pushes outwards leave the step (active

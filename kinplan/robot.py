@@ -362,6 +362,43 @@ def manipulability_of(J: np.ndarray, rank: int) -> float:
     return float(np.prod(sv[:rank]))
 
 
+def jacobian_time_variation(J: np.ndarray, qd: np.ndarray) -> np.ndarray:
+    """J̇ of serial-chain tool Jacobians from the Jacobians and joint velocities alone (stacked).
+
+    For the world-aligned tool Jacobian of a chain of 1-dof revolute and prismatic joints, as
+    :meth:`Robot.jacobian` gives it (columns base to tip; rows [linear v; angular w]), column i
+    changes at the rate
+        ẇ_i = ω_i × w_i,    v̇_i = ω_i × v_i + w_i × Σ_(j ≥ i) q̇_j v_j,
+    with ω_i = Σ_(j < i) q̇_j w_j the angular velocity of the link that carries joint i (the tool
+    point's velocity relative to joint i's axis is ω_i × r_i + Σ_(j ≥ i) q̇_j v_j, and the Jacobi
+    identity folds the two terms with r_i into ω_i × v_i). This is what Pinocchio's
+    ``getFrameJacobianTimeVariation`` gives in ``LOCAL_WORLD_ALIGNED``, computed for many
+    samples at once with no kinematics pass.
+
+    Args:
+        J: Tool Jacobians, shape (..., 6, nq).
+        qd: Joint velocities [rad/s or m/s], shape (..., nq).
+
+    Returns:
+        J̇, shape (..., 6, nq) (per second).
+    """
+    v, w = J[..., :3, :], J[..., 3:, :]
+    w_qd = w * qd[..., None, :]
+    omega = np.cumsum(w_qd, axis=-1) - w_qd  # Σ over the joints before each column
+    v_qd = v * qd[..., None, :]
+    sigma = np.cumsum(v_qd[..., ::-1], axis=-1)[..., ::-1]  # Σ over the column and after
+    return np.concatenate(
+        [_cross_rows(omega, v) + _cross_rows(w, sigma), _cross_rows(omega, w)], axis=-2
+    )
+
+
+def _cross_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross products of the columns of two stacks of 3-row matrices (..., 3, n)."""
+    a0, a1, a2 = a[..., 0, :], a[..., 1, :], a[..., 2, :]
+    b0, b1, b2 = b[..., 0, :], b[..., 1, :], b[..., 2, :]
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-2)
+
+
 def parse_target(
     target: pin.SE3 | Sequence[float] | np.ndarray, what: str = "an IK target"
 ) -> tuple[np.ndarray, np.ndarray | None]:

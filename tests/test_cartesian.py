@@ -8,6 +8,7 @@ import pytest
 
 import cartesian
 import kinplan
+from cartesian.follow import _pseudo_inverses
 from cartesian.timing import time_path
 from kinplan import trajectory
 from kinplan.errors import InputError
@@ -242,10 +243,13 @@ def test_lines_and_arcs_at_fixed_orientation(name):
         assert np.all(np.abs(plan.qd) <= robot.velocity_limit)
 
 
-@pytest.mark.parametrize("name", ["ur5", "panda"])
-def test_joint_rates_of_square_and_redundant_arms(name):
-    """q̇ and q̈ (from one LU of J, or of JJᵀ for the 7-joint panda) against finite differences
-    of q; the tool twist J q̇ against the path's; the panda's q̇ is the minimum-norm one."""
+@pytest.mark.parametrize(
+    ("name", "position_only"), [("ur5", False), ("panda", False), ("ur5", True)]
+)
+def test_joint_rates_of_square_and_redundant_arms(name, position_only):
+    """q̇ (from one LU of J, or of JJᵀ for a redundant task) and q̈ (stacked, from J̇ of J and q̇)
+    against finite differences of q; the tool motion J q̇ against the path's; the redundant tasks'
+    q̇ (panda; ur5 position only) is the minimum-norm one, and q̈ its exact derivative."""
     robot = kinplan.load_robot(name)
     q0 = COMFORTABLE_Q[name]
     start = robot.fk(q0)
@@ -260,6 +264,7 @@ def test_joint_rates_of_square_and_redundant_arms(name):
         profile="quintic",
         dt=0.001,
         q_seed=q0,
+        position_only=position_only,
         tolerance=1e-11,
         rotation_tolerance=1e-11,
     )
@@ -270,17 +275,29 @@ def test_joint_rates_of_square_and_redundant_arms(name):
     assert np.abs(qdd_fd[2:-2] - plan.qdd[2:-2]).max() < 1e-4 * np.abs(plan.qdd).max()
     tau = plan.t
     s_dot = 30 * tau**2 - 60 * tau**3 + 30 * tau**4  # the quintic time law over 1 s
+    rows = 3 if position_only else 6
     for k in range(1, len(plan.t) - 1, 97):
-        J = robot.jacobian(plan.q[k])
+        J = robot.jacobian(plan.q[k])[:rows]
         twist = np.concatenate(
             [
                 (end.translation - start.translation) * s_dot[k],
                 line.angular_rates(plan.s[k : k + 1])[0][0] * s_dot[k],
             ]
-        )
+        )[:rows]
         np.testing.assert_allclose(J @ plan.qd[k], twist, atol=1e-5 * np.abs(twist).max())
         # minimum norm: no component in the null space of J
         np.testing.assert_allclose(np.linalg.pinv(J) @ (J @ plan.qd[k]), plan.qd[k], atol=1e-10)
+
+
+def test_stacked_pseudo_inverses_of_every_shape_and_rank():
+    """The pseudo-inverses behind the stacked accelerations against numpy's SVD pseudo-inverse:
+    square, wide and tall of full rank (from the Gram matrices), and rank-deficient."""
+    rng = np.random.default_rng(3)
+    for rows, cols, rank in ((6, 6, 6), (6, 7, 6), (3, 6, 3), (3, 2, 2), (3, 4, 2), (4, 3, 2)):
+        J = rng.normal(size=(5, rows, rank)) @ rng.normal(size=(5, rank, cols))
+        np.testing.assert_allclose(
+            _pseudo_inverses(J, rank), np.linalg.pinv(J), rtol=1e-9, atol=1e-12
+        )
 
 
 def wrist_path(ur5):

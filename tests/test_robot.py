@@ -13,6 +13,7 @@ import pytest
 import yourdfpy
 
 import kinplan
+from kinplan.robot import jacobian_time_variation
 from tests.conftest import cached_robot
 
 ARMS = ["planar_2r", "ur3", "ur5", "ur10", "panda"]
@@ -221,3 +222,51 @@ def test_pose_and_jacobian_in_one_pass(panda):
     pose, J = panda.pose_and_jacobian(q)
     np.testing.assert_array_equal(pose.homogeneous, panda.fk(q).homogeneous)
     np.testing.assert_allclose(J, panda.jacobian(q), atol=1e-15)
+
+
+MIXED_JOINTS_URDF = """<robot name="mixed">
+  <link name="base"/><link name="a"/><link name="b"/><link name="c"/><link name="d"/>
+  <link name="tool"/>
+  <joint name="slide" type="prismatic"><parent link="base"/><child link="a"/>
+    <origin xyz="0.1 0 0.2" rpy="0.3 0 0"/><axis xyz="0 0.6 0.8"/>
+    <limit lower="-0.5" upper="0.5" effort="1" velocity="1"/></joint>
+  <joint name="turn" type="revolute"><parent link="a"/><child link="b"/>
+    <origin xyz="0 0.2 0.1" rpy="0 0.2 0.1"/><axis xyz="0.48 0.6 0.64"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="lift" type="prismatic"><parent link="b"/><child link="c"/>
+    <origin xyz="0.3 0 0" rpy="0 0 0.4"/><axis xyz="0 0 1"/>
+    <limit lower="-0.5" upper="0.5" effort="1" velocity="1"/></joint>
+  <joint name="bend" type="revolute"><parent link="c"/><child link="d"/>
+    <origin xyz="0 0 0.25" rpy="0.1 0 0"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="flange" type="fixed"><parent link="d"/><child link="tool"/>
+    <origin xyz="0.15 0.05 0.1" rpy="0 0.5 0"/></joint>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("name", [*ARMS, "mixed"])
+def test_jacobian_time_variation_matches_pinocchio_and_finite_differences(name, tmp_path):
+    """J̇ from J and q̇ alone (stacked) against Pinocchio's getFrameJacobianTimeVariation to
+    1e-13, and against central differences of J along q̇ to 1e-6; the "mixed" arm has prismatic
+    joints and axes that are not along x, y or z."""
+    if name == "mixed":
+        (tmp_path / "mixed.urdf").write_text(MIXED_JOINTS_URDF)
+        robot = kinplan.load_robot(tmp_path / "mixed.urdf", tip="tool")
+    else:
+        robot = cached_robot(name)
+    rng = np.random.default_rng(7)
+    qs = np.array([robot.random_configuration(rng) for _ in range(6)])
+    qds = rng.normal(size=qs.shape)
+    jacobians = np.array([robot.jacobian(q) for q in qs])
+    J_dot = jacobian_time_variation(jacobians, qds)
+    model, data = robot.model, robot.model.createData()
+    h = 1e-6
+    for q, qd, result in zip(qs, qds, J_dot):
+        pin.computeJointJacobiansTimeVariation(model, data, q, qd)
+        expected = pin.getFrameJacobianTimeVariation(
+            model, data, robot.tip_id, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+        ).reshape(6, robot.nq)
+        np.testing.assert_allclose(result, expected, rtol=0, atol=1e-13)
+        finite = (robot.jacobian(q + h * qd) - robot.jacobian(q - h * qd)) / (2 * h)
+        np.testing.assert_allclose(result, finite, rtol=0, atol=1e-6)
