@@ -219,7 +219,8 @@ class _Tracker:
 
         q̈ = J⁺(ẍ − J̇q̇) + (I − J⁺J) J̇ᵀJ⁺ᵀq̇, computed as z + J⁺(ẍ − J̇q̇ − Jz) with
         z = J̇ᵀJ⁺ᵀq̇. The second term is the null-space part of the derivative of a redundant
-        arm's minimum-norm rate; it vanishes when J has full column rank (square or tall J).
+        arm's minimum-norm rate; it vanishes (and is skipped) when J has full column rank
+        (square or tall J).
         J̇ comes from the Jacobians and the rates (:func:`~kinplan.robot.jacobian_time_variation`):
         no kinematics pass.
 
@@ -234,8 +235,11 @@ class _Tracker:
         if not self._all_rows:
             J_dot, J = J_dot[:, self.rows], J[:, self.rows]
         pinv = _pseudo_inverses(J, self.rank)
+        b = xdd - _matvec(J_dot, qd)
+        if self.rank == J.shape[2]:  # full column rank: no null space
+            return _matvec(pinv, b)
         z = _matvec(J_dot.transpose(0, 2, 1), _matvec(pinv.transpose(0, 2, 1), qd))
-        return z + _matvec(pinv, xdd - _matvec(J_dot, qd) - _matvec(J, z))
+        return z + _matvec(pinv, b - _matvec(J, z))
 
     def is_singular(self, m: float) -> bool:
         """Whether manipulability ``m`` is under the threshold (or 0: then no joint rates exist,
@@ -359,6 +363,17 @@ def _pseudo_inverses(J: np.ndarray, rank: int) -> np.ndarray:
     if rank == cols:
         return np.linalg.inv(J_t @ J) @ J_t
     return np.linalg.pinv(J)
+
+
+def _adams_bashforth_weights(steps: np.ndarray) -> list[tuple[float, float]]:
+    """Weights (a_k, b_k) of the two-step Adams–Bashforth prediction q_k ≈ q_(k−1) +
+    a_k q̇_(k−1) + b_k q̇_(k−2), for steps h_k = t_k − t_(k−1) [s] (``steps`` are h_1, h_2, ...):
+    q + h q̇ + (h²/2) q̈ with q̈ ≈ (q̇_(k−1) − q̇_(k−2)) / h_(k−1). Entry k of the list is for
+    sample k (entries 0 and 1 are unused)."""
+    h = np.concatenate([[np.nan, np.nan], steps[1:]])
+    h_prev = np.concatenate([[np.nan, np.nan], steps[:-1]])
+    ratio = 0.5 * h / h_prev
+    return list(zip((h * (1.0 + ratio)).tolist(), (-h * ratio).tolist()))
 
 
 def reference_manipulability(robot: Robot, position_only: bool) -> float:
@@ -496,14 +511,15 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
     events: list[Event] = []
     q_prev = qd_prev = qd_before = None
     steps = np.diff(t, prepend=0.0).tolist()  # h_k = t_k − t_(k−1) [s]
+    weights = _adams_bashforth_weights(np.diff(t))
     for k in range(n):
         if k == 0:
             guess = tracker.start(positions[0], rotations[0], seed)
         elif qd_before is None:
-            guess = q_prev + steps[k] * qd_prev
-        else:  # two-step Adams–Bashforth on q̇: q + h q̇ + (h²/2) (q̇ − q̇_before)/h_prev
-            h = steps[k]
-            guess = q_prev + (qd_prev + (0.5 * h / steps[k - 1]) * (qd_prev - qd_before)) * h
+            guess = q_prev + qd_prev * steps[k]
+        else:
+            w_prev, w_before = weights[k]
+            guess = q_prev + qd_prev * w_prev + qd_before * w_before
         q, ok, _, _, corrections = tracker.solve(guess, positions[k], rotations[k])
         if not ok:
             events.append(
