@@ -1110,7 +1110,7 @@ class URIK(_ClosedFormIK):
         if position.shape != (3,) or rotation.shape != (3, 3):
             raise _NeedsBatch
         position_list = position.tolist()
-        values = (self._fast.matrix @ rotation.reshape(9)).tolist()
+        values = self._fast.matrix.dot(rotation.reshape(9)).tolist()
         # a NaN or inf anywhere in R reaches some value (the matrix has no zero column)
         if not math.isfinite(sum(position_list) + sum(values)):
             raise _NeedsBatch

@@ -164,7 +164,7 @@ class Robot:
                 f"{what} must hold {self.nq} joint values for {self.name} "
                 f"({', '.join(self.joint_names)}), got shape {arr.shape}"
             )
-        if not math.isfinite(arr.sum()):  # a sum is finite only when every term is
+        if not math.isfinite(sum(arr.tolist())):  # finite only when every term is (floats: fast)
             raise InputError(f"{what} must be finite, got {arr}")
         return arr
 
