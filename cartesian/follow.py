@@ -21,6 +21,7 @@ import pinocchio as pin
 from cartesian.paths import Path
 from cartesian.timing import PathTiming, time_path
 from kinplan.errors import InputError
+from kinplan.ik import frobenius_tolerance
 from kinplan.robot import Robot, jacobian_time_variation, manipulability_of
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
@@ -167,6 +168,7 @@ class _Tracker:
         self._shape = (rows > cols) - (rows < cols)  # −1 wide, 0 square, 1 tall
         self._full_rank = self.rank == min(rows, cols)
         self.tolerance, self.rotation_tolerance = tolerance, rotation_tolerance
+        self._tolerances2 = (tolerance * tolerance, frobenius_tolerance(rotation_tolerance))
         self.singular_threshold = singular_threshold
         self.speed_limit = robot.velocity_limit * velocity_scale
         self.jump_tolerance = jump_tolerance
@@ -175,6 +177,20 @@ class _Tracker:
         return self.solver.descend(
             guess, position, rotation, self.tolerance, self.rotation_tolerance, iterations
         )
+
+    def accepts(
+        self, guess: np.ndarray, position: list[float], rotation: list[float] | None
+    ) -> np.ndarray | None:
+        """``guess`` clamped into the joint limits when the tool there already meets the
+        tolerances (one kinematics pass, left for :meth:`jacobian`), else None.
+
+        Args:
+            guess: Predicted configuration.
+            position: Target tool position [m], 3 floats.
+            rotation: Target tool rotation, 9 floats (row-major), or None (position only).
+        """
+        q = np.minimum(np.maximum(guess, self.robot.lower), self.robot.upper)
+        return q if self.solver.accepts(q, position, rotation, *self._tolerances2) else None
 
     def jacobian(self) -> np.ndarray:
         """Tool Jacobian (6, nq) at the last converged q (no new kinematics pass)."""
@@ -501,8 +517,12 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
     n, nq = len(t), robot.nq
 
     targets = _targets(path, s, position_only, tracker.rows)
-    positions = targets.positions
-    rotations = [None] * n if targets.rotations is None else list(targets.rotations)
+    positions, position_floats = targets.positions, targets.positions.tolist()
+    if targets.rotations is None:
+        rotations = rotation_floats = [None] * n
+    else:
+        rotations = list(targets.rotations)
+        rotation_floats = targets.rotations.reshape(n, 9).tolist()
     xd = targets.rate * sd[:, None]  # task velocity ẋ = x' ṡ
     xdd = targets.curvature * (sd**2)[:, None] + targets.rate * sdd[:, None]  # x'' ṡ² + x' s̈
 
@@ -520,12 +540,15 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
         else:
             w_prev, w_before = weights[k]
             guess = q_prev + qd_prev * w_prev + qd_before * w_before
-        q, ok, _, _, corrections = tracker.solve(guess, positions[k], rotations[k])
-        if not ok:
-            events.append(
-                tracker.diagnose(k, t[k], s[k], guess, q_prev, positions[k], rotations[k])
-            )
-            break
+        # most predictions are within tolerance: one kinematics pass, else Newton steps
+        q, corrections = tracker.accepts(guess, position_floats[k], rotation_floats[k]), 0
+        if q is None:
+            q, ok, _, _, corrections = tracker.solve(guess, positions[k], rotations[k])
+            if not ok:
+                events.append(
+                    tracker.diagnose(k, t[k], s[k], guess, q_prev, positions[k], rotations[k])
+                )
+                break
         J = tracker.jacobian()
         m = tracker.factor(J)
         if tracker.is_singular(m):

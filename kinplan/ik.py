@@ -87,6 +87,12 @@ def _angle_of(frobenius2: float) -> float:
     return 2.0 * math.asin(min(math.sqrt(frobenius2) / _SQRT8, 1.0))
 
 
+def frobenius_tolerance(rotation_tolerance: float) -> float:
+    """‖R* − R‖_F² of a rotation error of ``rotation_tolerance`` [rad]: 8 sin²(θ/2), the rotation
+    test of :meth:`IKSolver.accepts` in plain floats."""
+    return 8.0 * math.sin(0.5 * min(rotation_tolerance, math.pi)) ** 2
+
+
 def halton(index: int, dim: int) -> np.ndarray:
     """Point ``index`` (≥ 1) of the Halton low-discrepancy sequence in [0, 1)^dim."""
     out = np.empty(dim)
@@ -125,6 +131,7 @@ class IKSolver:
         self._no_upper = np.full(model.nq, np.inf)
         self._restarts: np.ndarray = np.empty((0, model.nq))
         self.converged_position: tuple[float, float, float] = (math.nan,) * 3
+        self.differences: tuple[float, float, float, float] = (math.nan,) * 4
 
     def restart_configuration(self, attempt: int) -> np.ndarray:
         """Start of restart ``attempt`` (≥ 1): a Halton point spread over the joint limits."""
@@ -144,6 +151,42 @@ class IKSolver:
         target_rotation = None if rotation is None else rotation.reshape(9).tolist()
         dx, dy, dz, frobenius2 = _pose_differences(pose, position.tolist(), target_rotation)
         return math.sqrt(dx * dx + dy * dy + dz * dz), _angle_of(frobenius2)
+
+    def accepts(
+        self,
+        q: np.ndarray,
+        position: list[float],
+        rotation: list[float] | None,
+        position_tolerance2: float,
+        frobenius_tolerance2: float,
+    ) -> bool:
+        """Whether the tool at ``q`` is within the tolerances of a target: one kinematics pass.
+
+        The test in plain floats that :meth:`descend` makes at every iterate, for a caller that
+        has a good guess (the next sample of a path). Afterwards ``self.data`` holds the
+        kinematics and joint Jacobians at q, ``self.differences`` the target minus the pose
+        (:func:`_pose_differences`) and, when it accepts, ``self.converged_position`` the tool
+        position [m].
+
+        Args:
+            q: Configuration within the joint limits.
+            position: Target tool position [m], 3 floats.
+            rotation: Target tool rotation, 9 floats (row-major), or None (position only).
+            position_tolerance2: Square of the position tolerance [m²].
+            frobenius_tolerance2: ‖R* − R‖_F² of the rotation tolerance
+                (:func:`frobenius_tolerance`).
+        """
+        pin.computeJointJacobians(self.model, self.data, q)
+        pose = pin.updateFramePlacement(self.model, self.data, self.frame_id)
+        self.differences = dx, dy, dz, frobenius2 = _pose_differences(pose, position, rotation)
+        if (
+            dx * dx + dy * dy + dz * dz <= position_tolerance2
+            and frobenius2 <= frobenius_tolerance2
+        ):
+            px, py, pz = position
+            self.converged_position = (px - dx, py - dy, pz - dz)
+            return True
+        return False
 
     def descend(
         self,
@@ -175,27 +218,25 @@ class IKSolver:
         diagonal = self._diagonal
         e = None  # the error vector, made when a step is needed
         position_tolerance2 = position_tolerance * position_tolerance
-        # the convergence test in plain floats, on ‖R* − R‖_F² = 8 sin²(θ/2)
+        frobenius_tolerance2 = frobenius_tolerance(rotation_tolerance)
         target_position = position.tolist()
         target_rotation = None if rotation is None else rotation.reshape(9).tolist()
-        frobenius_tolerance2 = 8.0 * math.sin(0.5 * min(rotation_tolerance, math.pi)) ** 2
         best_cost = np.inf
         stalled = 0
         perr2 = rerr2 = np.inf
         for it in range(max_iterations + 1):
-            pin.computeJointJacobians(model, data, q)
-            pose = pin.updateFramePlacement(model, data, fid)
-            dx, dy, dz, frobenius2 = _pose_differences(pose, target_position, target_rotation)
+            converged = self.accepts(
+                q, target_position, target_rotation, position_tolerance2, frobenius_tolerance2
+            )
+            dx, dy, dz, frobenius2 = self.differences
             perr2 = dx * dx + dy * dy + dz * dz
-            if perr2 <= position_tolerance2 and frobenius2 <= frobenius_tolerance2:
-                px, py, pz = target_position
-                self.converged_position = (px - dx, py - dy, pz - dz)
+            if converged:
                 return q, True, math.sqrt(perr2), _angle_of(frobenius2), it
             if e is None:
                 e = np.zeros(6)
             e[:3] = (dx, dy, dz)
             if rotation is not None:
-                er = pin.log3(rotation @ pose.rotation.T)
+                er = pin.log3(rotation @ data.oMf[fid].rotation.T)
                 e[3:] = er
                 rerr2 = float(er.dot(er))
             else:
