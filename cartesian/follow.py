@@ -173,10 +173,12 @@ class _Tracker:
         self.speed_limit = robot.velocity_limit * velocity_scale
         self.jump_tolerance = jump_tolerance
 
-    def solve(self, guess, position, rotation, iterations: int = 12):
+    def solve(self, guess, position, rotation, evaluated: bool = False):
+        """Newton steps from ``guess`` (``evaluated``: see :meth:`IKSolver.descend`)."""
         return self.solver.descend(
-            guess, position, rotation, self.tolerance, self.rotation_tolerance, iterations
-        )
+            guess, position, rotation, self.tolerance, self.rotation_tolerance, 12,
+            evaluated=evaluated,
+        )  # fmt: skip
 
     def accepts(
         self, guess: np.ndarray, position: list[float], rotation: list[float] | None
@@ -543,7 +545,9 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
         # most predictions are within tolerance: one kinematics pass, else Newton steps
         q, corrections = tracker.accepts(guess, position_floats[k], rotation_floats[k]), 0
         if q is None:
-            q, ok, _, _, corrections = tracker.solve(guess, positions[k], rotations[k])
+            q, ok, _, _, corrections = tracker.solve(
+                guess, positions[k], rotations[k], evaluated=True
+            )
             if not ok:
                 events.append(
                     tracker.diagnose(k, t[k], s[k], guess, q_prev, positions[k], rotations[k])

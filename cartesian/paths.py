@@ -66,8 +66,7 @@ class Slerp:
 
     def __init__(self, start: np.ndarray, end: np.ndarray):
         self.start = np.array(start, dtype=float)
-        self.end = np.array(end, dtype=float)
-        self.local_axis = pin.log3(self.start.T @ self.end)
+        self.local_axis = pin.log3(self.start.T @ np.asarray(end, dtype=float))
         self.world_rate = self.start @ self.local_axis  # [rad per unit s], constant
 
     @property
@@ -154,10 +153,6 @@ class Path:
     @property
     def end(self) -> pin.SE3:
         return self.pose(1.0)
-
-    def then(self, other: Path) -> PathSequence:
-        """This path followed by ``other`` (which must start where this one ends)."""
-        return PathSequence([self, other])
 
 
 class Line(Path):
@@ -403,7 +398,8 @@ class FunctionPath(Path):
                 orientation.rotation if isinstance(orientation, pin.SE3) else orientation
             )
             self.has_orientation = True
-            self._orientation = lambda s: fixed
+            self._orientation = None
+            self.slerp = Slerp(fixed, fixed)  # constant: vectorised, exact zero angular rates
 
     def _evaluate(self, u: np.ndarray) -> np.ndarray:
         try:
@@ -423,4 +419,6 @@ class FunctionPath(Path):
         return self._evaluate(np.interp(s, self._s_table, self._u_table))
 
     def _rotation(self, s):
+        if self._orientation is None:  # a constant orientation
+            return super()._rotation(s)
         return np.array([self._orientation(x) for x in s], dtype=float).reshape(len(s), 3, 3)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from cartesian.timing import PathTiming
+from cartesian.timing import PathTiming, sample_law
 from kinplan import trajectory
 
 #: Share of the joint speed limits the retimed motion aims for (the rest absorbs sampling).
@@ -45,12 +45,7 @@ def retime_for_speed_limits(tracker, path, timing: PathTiming, seed: np.ndarray,
     top = float(timing.sd.max())
     accel = float(np.abs(timing.sdd).max())
     speed = _feasible_speeds(np.minimum(cap, top), np.diff(s), accel)
-    law = _law_from_speeds(s, speed)
-    t = trajectory.time_grid(law.duration, dt)
-    pos, vel, acc = law.sample(t)
-    s_t = np.clip(pos[:, 0], 0.0, 1.0)
-    s_t[-1] = 1.0
-    return PathTiming(t, s_t, vel[:, 0], acc[:, 0], float(law.duration), law)
+    return sample_law(_law_from_speeds(s, speed), 1.0, dt)
 
 
 def _feasible_speeds(cap: np.ndarray, ds: np.ndarray, accel: float) -> np.ndarray:

@@ -31,7 +31,6 @@ class PathTiming:
         sd: ds/dt [1/s].
         sdd: d²s/dt² [1/s²].
         duration: Motion duration [s].
-        law: The 1-D trajectory u(t) [m] (or s(t) for a zero-length path).
     """
 
     t: np.ndarray
@@ -39,7 +38,6 @@ class PathTiming:
     sd: np.ndarray
     sdd: np.ndarray
     duration: float
-    law: trajectory.Trajectory
 
 
 def path_law(
@@ -78,10 +76,7 @@ def path_law(
             return law, scale
         duration = _PEAK_SPEED_FACTOR[profile] * distance / speed
     if profile == "trapezoid":
-        if acceleration is not None:
-            law = trajectory.trapezoid(0.0, distance, duration=duration, acceleration=acceleration)
-        else:
-            law = trajectory.trapezoid(0.0, distance, duration=duration)
+        law = trajectory.trapezoid(0.0, distance, duration=duration, acceleration=acceleration)
     elif profile == "quintic":
         law = trajectory.quintic(0.0, distance, duration)
     else:
@@ -103,9 +98,14 @@ def time_path(
     """
     if not (np.isfinite(dt) and dt > 0):
         raise InputError(f"dt must be a finite number of seconds > 0, got {dt!r}")
-    law, scale = path_law(length, duration, speed, acceleration, profile)
+    return sample_law(*path_law(length, duration, speed, acceleration, profile), dt)
+
+
+def sample_law(law: trajectory.Trajectory, scale: float, dt: float) -> PathTiming:
+    """Sample a 1-D law u(t) every ``dt`` seconds as path fractions s = scale · u, the last
+    exactly 1 (``scale``: 1 / path length [1/m], or 1 for a law of s itself)."""
     t = trajectory.time_grid(law.duration, dt)
     u, ud, udd = law.sample(t)
     s = np.clip(u[:, 0] * scale, 0.0, 1.0)
     s[-1] = 1.0
-    return PathTiming(t, s, ud[:, 0] * scale, udd[:, 0] * scale, float(law.duration), law)
+    return PathTiming(t, s, ud[:, 0] * scale, udd[:, 0] * scale, float(law.duration))

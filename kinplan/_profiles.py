@@ -313,9 +313,9 @@ def synchronised_blend_times(
 
 
 def _end_blend(distance: np.ndarray, span: float, acceleration: np.ndarray) -> np.ndarray:
-    """Blend time at a rest end of a segment: ``t = d − sqrt(d² − 2|Δ|/a)`` (stable form)."""
-    root = np.sqrt(np.maximum(span**2 - 2.0 * distance / acceleration, 0.0))
-    return 2.0 * distance / acceleration / (span + root)
+    """Blend time at a rest end of a segment: ``t = d − sqrt(d² − 2|Δ|/a)``, the blend of the
+    rest-to-rest LSPB over 2|Δ| in 2d, of which this end is the first half."""
+    return lspb_blend_time(2.0 * distance, 2.0 * span, acceleration)
 
 
 def _check_end_segment(

@@ -197,6 +197,7 @@ class IKSolver:
         rotation_tolerance: float,
         max_iterations: int,
         clamp: bool = True,
+        evaluated: bool = False,
     ) -> tuple[np.ndarray, bool, float, float, int]:
         """Iterate from ``q`` (not modified) until converged, stalled or out of iterations.
 
@@ -206,6 +207,8 @@ class IKSolver:
         Args:
             clamp: Keep every iterate within the joint limits (False: ignore the limits, to tell
                 a limit problem from an unreachable target).
+            evaluated: The caller has just made :meth:`accepts` at ``q`` (clamped) for this
+                target and it did not accept: the first iterate reuses that kinematics pass.
 
         Returns:
             (q, converged, position_error, rotation_error, iterations)
@@ -225,7 +228,7 @@ class IKSolver:
         stalled = 0
         perr2 = rerr2 = np.inf
         for it in range(max_iterations + 1):
-            converged = self.accepts(
+            converged = (it > 0 or not evaluated) and self.accepts(
                 q, target_position, target_rotation, position_tolerance2, frobenius_tolerance2
             )
             dx, dy, dz, frobenius2 = self.differences
