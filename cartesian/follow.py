@@ -25,6 +25,8 @@ from kinplan.ik import frobenius_tolerance
 from kinplan.robot import Robot, jacobian_time_variation, manipulability_of
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+#: The end of a velocity_limit message: the remedy within :func:`follow`'s options.
+RETIME_HINT = " or use retime=True"
 #: Default singularity threshold, as a share of the arm's median manipulability.
 SINGULAR_FRACTION = 0.05
 
@@ -306,8 +308,8 @@ class _Tracker:
         return Event(
             "velocity_limit", float(t), float(s), k,
             f"joint {name} would need {abs(qd[j]):.3f} rad/s, above its limit "
-            f"{self.speed_limit[j]:.3f} rad/s, at {_where(position)}; slow the tool down or "
-            "use retime=True",
+            f"{self.speed_limit[j]:.3f} rad/s, at {_where(position)}; slow the tool down"
+            + RETIME_HINT,
             position, name, float(qd[j]), float(self.speed_limit[j]),
         )  # fmt: skip
 

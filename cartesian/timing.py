@@ -12,11 +12,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from kinplan import trajectory
+from kinplan._profiles import PROFILES, REST_TO_REST_PEAKS
 from kinplan.errors import InputError
 
-PROFILES = ("trapezoid", "quintic", "cubic")
-#: Peak speed of a rest-to-rest profile over distance L in time T, as a multiple of L / T.
-_PEAK_SPEED_FACTOR = {"quintic": 15.0 / 8.0, "cubic": 1.5}
 #: Default time to reach the cruise speed when only a tool speed is given [s].
 DEFAULT_RAMP_TIME = 0.25
 
@@ -74,7 +72,7 @@ def path_law(
             accel = acceleration if acceleration is not None else speed / DEFAULT_RAMP_TIME
             law = trajectory.trapezoid(0.0, distance, max_velocity=speed, max_acceleration=accel)
             return law, scale
-        duration = _PEAK_SPEED_FACTOR[profile] * distance / speed
+        duration = REST_TO_REST_PEAKS[profile][0] * distance / speed  # peak speed k_v L/T
     if profile == "trapezoid":
         law = trajectory.trapezoid(0.0, distance, duration=duration, acceleration=acceleration)
     elif profile == "quintic":

@@ -17,6 +17,12 @@ import numpy as np
 
 from kinplan.errors import InfeasibleError
 
+#: The 1-D time laws every planner offers.
+PROFILES = ("trapezoid", "quintic", "cubic")
+#: Peaks of a rest-to-rest cubic / quintic over |Δ| in time T: speed k_v |Δ|/T and acceleration
+#: k_a |Δ|/T², as (k_v, k_a).
+REST_TO_REST_PEAKS = {"cubic": (1.5, 6.0), "quintic": (15.0 / 8.0, 10.0 / math.sqrt(3.0))}
+
 Pieces = tuple[np.ndarray, list[np.ndarray]]
 """Knot times, shape (S + 1,) starting at 0 [s], and S coefficient arrays of shape (n, d + 1)."""
 

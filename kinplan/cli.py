@@ -385,7 +385,11 @@ def build_parser() -> argparse.ArgumentParser:
         "--plot", metavar="FILE", help="write joint position/velocity/acceleration, tool speed"
     )
     run.add_argument("--csv", metavar="FILE", help="write the samples: t, q, qd, qdd, tool pose")
-    run.add_argument("--dt", type=_positive, default=0.01, help="sampling period [s] (0.01)")
+    from kinplan.program import DEFAULT_DT
+
+    run.add_argument(
+        "--dt", type=_positive, default=DEFAULT_DT, help=f"sampling period [s] ({DEFAULT_DT})"
+    )
     run.set_defaults(handler=_cmd_run)
 
     demo = commands.add_parser("demo", help="run a demo: the lecture's 2R example, a UR5 weld")

@@ -53,8 +53,10 @@ import pinocchio as pin
 import yaml
 
 import cartesian
+from cartesian.follow import RETIME_HINT
 from kinplan import trajectory
-from kinplan._profiles import quintic_coefficients
+from kinplan._meshcat_scene import pose_to_track
+from kinplan._profiles import PROFILES, REST_TO_REST_PEAKS, quintic_coefficients
 from kinplan.errors import KinplanError
 from kinplan.robot import Robot, load_robot, manipulability_of
 from kinplan.sources import bundled_robots, known_names
@@ -83,7 +85,6 @@ __all__ = [
     "run_program",
 ]
 
-PROFILES = ("trapezoid", "quintic", "cubic")
 MOVE_KINDS = ("ptp", "lin", "circ")
 DEFAULT_DT = 0.01
 """Sampling period of planned programs [s]."""
@@ -359,18 +360,6 @@ def _describe(value: object) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-def _quaternion_matrix(xyzw: np.ndarray) -> np.ndarray:
-    """Rotation matrix of a unit quaternion given as (x, y, z, w)."""
-    x, y, z, w = xyzw
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-        ]
-    )
-
-
 class _Validator:
     """Walks the parsed YAML, collecting every issue with its key path and line."""
 
@@ -581,7 +570,8 @@ class _Validator:
                 return None
             if abs(norm - 1.0) > 1e-3:
                 self.warn(path + ("quat_xyzw",), f"quaternion of norm {norm:.4g} normalised")
-            rotation = _quaternion_matrix(quat / norm)
+            x, y, z, w = np.asarray(quat, dtype=float) / norm
+            rotation = pin.Quaternion(w, x, y, z).toRotationMatrix()
         if position is None:
             return None
         robot = self.robot
@@ -880,26 +870,18 @@ class ProgramPlan(Trajectory):
 
     def _tool_states(self, robot: Robot) -> None:
         n = len(self.t)
-        self.tool_positions = np.empty((n, 3))
-        self.tool_quaternions = np.empty((n, 4))
-        self.tool_speed = np.empty(n)
-        self.manipulability = np.empty(n)
+        poses, jacobians = np.empty((n, 4, 4)), np.empty((n, 6, robot.nq))
+        for k in range(n):
+            pose, jacobians[k] = robot.pose_and_jacobian(self.q[k])
+            poses[k] = pose.homogeneous
+        self.tool_positions, self.tool_quaternions = pose_to_track(poses)
+        self.tool_speed = np.linalg.norm(np.einsum("nij,nj->ni", jacobians[:, :3], self.qd), axis=1)
         position_only = robot.default_position_only()
         rows, rank = robot.task_rows(position_only), robot.task_rank(position_only)
-        previous = None
-        for k in range(n):
-            pose, J = robot.pose_and_jacobian(self.q[k])
-            quat = pin.Quaternion(pose.rotation).coeffs().copy()  # x, y, z, w
-            if previous is not None and quat @ previous < 0:
-                quat = -quat
-            previous = quat
-            self.tool_positions[k] = pose.translation
-            self.tool_quaternions[k] = quat
-            self.tool_speed[k] = np.linalg.norm(J[:3] @ self.qd[k])
-            self.manipulability[k] = manipulability_of(J[rows], rank)
+        self.manipulability = manipulability_of(jacobians[:, rows], rank)
         for move in self.moves:
             window = slice(move.first, move.last + 1)
-            if move.last >= move.first and math.isnan(move.min_manipulability):
+            if math.isnan(move.min_manipulability):
                 move.min_manipulability = float(self.manipulability[window].min())
 
     def _failure_events(self, move: MoveReport | None) -> list[cartesian.Event]:
@@ -1074,9 +1056,8 @@ class MotionBuilder:
         self._check_open()
         q_goal = self.robot.check_q(q_goal, "ptp goal")
         traj = self._joint_trajectory(q_goal, duration, speed, profile)
-        t = traj.time_grid(self.dt) if traj.duration > 0 else np.zeros(1)
+        t = traj.time_grid(self.dt)
         q, qd, qdd = traj.sample(t)
-        q[-1] = q_goal
         ratio = _peak_speed_ratio(self.robot, qd)
         if ratio > 1.0 + 1e-6:
             over = np.max(np.abs(qd), axis=0) / self.robot.velocity_limit
@@ -1199,7 +1180,7 @@ class MotionBuilder:
             self._record(kind, label, key, status="jump", why=why, ratio=ratio, plan=plan)
         if not plan.ok:
             event = plan.events[0]
-            detail = event.message.replace(" or use retime=True", "")  # not a program option
+            detail = event.message.replace(RETIME_HINT, "")  # not a program option
             why = f"{event.kind} at s = {event.s:.2f}, {_where(event.position)}: {detail}"
             self._record(
                 kind, label, key, samples, status=plan.status, why=why, ratio=ratio,
@@ -1355,7 +1336,7 @@ def _polynomial_duration(
 ) -> float:
     """Shortest duration [s] of a rest-to-rest cubic/quintic within the speed and acceleration
     limits: peak speed k_v Δ/T, peak acceleration k_a Δ/T²."""
-    k_v, k_a = (1.5, 6.0) if profile == "cubic" else (15.0 / 8.0, 10.0 / math.sqrt(3.0))
+    k_v, k_a = REST_TO_REST_PEAKS[profile]
     times = np.maximum(k_v * distance / max_velocity, np.sqrt(k_a * distance / max_acceleration))
     return float(times.max(initial=0.0))
 

@@ -346,20 +346,29 @@ class Robot:
         return self._closed_form
 
 
-def manipulability_of(J: np.ndarray, rank: int) -> float:
+def manipulability_of(J: np.ndarray, rank: int) -> float | np.ndarray:
     """Product of the ``rank`` largest singular values of ``J`` (0 when rank is 0).
 
     When ``rank`` is the smaller dimension of J this is sqrt(det(J Jᵀ)) (wide or square J) or
     sqrt(det(Jᵀ J)) (tall J), computed from the smaller Gram matrix.
+
+    Args:
+        J: A Jacobian (r, c), or a stack of them (N, r, c).
+        rank: Its rank at a generic configuration.
+
+    Returns:
+        A float for one Jacobian, an array (N,) for a stack.
     """
-    rows, cols = J.shape
+    rows, cols = J.shape[-2:]
     if rank == 0:
-        return 0.0
-    if rank == min(rows, cols):
-        gram = J @ J.T if rows <= cols else J.T @ J
-        return float(np.sqrt(max(np.linalg.det(gram), 0.0)))
-    sv = np.linalg.svd(J, compute_uv=False)
-    return float(np.prod(sv[:rank]))
+        value = np.zeros(J.shape[:-2])
+    elif rank == min(rows, cols):
+        J_t = np.swapaxes(J, -1, -2)
+        gram = J @ J_t if rows <= cols else J_t @ J
+        value = np.sqrt(np.maximum(np.linalg.det(gram), 0.0))
+    else:
+        value = np.prod(np.linalg.svd(J, compute_uv=False)[..., :rank], axis=-1)
+    return float(value) if J.ndim == 2 else value
 
 
 def jacobian_time_variation(J: np.ndarray, qd: np.ndarray) -> np.ndarray:
