@@ -269,9 +269,7 @@ def _write_outputs(plan, args: argparse.Namespace) -> None:
 def _write_html(plan, path: str | Path, title: str) -> Path:
     from kinplan import viewer
 
-    target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    return viewer.save_html(plan.robot, plan, target, markers=plan.points, title=title)
+    return viewer.save_html(plan.robot, plan, path, markers=plan.points, title=title)
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:

@@ -195,7 +195,7 @@ def lecture(
     if html is not None:
         from kinplan import viewer
 
-        files["playback"] = viewer.save_html(robot, line, _html_path(html), markers=paths_marks())
+        files["playback"] = viewer.save_html(robot, line, html, markers=paths_marks())
     result.seconds = time.perf_counter() - began
     return result
 
@@ -278,12 +278,6 @@ def _plot_short_forearm(short: dict[str, Any], path: Path) -> None:
     ax.set_ylim(-0.5, 1.35)
     ax.legend(fontsize="small", loc="lower center")
     figure.savefig(path, dpi=120)
-
-
-def _html_path(html: str | Path) -> Path:
-    target = Path(html)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    return target
 
 
 # ----------------------------------------------------------------------------------------------
@@ -407,7 +401,7 @@ def weld(
     lines += _weld_summary(plan)
 
     files = result.files
-    files["playback (HTML)"] = _html_path(html) if html is not None else out / "weld.html"
+    files["playback (HTML)"] = Path(html) if html is not None else out / "weld.html"
     files["joints and tool speed"] = out / "weld_motion.png"
     files["tool path"] = out / "weld_tool_path.png"
     files["samples (CSV)"] = out / "weld.csv"

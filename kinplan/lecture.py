@@ -50,5 +50,4 @@ def solve_ik(robot: Robot, xy: tuple[float, float], seed: np.ndarray) -> np.ndar
 
 def tip_path(robot: Robot, motion: Trajectory, dt: float) -> np.ndarray:
     """Tip positions [m] along a joint motion sampled every ``dt`` [s], shape (k, 3)."""
-    q, _, _ = motion.sample(motion.time_grid(dt))
-    return np.array([robot.fk(qi).translation for qi in q])
+    return robot.tool_positions(motion.sample(motion.time_grid(dt))[0])

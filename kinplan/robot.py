@@ -187,6 +187,21 @@ class Robot:
         pin.forwardKinematics(self.model, self.data, q)
         return pin.SE3(pin.updateFramePlacement(self.model, self.data, self.tip_id))
 
+    def tool_positions(self, q: Sequence[Sequence[float]] | np.ndarray) -> np.ndarray:
+        """Tool positions [m] in the base frame for joint rows ``q`` (N, nq): shape (N, 3),
+        one FK pass per row."""
+        rows = np.asarray(q, dtype=float)
+        if rows.ndim != 2 or rows.shape[1] != self.nq or not np.all(np.isfinite(rows)):
+            raise InputError(
+                f"joint rows must have shape (N, {self.nq}) and finite values for {self.name}, "
+                f"got shape {rows.shape}"
+            )
+        out = np.empty((len(rows), 3))
+        for k, row in enumerate(rows):
+            pin.forwardKinematics(self.model, self.data, row)
+            out[k] = pin.updateFramePlacement(self.model, self.data, self.tip_id).translation
+        return out
+
     def jacobian(self, q: Sequence[float] | np.ndarray) -> np.ndarray:
         """Tool Jacobian (6, nq), rows [linear; angular], world-aligned frame at the tool."""
         q = self.check_q(q)

@@ -130,10 +130,6 @@ def _joint_rows(robot: Any, values: Any, what: str) -> np.ndarray:
     return arr
 
 
-def _tool_positions(visuals: RobotVisuals, qs: np.ndarray) -> np.ndarray:
-    return np.array([visuals.placements(q)[1][:3, 3] for q in qs]).reshape(-1, 3)
-
-
 def _frames(duration: float, fps: float) -> np.ndarray:
     """Key-frame times 0, 1/fps, ..., the last exactly at ``duration`` [s]."""
     return time_grid(duration, 1.0 / fps)
@@ -148,12 +144,12 @@ def _positive(name: str, value: Any) -> float:
     return float(value)
 
 
-def _sample_motion(robot: Any, visuals: RobotVisuals, motion: Any, fps: float) -> _Motion:
+def _sample_motion(robot: Any, motion: Any, fps: float) -> _Motion:
     """Dispatch on the motion's interface (a plan has ``t`` and ``q``; a trajectory ``sample``)."""
     if hasattr(motion, "t") and hasattr(motion, "q"):
-        return _sample_plan(robot, visuals, motion, fps)
+        return _sample_plan(robot, motion, fps)
     if hasattr(motion, "duration") and callable(getattr(motion, "sample", None)):
-        return _sample_trajectory(robot, visuals, motion, fps)
+        return _sample_trajectory(robot, motion, fps)
     raise InputError(
         f"cannot play a {type(motion).__name__}: give a joint Trajectory (with duration and "
         "sample(t)) or a CartesianPlan (with t and q), e.g. kinplan.trajectory.cubic(...) or "
@@ -161,41 +157,38 @@ def _sample_motion(robot: Any, visuals: RobotVisuals, motion: Any, fps: float) -
     )
 
 
-def _sample_trajectory(robot: Any, visuals: RobotVisuals, trajectory: Any, fps: float) -> _Motion:
+def _sample_trajectory(robot: Any, trajectory: Any, fps: float) -> _Motion:
     duration = float(trajectory.duration)
     if not (math.isfinite(duration) and duration >= 0.0):
         raise InputError(f"the trajectory's duration must be finite and ≥ 0 s, got {duration}")
     t = _frames(duration, fps)
     q = _joint_rows(robot, trajectory.sample(t)[0], "the trajectory's samples")
     dense = np.linspace(0.0, duration, _PATH_SAMPLES) if duration > 0 else np.zeros(1)
-    tool_path = _tool_positions(visuals, _joint_rows(robot, trajectory.sample(dense)[0], "q"))
+    tool_path = robot.tool_positions(_joint_rows(robot, trajectory.sample(dense)[0], "q"))
     return _Motion(
         t=t,
         q=q,
         planned=[tool_path],
-        via=_via_points(robot, visuals, trajectory),
+        via=_via_points(robot, trajectory),
         caption=[f"{robot.name} · joint trajectory · {duration:.2f} s"],
     )
 
 
-def _via_points(robot: Any, visuals: RobotVisuals, motion: Any) -> np.ndarray:
+def _via_points(robot: Any, motion: Any) -> np.ndarray:
     """Tool positions at the motion's ``waypoints`` (joint positions), if it has any."""
     waypoints = getattr(motion, "waypoints", None)
     if waypoints is None:
         return np.zeros((0, 3))
-    for name in ("q", "positions", "points"):
-        if hasattr(waypoints, name):
-            waypoints = getattr(waypoints, name)
-            break
+    waypoints = getattr(waypoints, "positions", waypoints)  # Waypoints, or joint rows
     try:
         joints = _joint_rows(robot, waypoints, "the waypoints")
     except (InputError, TypeError, ValueError):
         logger.warning("the motion's waypoints are not joint positions; not drawn")
         return np.zeros((0, 3))
-    return _tool_positions(visuals, joints)
+    return robot.tool_positions(joints)
 
 
-def _sample_plan(robot: Any, visuals: RobotVisuals, plan: Any, fps: float) -> _Motion:
+def _sample_plan(robot: Any, plan: Any, fps: float) -> _Motion:
     times = np.asarray(plan.t, dtype=float).reshape(-1)
     q = _joint_rows(robot, plan.q, "the plan's q")
     if len(q) > len(times):
@@ -209,7 +202,11 @@ def _sample_plan(robot: Any, visuals: RobotVisuals, plan: Any, fps: float) -> _M
     else:
         t = _frames(float(times[-1] - times[0]), fps)
         frames = np.column_stack([np.interp(t + times[0], times, q[:, j]) for j in range(robot.nq)])
-    achieved = _tool_positions(visuals, q[:: max(1, len(q) // 2000)]) if len(q) else None
+    achieved = None
+    if len(q):  # the plan's tool positions (FK of q) when it carries them
+        achieved = getattr(plan, "tool_positions", None)
+        if achieved is None:
+            achieved = robot.tool_positions(q[:: max(1, len(q) // 2000)])
     planned, failed = [], []
     for path, s_fail in _cartesian_paths(plan):
         planned.append(_path_points(path, 0.0, s_fail))
@@ -225,7 +222,7 @@ def _sample_plan(robot: Any, visuals: RobotVisuals, plan: Any, fps: float) -> _M
         achieved=achieved,
         failed=[p for p in failed if p is not None],
         last_good=q[-1] if (not ok and len(q)) else None,
-        via=_via_points(robot, visuals, plan) if hasattr(plan, "moves") else np.zeros((0, 3)),
+        via=_via_points(robot, plan) if hasattr(plan, "moves") else np.zeros((0, 3)),
         caption=_plan_caption(robot, plan, float(t[-1]), events[0] if events else None, ok),
     )
 
@@ -480,15 +477,13 @@ RGB = tuple[float, float, float]
 
 
 def _tube_command(
-    path: str, points: np.ndarray | None, radius: float, rgb: RGB, opacity: float = 1.0
+    path: str, points: np.ndarray, radius: float, rgb: RGB, opacity: float = 1.0
 ) -> list[ms.Command]:
     """A tube of ``radius`` [m] along a polyline (n, 3) [m]; nothing for fewer than 2 points.
 
     The polyline is first simplified to within a tenth of the radius (invisible, and a straight
     weld seam of a thousand samples becomes two points).
     """
-    if points is None:
-        return []
     mesh = ms.tube(ms.simplify_polyline(points, 0.1 * radius), radius)
     if mesh is None:
         return []
@@ -583,7 +578,7 @@ def _build_scene(
     autoplay: bool,
 ) -> _Scene:
     """Every command of a saved page: environment, robot, tool triad, overlays, animation."""
-    sampled = _sample_motion(robot, visuals, motion, _positive("fps", fps))
+    sampled = _sample_motion(robot, motion, _positive("fps", fps))
     points = _marker_points(markers)
     parts, _ = visuals.placements_over(sampled.q[:: max(1, len(sampled.q) // 60)])
     cloud = [_bounding_points(visuals, parts), *sampled.points()]
@@ -664,7 +659,7 @@ def save_html(
     Args:
         robot: The robot that moves (:func:`kinplan.load_robot`).
         motion: A joint ``Trajectory`` or a ``CartesianPlan`` for this robot.
-        path: File to write (its folder must exist).
+        path: File to write (missing folders are created).
         markers: Points to mark [m], base frame: a list of 3-vectors (or SE3 poses), or a dict
             name -> point (taught points).
         fps: Key frames per second of the animation [1/s].
@@ -683,6 +678,7 @@ def save_html(
     text = render_html(robot, motion, markers, fps, loop=loop, autoplay=autoplay, title=title)
     target = Path(path)
     try:
+        target.parent.mkdir(parents=True, exist_ok=True)
         target.write_text(text, encoding="utf-8")
     except OSError as exc:
         raise ViewerError(f"cannot write the viewer page to {target}: {exc}") from exc
@@ -898,7 +894,7 @@ class Viewer:
             InputError: a motion of another robot, a non-positive speed, a bad marker.
         """
         speed = _positive("speed", speed)
-        sampled = _sample_motion(self.robot, self._visuals, motion, _positive("fps", fps))
+        sampled = _sample_motion(self.robot, motion, _positive("fps", fps))
         overlay, _ = _overlay_commands(
             self._visuals, sampled, _marker_points(markers), self._radius
         )
@@ -906,7 +902,7 @@ class Viewer:
         if not step:
             if len(sampled.t) > 1:
                 self._send([_animation_command(self._visuals, sampled, speed, loop, play=True)])
-            self.display(sampled.q[-1] if len(sampled.t) == 1 else sampled.q[0])
+            self.display(sampled.q[0])
             return
         self._send([ms.set_animation([], play=False)])  # stop an earlier animation
         start = time.monotonic()

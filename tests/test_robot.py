@@ -270,3 +270,14 @@ def test_jacobian_time_variation_matches_pinocchio_and_finite_differences(name, 
         np.testing.assert_allclose(result, expected, rtol=0, atol=1e-13)
         finite = (robot.jacobian(q + h * qd) - robot.jacobian(q - h * qd)) / (2 * h)
         np.testing.assert_allclose(result, finite, rtol=0, atol=1e-6)
+
+
+def test_tool_positions_of_joint_rows(panda):
+    rng = np.random.default_rng(9)
+    rows = np.array([panda.random_configuration(rng) for _ in range(5)])
+    expected = np.array([panda.fk(q).translation for q in rows])
+    np.testing.assert_array_equal(panda.tool_positions(rows), expected)
+    with pytest.raises(kinplan.errors.InputError, match="shape"):
+        panda.tool_positions(rows[:, :6])
+    with pytest.raises(kinplan.errors.InputError):
+        panda.tool_positions(np.full((2, 7), np.nan))

@@ -351,8 +351,11 @@ def test_misuse_raises_kinplan_errors(tmp_path, planar_2r, motion, markers, fps,
 
 def test_unwritable_path_is_a_viewer_error(tmp_path, planar_2r):
     motion = cubic_stand_in([0, 0], [1, 1], 1.0)
+    (tmp_path / "a_file").write_text("")
     with pytest.raises(viewer.ViewerError, match="cannot write"):
-        viewer.save_html(planar_2r, motion, tmp_path / "missing" / "x.html")
+        viewer.save_html(planar_2r, motion, tmp_path / "a_file" / "x.html")  # under a file
+    written = viewer.save_html(planar_2r, motion, tmp_path / "missing" / "x.html")
+    assert written.is_file()  # missing folders are created
 
 
 # ----------------------------------------------------------------------------------------------
