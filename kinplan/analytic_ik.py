@@ -86,13 +86,13 @@ _HALF_TURN_SAFE = np.pi - 1e-9
 
 
 class AnalyticIK(Protocol):
-    """Closed-form IK of one robot; poses are in the robot's base (world) frame."""
+    """Closed-form IK of one robot, as :meth:`kinplan.Robot.ik` uses it; poses are in the
+    robot's base (world) frame. (The planar 2R and UR solvers also list all solutions with
+    ``solutions``, the panda's for a given θ7 with ``solutions_q7``.)"""
 
     nq: int
-
-    def solutions(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
-        """All solutions within the joint limits, shape (k, nq), k ≥ 0."""
-        ...
+    #: Whether a target needs a rotation (False: position targets are solved too).
+    needs_rotation: bool
 
     def nearest(
         self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray

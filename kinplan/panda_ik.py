@@ -43,7 +43,17 @@ from operator import itemgetter
 
 import numpy as np
 
-from kinplan.analytic_ik import _LIMIT_TOL, _joint_choice, _screws_at_zero, self_check
+from kinplan.analytic_ik import (
+    _CLAMP,
+    _FREE_TOL,
+    _LIMIT_TOL,
+    _STRUCTURE_TOL,
+    TAU,
+    _joint_choice,
+    _plane_basis,
+    _screws_at_zero,
+    self_check,
+)
 from kinplan.errors import InputError
 
 logger = logging.getLogger(__name__)
@@ -51,14 +61,6 @@ logger = logging.getLogger(__name__)
 Vec = tuple[float, float, float]
 Mat = tuple[float, float, float, float, float, float, float, float, float]
 
-TAU = 2.0 * math.pi
-#: Tolerance of the structural checks: intersections [m], parallel axes [–].
-_STRUCTURE_TOL = 1e-9
-#: Largest excess of a cosine ratio over 1 (or deficit of a squared length below 0, relative)
-#: still treated as reachable: rounding at the rim of the workspace.
-_CLAMP = 1e-10
-#: Below this length [m or –], a rotation angle is free (singular) and taken from the reference.
-_FREE_TOL = 1e-12
 #: Solutions this close [rad, max-norm] are the same solution (they meet at singularities).
 _SAME_TOL = 1e-9
 #: θ7 search: offsets [rad] tried on either side of the reference θ7, in this order ...
@@ -362,6 +364,7 @@ class PandaIK:
     """
 
     nq = 7
+    needs_rotation = True
 
     def __init__(
         self,
@@ -382,11 +385,7 @@ class PandaIK:
         g = geometry
         self._wrist_pair = _AxisPair.of(g.axes[4], g.axes[5])  # Ra = axis 5, Rb = axis 6
         self._shoulder_pair = _AxisPair.of(g.axes[1], g.axes[0])  # Ra = axis 2, Rb = axis 1
-        # a unit vector perpendicular to axis 3, for θ3
-        a3 = np.array(g.axes[2])
-        helper = np.eye(3)[int(np.argmin(np.abs(a3)))]
-        e3 = np.cross(a3, helper)
-        self._e3 = _floats(e3 / np.linalg.norm(e3))
+        self._e3 = _floats(_plane_basis(np.array(g.axes[2]))[0])  # ⟂ axis 3, for θ3
         # θ4: s and w relative to a point of axis 4, split along / across the axis
         a4, p4 = g.axes[3], g.points[3]
         s, w = _sub(g.shoulder, p4), _sub(g.wrist, p4)

@@ -334,8 +334,8 @@ class Robot:
             rotation = None
         seed = self.neutral() if q_seed is None else self.check_q(q_seed, "q_seed")
         closed_form = self.closed_form_ik
-        if closed_form is not None and rotation is None and self.nq != 2:
-            closed_form = None  # the UR closed form needs a full pose
+        if closed_form is not None and rotation is None and closed_form.needs_rotation:
+            closed_form = None  # a position-only target: the numerical solver
         return self._ik.solve(
             position,
             rotation,
