@@ -863,11 +863,6 @@ class ProgramPlan(Trajectory):
             )
         )
 
-    @property
-    def tool_path(self) -> np.ndarray:
-        """The tool positions [m], shape (N, 3) (alias of :attr:`tool_positions`)."""
-        return self.tool_positions
-
     def _tool_states(self, robot: Robot) -> None:
         n = len(self.t)
         poses, jacobians = np.empty((n, 4, 4)), np.empty((n, 6, robot.nq))
