@@ -19,14 +19,16 @@ import numpy as np
 import pinocchio as pin
 
 from cartesian.paths import Path
+from cartesian.retime import grid_points, retime_for_speed_limits
 from cartesian.timing import PathTiming, time_path
+from kinplan import checks
+from kinplan._profiles import PROFILES
 from kinplan.errors import InputError
 from kinplan.ik import frobenius_tolerance
 from kinplan.robot import Robot, jacobian_time_variation, manipulability_of
+from kinplan.sampling import joint_speeds
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-#: The end of a velocity_limit message: the remedy within :func:`follow`'s options.
-RETIME_HINT = " or use retime=True"
 #: Default singularity threshold, as a share of the arm's median manipulability.
 SINGULAR_FRACTION = 0.05
 
@@ -40,11 +42,13 @@ class Event:
         t: Time of the offending sample [s] (0 for a geometric check).
         s: Path fraction of the offending sample [-].
         index: Index of the offending sample.
-        message: What happened, where, and what to do about it.
+        message: What happened and where (no advice: see ``remedy``).
         position: Target tool position of the offending sample [m].
         joint: The joint concerned (limits, speeds, jumps), if any.
-        value: The offending value (joint position [rad], speed [rad/s], manipulability).
+        value: The offending value (joint position [rad or m], speed [rad/s or m/s],
+            manipulability).
         limit: The limit it broke.
+        remedy: What the caller of :func:`follow` can do about it ("" when nothing obvious).
     """
 
     kind: str
@@ -56,6 +60,10 @@ class Event:
     joint: str | None = None
     value: float | None = None
     limit: float | None = None
+    remedy: str = ""
+
+    def __str__(self) -> str:
+        return f"{self.message}; {self.remedy}" if self.remedy else self.message
 
 
 @dataclass
@@ -81,6 +89,11 @@ class CartesianPlan:
         tool_positions: Achieved tool positions (FK of q) [m], shape (N, 3).
         manipulability: Manipulability of each sample, shape (N,).
         retimed: Whether the time law was slowed down to respect the joint speed limits.
+        retime_duration: For a plan stopped by a velocity limit: the duration of the retimed
+            plan (``retime=True``) when that one is ok, else None.
+        peak_speed_ratio: Largest joint speed over its (scaled) limit among the samples solved
+            (:func:`kinplan.sampling.joint_speeds`), including those past a velocity event: the
+            factor by which the motion is too fast (> 1) or has margin (< 1).
     """
 
     t: np.ndarray
@@ -101,6 +114,8 @@ class CartesianPlan:
     tool_positions: np.ndarray
     manipulability: np.ndarray
     retimed: bool = False
+    retime_duration: float | None = None
+    peak_speed_ratio: float = 0.0
 
     def __repr__(self) -> str:
         text = (
@@ -172,29 +187,55 @@ class _Tracker:
         self.tolerance, self.rotation_tolerance = tolerance, rotation_tolerance
         self._tolerances2 = (tolerance * tolerance, frobenius_tolerance(rotation_tolerance))
         self.singular_threshold = singular_threshold
+        self.velocity_scale = velocity_scale
         self.speed_limit = robot.velocity_limit * velocity_scale
         self.jump_tolerance = jump_tolerance
+        self.units = joint_units(robot)
+        # below this manipulability no joint rates can be computed, whatever the threshold
+        self.rank_floor = 1e-10 * reference_manipulability(robot, position_only)
 
-    def solve(self, guess, position, rotation, evaluated: bool = False):
-        """Newton steps from ``guess`` (``evaluated``: see :meth:`IKSolver.descend`)."""
+    def solve(self, guess, position, rotation, evaluated: bool = False, iterations: int = 12):
+        """Newton steps from ``guess``, ignoring the joint limits (the caller checks them: a
+        joint that must leave its range is a ``joint_limit`` event, never a clamp).
+        ``evaluated``: see :meth:`IKSolver.descend`."""
         return self.solver.descend(
-            guess, position, rotation, self.tolerance, self.rotation_tolerance, 12,
-            evaluated=evaluated,
+            guess, position, rotation, self.tolerance, self.rotation_tolerance, iterations,
+            clamp=False, evaluated=evaluated,
         )  # fmt: skip
 
     def accepts(
         self, guess: np.ndarray, position: list[float], rotation: list[float] | None
     ) -> np.ndarray | None:
-        """``guess`` clamped into the joint limits when the tool there already meets the
-        tolerances (one kinematics pass, left for :meth:`jacobian`), else None.
+        """``guess`` itself when the tool there already meets the tolerances (one kinematics
+        pass, left for :meth:`jacobian`), else None. The joint limits are not applied here.
 
         Args:
             guess: Predicted configuration.
             position: Target tool position [m], 3 floats.
             rotation: Target tool rotation, 9 floats (row-major), or None (position only).
         """
-        q = np.minimum(np.maximum(guess, self.robot.lower), self.robot.upper)
-        return q if self.solver.accepts(q, position, rotation, *self._tolerances2) else None
+        return guess if self.solver.accepts(guess, position, rotation, *self._tolerances2) else None
+
+    def beyond_limit(self, q: np.ndarray) -> int | None:
+        """Index of the joint furthest beyond its position limits at ``q``, or None."""
+        over = np.maximum(self.robot.lower - q, q - self.robot.upper)
+        j = int(np.argmax(over))
+        return j if over[j] > 0.0 else None
+
+    def limit_event(self, k, t, s, q: np.ndarray, j: int, position) -> Event:
+        """The "joint_limit" event of joint ``j`` beyond its range at ``q``."""
+        robot = self.robot
+        name, unit = robot.joint_names[j], self.units[j]
+        upper = q[j] > robot.upper[j]
+        bound = robot.upper[j] if upper else robot.lower[j]
+        return Event(
+            "joint_limit", float(t), float(s), k,
+            f"joint {name} would need {q[j]:.4f} {unit}, beyond its {'upper' if upper else 'lower'}"
+            f" limit {bound:.4f} {unit}, to keep the tool on the path at {_where(position)}",
+            position, name, float(q[j]), float(bound),
+            remedy=f"start from a configuration with joint {name} further from that limit "
+            "(another q_seed), or move the path",
+        )  # fmt: skip
 
     def jacobian(self) -> np.ndarray:
         """Tool Jacobian (6, nq) at the last converged q (no new kinematics pass)."""
@@ -262,9 +303,9 @@ class _Tracker:
         return z + _matvec(pinv, b - _matvec(J, z))
 
     def is_singular(self, m: float) -> bool:
-        """Whether manipulability ``m`` is under the threshold (or 0: then no joint rates exist,
-        whatever the threshold)."""
-        return not m >= self.singular_threshold or m == 0.0
+        """Whether manipulability ``m`` is under the threshold, or so small (numerically zero)
+        that no joint rates can be computed, whatever the threshold."""
+        return not m >= self.singular_threshold or m <= self.rank_floor
 
     def singular_event(self, k, t, s, m, position) -> Event | None:
         """A "singular" event when :meth:`is_singular` holds for the manipulability m."""
@@ -273,9 +314,10 @@ class _Tracker:
         return Event(
             "singular", float(t), float(s), k,
             f"near a singularity at {_where(position)}: manipulability {m:.3g} is below "
-            f"{self.singular_threshold:.3g}; keep the path away from the workspace boundary and "
-            "from aligned joint axes",
+            f"{max(self.singular_threshold, self.rank_floor):.3g}",
             position, value=m, limit=self.singular_threshold,
+            remedy="keep the path away from the workspace boundary and from configurations "
+            "with aligned joint axes",
         )  # fmt: skip
 
     def jump_event(self, k, t, s, q, q_prev, rate, rate_prev, h, position) -> Event | None:
@@ -286,31 +328,37 @@ class _Tracker:
         if step.max() <= self.jump_tolerance:
             return None
         j = int(np.argmax(step))
-        name = self.robot.joint_names[j]
+        name, unit = self.robot.joint_names[j], self.units[j]
         return Event(
             "jump", float(t), float(s), k,
-            f"joint {name} jumps by {q[j] - q_prev[j]:.3f} rad at {_where(position)} (a branch "
-            "flip); use a smaller dt or another start configuration",
+            f"joint {name} moves {q[j] - q_prev[j]:.4f} {unit} in {h:.3g} s at "
+            f"{_where(position)}, {step[j]:.4f} {unit} more than its rates explain (a branch "
+            "flip)",
             position, name, float(q[j] - q_prev[j]), self.jump_tolerance,
+            remedy="start from another configuration (q_seed) or split the path there",
         )  # fmt: skip
 
-    def first_too_fast(self, qd: np.ndarray) -> int | None:
-        """Index of the first row of joint velocities ``qd`` (N, nq) [rad/s] with a joint above
-        its (scaled) limit, or None."""
-        over = np.flatnonzero((abs(qd) > self.speed_limit).any(axis=1))
-        return int(over[0]) if len(over) else None
+    def speed_event(self, k, t, s, ratios: np.ndarray, peak: float, position) -> Event:
+        """The "velocity_limit" event of sample k, for the joint furthest above its (scaled)
+        limit.
 
-    def speed_event(self, k, t, s, qd, position) -> Event:
-        """The "velocity_limit" event of joint velocities ``qd`` (see :meth:`first_too_fast`),
-        for the joint furthest above its (scaled) limit."""
-        j = int(np.argmax(abs(qd) / self.speed_limit))
-        name = self.robot.joint_names[j]
+        Args:
+            ratios: Joint speeds of the sample over their limits
+                (:func:`kinplan.sampling.joint_speeds`).
+            peak: The largest such ratio over the whole motion.
+        """
+        j = int(np.argmax(ratios))
+        name, unit = self.robot.joint_names[j], self.units[j]
+        speed, limit = float(ratios[j] * self.speed_limit[j]), float(self.speed_limit[j])
+        scaled = "" if self.velocity_scale == 1.0 else f" ({self.velocity_scale:g} of its rating)"
         return Event(
             "velocity_limit", float(t), float(s), k,
-            f"joint {name} would need {abs(qd[j]):.3f} rad/s, above its limit "
-            f"{self.speed_limit[j]:.3f} rad/s, at {_where(position)}; slow the tool down"
-            + RETIME_HINT,
-            position, name, float(qd[j]), float(self.speed_limit[j]),
+            f"joint {name} would need {speed:.4g} {unit}/s, above its limit {limit:.4g} "
+            f"{unit}/s{scaled}, at {_where(position)} (the motion needs up to {peak:.3g}× the "
+            "joint speed limits)",
+            position, name, speed, limit,
+            remedy=f"slow the tool down by a factor of at least {peak:.3g} (a lower speed or a "
+            "longer duration)",
         )  # fmt: skip
 
     def start(self, position, rotation, seed: np.ndarray) -> np.ndarray:
@@ -323,43 +371,78 @@ class _Tracker:
         )  # fmt: skip
         return first.q if first.success else seed
 
-    def diagnose(self, k, t, s, guess, q_prev, position, rotation) -> Event:
-        """Why sample k has no continuous IK solution: joint_limit, jump or unreachable."""
+    def rescue(self, k, t, s, guess, q_prev, position, rotation) -> np.ndarray | Event:
+        """Sample k after the short Newton pass from the prediction failed: a configuration
+        found by a longer search (the caller checks it for limits and jumps), or the event that
+        says why there is none: jump (reachable only on another branch) or unreachable."""
         robot = self.robot
-        q, converged, *_ = self.solver.descend(
-            guess, position, rotation, self.tolerance, self.rotation_tolerance, 60, clamp=False
-        )
-        where = _where(position)
+        q, converged, *_ = self.solve(guess, position, rotation, iterations=60)
         if converged:
-            over = np.maximum(robot.lower - q, q - robot.upper)
-            j = int(np.argmax(over))
-            bound = robot.upper[j] if q[j] > robot.upper[j] else robot.lower[j]
-            side = "upper" if q[j] > robot.upper[j] else "lower"
-            return Event(
-                "joint_limit", t, s, k,
-                f"joint {robot.joint_names[j]} would need {q[j]:.4f}, beyond its {side} limit "
-                f"{bound:.4f} at {where}; move the path or start from another configuration",
-                position, robot.joint_names[j], float(q[j]), float(bound),
-            )  # fmt: skip
+            return q
         target = position if rotation is None else pin.SE3(rotation, position)
+        only = rotation is None
+        where = _where(position)
         if q_prev is not None:
-            res = robot.ik(target, q_seed=q_prev, position_only=rotation is None)
+            res = robot.ik(
+                target, q_seed=q_prev, position_only=only, position_tolerance=self.tolerance,
+                rotation_tolerance=self.rotation_tolerance,
+            )  # fmt: skip
             if res.success:
                 j = int(np.argmax(np.abs(res.q - q_prev)))
+                if abs(res.q[j] - q_prev[j]) <= self.jump_tolerance:
+                    return res.q  # the same branch, found by the full solver
+                name, unit = robot.joint_names[j], self.units[j]
                 return Event(
                     "jump", t, s, k,
-                    f"{where} is reachable only on another branch: joint {robot.joint_names[j]} "
-                    f"would jump from {q_prev[j]:.3f} to {res.q[j]:.3f}; split the path or choose "
-                    "another start configuration",
-                    position, robot.joint_names[j], float(res.q[j] - q_prev[j]),
+                    f"{where} is reachable only on another branch: joint {name} would jump "
+                    f"from {q_prev[j]:.4f} to {res.q[j]:.4f} {unit}",
+                    position, name, float(res.q[j] - q_prev[j]), self.jump_tolerance,
+                    remedy="split the path there or start from another configuration (q_seed)",
                 )  # fmt: skip
-        res = robot.ik(target, q_seed=guess, position_only=rotation is None)
+        res = robot.ik(target, q_seed=guess if q_prev is None else q_prev, position_only=only)
+        if res.success:  # reachable within the limits, but not from where the arm is
+            return Event(
+                "jump", t, s, k,
+                f"{where} is reachable only in another configuration than the arm's",
+                position,
+                remedy="start from another configuration (q_seed) or split the path there",
+            )  # fmt: skip
+        why = out_of_reach(robot, res, position)
         return Event(
-            "unreachable", t, s, k,
-            f"{where} is out of reach (closest tool position {res.position_error:.4f} m away, "
-            f"rotation error {res.rotation_error:.3f} rad); shorten or move the path",
-            position,
+            "unreachable", t, s, k, f"{where} is out of reach: {why}", position,
+            value=res.position_error,
+            remedy="shorten or move the path, or move the robot's base",
         )  # fmt: skip
+
+
+def out_of_reach(robot: Robot, result, position: np.ndarray) -> str:
+    """Why a target is out of reach, from an unsuccessful IK ``result``: the distance from the
+    arm's first joint and its reach, or how close the best configuration came."""
+    distance, reach = robot.shoulder_distance(position), robot.reach()
+    annulus = robot.planar_reach()
+    if distance > reach * (1 + 1e-12):
+        return f"it is {distance:.4f} m from the arm's first joint, which reaches {reach:.4f} m"
+    if annulus is not None and distance < annulus[0]:
+        return (
+            f"its distance to the first joint, {distance:.4f} m, is inside the hole "
+            f"r < {annulus[0]:.4f} m that the arm cannot reach"
+        )
+    text = (
+        f"within the arm's reach ({distance:.4f} m of {reach:.4f} m from its first joint), but the "
+        f"closest tool pose within the joint limits is {result.position_error:.4f} m"
+    )
+    if result.rotation_error > 0:
+        text += f" and {result.rotation_error:.3f} rad"
+    return text + " away"
+
+
+def joint_units(robot: Robot) -> list[str]:
+    """Unit of each joint coordinate: "m" for prismatic joints, "rad" for the others."""
+    units = ["rad"] * robot.nq
+    for joint in robot.model.joints[1:]:
+        if joint.nq == 1 and joint.shortname().startswith("JointModelP"):  # PX/PY/PZ/Unaligned
+            units[joint.idx_q] = "m"
+    return units
 
 
 def _where(position: np.ndarray) -> str:
@@ -491,27 +574,71 @@ def follow(
     Returns:
         CartesianPlan; an event stops it at the first offending sample.
     """
+    _check_robot_and_path(robot, path)
     position_only = _resolve_position_only(robot, path, position_only)
     seed = robot.neutral() if q_seed is None else robot.check_q(q_seed, "q_seed")
-    if not (np.isfinite(velocity_scale) and velocity_scale > 0):
-        raise InputError(f"velocity_scale must be > 0, got {velocity_scale!r}")
+    duration = checks.optional_number(duration, "duration", positive=True, unit="s")
+    speed = checks.optional_number(speed, "speed", positive=True, unit="m/s")
+    acceleration = checks.optional_number(acceleration, "acceleration", positive=True, unit="m/s²")
+    profile = checks.choice(profile, "profile", PROFILES)
+    dt = checks.number(dt, "dt", positive=True, unit="s")
+    velocity_scale = checks.number(velocity_scale, "velocity_scale", positive=True)
+    jump_tolerance = checks.number(jump_tolerance, "jump_tolerance", positive=True, unit="rad")
+    tolerance = checks.number(tolerance, "tolerance", positive=True, unit="m")
+    rotation_tolerance = checks.number(
+        rotation_tolerance, "rotation_tolerance", positive=True, unit="rad"
+    )
+    retime = checks.flag(retime, "retime")
     if singular_threshold is None:
         singular_threshold = SINGULAR_FRACTION * reference_manipulability(robot, position_only)
+    singular_threshold = checks.number(singular_threshold, "singular_threshold", minimum=0.0)
     tracker = _Tracker(
         robot, position_only, tolerance, rotation_tolerance, singular_threshold,
         velocity_scale, jump_tolerance,
     )  # fmt: skip
     timing = time_path(path.length, duration, speed, acceleration, profile, dt)
-    retimed = False
     if retime:
-        from cartesian.retime import retime_for_speed_limits
-
-        new_timing = retime_for_speed_limits(tracker, path, timing, seed, dt)
-        retimed = new_timing is not timing
-        timing = new_timing
+        return _retimed_plan(tracker, path, timing, seed, dt)
     plan = _track(tracker, path, timing, seed)
-    plan.retimed = retimed
+    if plan.status == "velocity_limit":
+        # offer retiming only when it would pass: try it
+        retimed = _retimed_plan(tracker, path, timing, seed, dt)
+        if retimed.ok:
+            plan.retime_duration = retimed.duration
+            plan.events[0].remedy += (
+                f", or retime (retime=True: the exact path in {retimed.duration:.3f} s instead "
+                f"of {plan.duration:.3f} s)"
+            )
     return plan
+
+
+def _retimed_plan(
+    tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray, dt: float
+) -> CartesianPlan:
+    """The plan of ``path`` with its time law slowed where a joint would be too fast (the
+    nominal one when the geometric pass fails: the plan then reports that failure)."""
+    s = np.linspace(0.0, 1.0, grid_points(path.length))
+    geometry = trace_geometry(tracker, path, s, seed)
+    new_timing = timing
+    if not geometry.events:
+        new_timing = retime_for_speed_limits(
+            geometry.s, geometry.dq_ds, tracker.speed_limit, timing, dt
+        )
+    plan = _track(tracker, path, new_timing, seed)
+    plan.retimed = new_timing is not timing
+    return plan
+
+
+def _check_robot_and_path(robot: object, path: object) -> None:
+    if not isinstance(robot, Robot):
+        raise InputError(
+            f"robot must be a kinplan.Robot (from kinplan.load_robot), got {checks.describe(robot)}"
+        )
+    if not isinstance(path, Path):
+        raise InputError(
+            "path must be a cartesian path (cartesian.Line, Arc, Circle, Polyline, PathSequence, "
+            f"FunctionPath), got {checks.describe(path)}"
+        )
 
 
 def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -> CartesianPlan:
@@ -534,13 +661,14 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
     qs, qds, jacobians, tools, manips = [], [], [], [], []
     events: list[Event] = []
     q_prev = qd_prev = qd_before = None
+    qdd_first = np.zeros(nq)  # q̈ at the first sample when it is at rest, for the second's guess
     steps = np.diff(t, prepend=0.0).tolist()  # h_k = t_k − t_(k−1) [s]
     weights = _adams_bashforth_weights(np.diff(t))
     for k in range(n):
         if k == 0:
             guess = tracker.start(positions[0], rotations[0], seed)
-        elif qd_before is None:
-            guess = q_prev + qd_prev * steps[k]
+        elif qd_before is None:  # second sample: Taylor, with q̈ = J⁺ẍ when starting at rest
+            guess = q_prev + qd_prev * steps[k] + (0.5 * steps[k] ** 2) * qdd_first
         else:
             w_prev, w_before = weights[k]
             guess = q_prev + qd_prev * w_prev + qd_before * w_before
@@ -551,16 +679,24 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
                 guess, positions[k], rotations[k], evaluated=True
             )
             if not ok:
-                events.append(
-                    tracker.diagnose(k, t[k], s[k], guess, q_prev, positions[k], rotations[k])
-                )
-                break
+                found = tracker.rescue(k, t[k], s[k], guess, q_prev, positions[k], rotations[k])
+                if isinstance(found, Event):
+                    events.append(found)
+                    break
+                q, corrections = found, 1
+                tracker.accepts(q, position_floats[k], rotation_floats[k])  # kinematics at q
+        j = tracker.beyond_limit(q)
+        if j is not None:
+            events.append(tracker.limit_event(k, t[k], s[k], q, j, positions[k]))
+            break
         J = tracker.jacobian()
         m = tracker.factor(J)
         if tracker.is_singular(m):
             events.append(tracker.singular_event(k, t[k], s[k], m, positions[k]))
             break
         qd = tracker.rates(xd[k])
+        if k == 0 and not qd.any():
+            qdd_first = tracker.rates(xdd[0])
         if corrections:  # an uncorrected prediction (q = guess) cannot jump
             event = tracker.jump_event(
                 k, t[k], s[k], q, q_prev, qd, qd_prev, steps[k], positions[k]
@@ -578,12 +714,15 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
     done = len(qs)
     q_out = np.array(qs).reshape(done, nq)
     qd_out = np.array(qds).reshape(done, nq)
-    # joint speeds are checked once, vectorised; a sample too fast comes before any event the
-    # loop stopped at (those stop the loop at index `done`), so it is the first event
-    too_fast = tracker.first_too_fast(qd_out)
-    if too_fast is not None:
-        k = too_fast
-        events = [tracker.speed_event(k, t[k], s[k], qd_out[k], positions[k])]
+    # joint speeds are checked once, vectorised (rates and mean speeds between samples); a
+    # sample too fast comes before any event the loop stopped at (those stop the loop at index
+    # `done`), so it is the first event
+    ratios = joint_speeds(q_out, qd_out, t[:done]) / tracker.speed_limit
+    over = np.flatnonzero((ratios > 1.0).any(axis=1))
+    peak = float(ratios.max(initial=0.0))
+    if len(over):
+        k = int(over[0])
+        events = [tracker.speed_event(k, t[k], s[k], ratios[k], peak, positions[k])]
         done = k
     q_out, qd_out = q_out[:done], qd_out[:done]
     jacobian_stack = np.array(jacobians[:done]).reshape(done, 6, nq)
@@ -601,6 +740,7 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
         s=s[:done].copy(),
         ok=ok,
         status="ok" if ok else events[0].kind,
+        peak_speed_ratio=peak,
         fraction=1.0 if ok else (float(s[done - 1]) if done else 0.0),
         events=events,
         max_deviation=float(deviation.max()) if done else 0.0,

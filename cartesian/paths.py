@@ -17,6 +17,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 import pinocchio as pin
 
+from kinplan import checks
 from kinplan.errors import InputError
 from kinplan.robot import parse_target
 
@@ -24,7 +25,12 @@ _FD_STEP = 1e-5  # [-] step in s for the finite-difference fallbacks
 
 
 def _points(values: Sequence, names: Sequence[str]) -> tuple[list[np.ndarray], list | None]:
-    """Positions and rotations of several path points; all poses or all positions."""
+    """Positions and rotations of several path points; all poses or all positions.
+
+    Raises:
+        InputError: a point that is not an SE3 pose or a finite 3-vector [m] (a 4×4 matrix
+            whose rotation part is not a rotation), or a mix of poses and positions.
+    """
     parsed = [parse_target(v, n) for v, n in zip(values, names)]
     rotations = [r for _, r in parsed]
     if all(r is None for r in rotations):
@@ -38,11 +44,21 @@ def _points(values: Sequence, names: Sequence[str]) -> tuple[list[np.ndarray], l
 
 
 def _as_s(s) -> np.ndarray:
-    arr = np.atleast_1d(np.asarray(s, dtype=float))
+    """Path fractions as a 1-D float array (values outside [0, 1] are clipped by the callers).
+
+    Raises:
+        InputError: not a number or a 1-D array of finite numbers.
+    """
+    if type(s) is np.ndarray and s.dtype == np.float64 and s.ndim == 1:  # the common case
+        arr = s
+    else:
+        arr = np.atleast_1d(checks.floats(s, "s", "a number or a 1-D array of path fractions"))
     if arr.ndim != 1:
         raise InputError(
             f"s must be a number or a 1-D array of path fractions, got shape {arr.shape}"
         )
+    if not np.all(np.isfinite(arr)):
+        raise InputError(f"s must hold finite path fractions in [0, 1], got {arr}")
     return arr
 
 
@@ -141,7 +157,12 @@ class Path:
         return 0.5 * (w_lo + w_hi), (w_hi - w_lo) / (0.5 * width)[:, None]
 
     def pose(self, s: float) -> pin.SE3:
-        """Tool pose at path fraction ``s`` (identity rotation for a position-only path)."""
+        """Tool pose at path fraction ``s`` (identity rotation for a position-only path).
+
+        Raises:
+            InputError: ``s`` is not a finite number.
+        """
+        s = checks.number(s, "s")
         position = self.position(np.array([s]))[0]
         rotation = self.rotation(np.array([s]))
         return pin.SE3(np.eye(3) if rotation is None else rotation[0], position)
@@ -163,12 +184,21 @@ class Line(Path):
 
     def __init__(self, start, end):
         (self.a, self.b), rotations = _points([start, end], ["start", "end"])
-        self.delta = self.b - self.a
-        self.length = float(np.linalg.norm(self.delta))
+        with np.errstate(over="ignore", invalid="ignore"):
+            self.delta = self.b - self.a
+            self.length = float(np.linalg.norm(self.delta))
+        if not np.isfinite(self.length):
+            raise InputError(
+                f"a Line from {self.a.tolist()} to {self.b.tolist()} m is too long to compute "
+                "with; give start and end points in metres at a working distance"
+            )
         self.has_orientation = rotations is not None
         self.slerp = Slerp(*rotations) if rotations else None
         if self.length == 0.0 and (self.slerp is None or self.slerp.angle == 0.0):
-            raise InputError("a Line needs two different points (or rotations); start == end")
+            raise InputError(
+                "a Line needs two different points (or rotations): start == end; give an end "
+                "away from the start"
+            )
 
     def __repr__(self) -> str:
         return f"Line({self.a.round(4).tolist()} → {self.b.round(4).tolist()}, {self.length:.4g} m)"
@@ -195,14 +225,35 @@ class CircularArc(Path):
     """
 
     def __init__(self, center, radius, e1, e2, sweep, rotations=None):
-        self.center = np.asarray(center, dtype=float)
-        self.radius = float(radius)
-        self.e1, self.e2 = np.asarray(e1, dtype=float), np.asarray(e2, dtype=float)
-        self.sweep = float(sweep)
-        if self.radius <= 0 or self.sweep <= 0:
-            raise InputError(f"an arc needs radius > 0 and sweep > 0, got {radius}, {sweep}")
+        self.center = checks.vector(center, "center", 3, "m")
+        self.radius = checks.number(radius, "radius", positive=True, unit="m")
+        self.e1 = checks.vector(e1, "e1", 3)
+        self.e2 = checks.vector(e2, "e2", 3)
+        self.sweep = checks.number(sweep, "sweep", positive=True, unit="rad")
+        for name, vector in (("e1", self.e1), ("e2", self.e2)):
+            if abs(float(np.linalg.norm(vector)) - 1.0) > 1e-9:
+                raise InputError(
+                    f"{name} must be a unit vector, got {vector} of norm {np.linalg.norm(vector):.6g}"
+                )
+        if abs(float(self.e1 @ self.e2)) > 1e-9:
+            raise InputError(
+                f"e1 and e2 must be perpendicular unit vectors (e1·e2 = 0), got e1·e2 = "
+                f"{self.e1 @ self.e2:.3g}"
+            )
         self.length = self.radius * self.sweep
+        if not np.isfinite(self.length):
+            raise InputError(f"radius × sweep overflows: {self.radius} m × {self.sweep} rad")
         self.has_orientation = rotations is not None
+        if rotations is not None:
+            if not isinstance(rotations, (tuple, list)) or len(rotations) != 2:
+                raise InputError(
+                    "rotations must be a pair (start, end) of 3×3 rotation matrices, or None for "
+                    f"position only; got {checks.describe(rotations)}"
+                )
+            rotations = (
+                checks.rotation(rotations[0], "the start rotation"),
+                checks.rotation(rotations[1], "the end rotation"),
+            )
         self.slerp = Slerp(*rotations) if rotations is not None else None
 
     def __repr__(self) -> str:
@@ -251,6 +302,12 @@ class Arc(CircularArc):
         w = np.cross(u, v)
         center = c + np.cross(u @ u * v - v @ v * u, w) / (2.0 * (w @ w))
         radius = float(np.linalg.norm(a - center))
+        if not (np.all(np.isfinite(center)) and np.isfinite(radius) and radius > 0):
+            raise InputError(
+                "Arc: the circle through start, via and end is too large to compute with (the "
+                "points are nearly collinear or very far apart); use a Line, or move the via "
+                "point off the line"
+            )
         n = normal / np.linalg.norm(normal)
         e1 = (a - center) / radius
         e2 = np.cross(n, e1)
@@ -263,18 +320,39 @@ class Arc(CircularArc):
 
 def Circle(
     center, radius: float, normal=(0.0, 0.0, 1.0), start_direction=(1.0, 0.0, 0.0), rotation=None
-):
+) -> CircularArc:
     """Full circle (one turn, counter-clockwise about ``normal``) starting at
-    ``center + radius * start_direction``; ``rotation`` (3×3) holds the tool rotation constant,
-    None for position only."""
-    n = np.asarray(normal, dtype=float)
-    n = n / np.linalg.norm(n)
-    d = np.asarray(start_direction, dtype=float)
+    ``center + radius * start_direction``.
+
+    Args:
+        center: Circle centre [m], a 3-vector.
+        radius: Radius [m], > 0.
+        normal: Axis of the circle (any non-zero 3-vector; normalised).
+        start_direction: Direction from the centre to the start point (its component along
+            ``normal`` is dropped; it must not be parallel to ``normal``).
+        rotation: Constant tool rotation (3×3 rotation matrix or SE3), or None for position only.
+
+    Raises:
+        InputError: a centre, normal or direction that is not a finite 3-vector, a zero normal,
+            a radius that is not a finite number > 0, a rotation that is not a rotation matrix.
+    """
+    center = checks.vector(center, "center", 3, "m")
+    radius = checks.number(radius, "radius", positive=True, unit="m")
+    n = checks.vector(normal, "normal", 3)
+    size = float(np.linalg.norm(n))
+    if not 0.0 < size < np.inf:
+        raise InputError(f"Circle: normal must be a non-zero 3-vector (the circle's axis), got {n}")
+    n = n / size
+    d = checks.vector(start_direction, "start_direction", 3)
     d = d - (d @ n) * n
-    if np.linalg.norm(d) < 1e-12:
-        raise InputError("Circle: start_direction must not be parallel to the normal")
+    if not np.linalg.norm(d) >= 1e-12 * max(1.0, float(np.abs(d).max(initial=0.0))):
+        raise InputError(
+            "Circle: start_direction must not be parallel to the normal (it points from the "
+            "centre to the start point, in the circle's plane)"
+        )
     e1 = d / np.linalg.norm(d)
-    rotations = None if rotation is None else (np.asarray(rotation), np.asarray(rotation))
+    fixed = None if rotation is None else checks.rotation(rotation, "rotation")
+    rotations = None if fixed is None else (fixed, fixed)
     return CircularArc(center, radius, e1, np.cross(n, e1), 2.0 * np.pi, rotations)
 
 
@@ -287,8 +365,21 @@ class PathSequence(Path):
     """
 
     def __init__(self, paths: Sequence[Path]):
+        try:
+            if isinstance(paths, (str, bytes, Path)):
+                raise TypeError
+            paths = list(paths)
+        except TypeError:
+            raise InputError(
+                f"PathSequence needs a list of paths (Line, Arc, ...), got {checks.describe(paths)}"
+            ) from None
         pieces: list[Path] = []
-        for path in paths:
+        for k, path in enumerate(paths):
+            if not isinstance(path, Path):
+                raise InputError(
+                    f"paths[{k}] must be a cartesian path (Line, Arc, Circle, ...), got "
+                    f"{checks.describe(path)}"
+                )
             pieces.extend(path.paths if isinstance(path, PathSequence) else [path])
         if not pieces:
             raise InputError("a path sequence needs at least one path")
@@ -353,10 +444,29 @@ class PathSequence(Path):
 
 
 def Polyline(points: Sequence) -> PathSequence:
-    """Straight lines through ``points`` (poses or 3-vectors), joined at sharp corners."""
+    """Straight lines through ``points`` (poses or 3-vectors [m]), joined at sharp corners.
+
+    Raises:
+        InputError: fewer than two points, points that are not poses or finite 3-vectors, or two
+            consecutive points that coincide.
+    """
+    try:
+        if isinstance(points, (str, bytes, pin.SE3)):
+            raise TypeError
+        points = list(points)
+    except TypeError:
+        raise InputError(
+            f"points must be a list of poses (SE3) or 3-vectors [m], got {checks.describe(points)}"
+        ) from None
     if len(points) < 2:
-        raise InputError("a polyline needs at least two points")
-    return PathSequence([Line(a, b) for a, b in zip(points, points[1:])])
+        raise InputError(f"a polyline needs at least two points, got {len(points)}")
+    lines = []
+    for k, (a, b) in enumerate(zip(points, points[1:])):
+        try:
+            lines.append(Line(a, b))
+        except InputError as exc:
+            raise InputError(f"Polyline: points[{k}] to points[{k + 1}]: {exc}") from None
+    return PathSequence(lines)
 
 
 class FunctionPath(Path):
@@ -376,6 +486,12 @@ class FunctionPath(Path):
         orientation=None,
         samples: int = 4001,
     ):
+        if not callable(function):
+            raise InputError(
+                "FunctionPath needs a function u ↦ position [m] (u in [0, 1]), got "
+                f"{checks.describe(function)}"
+            )
+        samples = checks.count(samples, "samples", minimum=3)
         self.function = function
         u = np.linspace(0.0, 1.0, samples)
         points = self._evaluate(u)
@@ -394,9 +510,7 @@ class FunctionPath(Path):
             self.has_orientation = True
             self._orientation = orientation
         else:
-            fixed = np.array(
-                orientation.rotation if isinstance(orientation, pin.SE3) else orientation
-            )
+            fixed = checks.rotation(orientation, "orientation")
             self.has_orientation = True
             self._orientation = None
             self.slerp = Slerp(fixed, fixed)  # constant: vectorised, exact zero angular rates
@@ -408,8 +522,14 @@ class FunctionPath(Path):
                 values = out
             else:
                 raise ValueError
-        except (TypeError, ValueError):
-            values = np.array([np.asarray(self.function(x), dtype=float) for x in u])
+        except Exception:  # the function takes one u at a time
+            try:
+                values = np.array([np.asarray(self.function(x), dtype=float) for x in u])
+            except Exception as exc:
+                raise InputError(
+                    f"FunctionPath: the function failed at u in [0, 1] ({type(exc).__name__}: "
+                    f"{exc}); it must return a position 3-vector [m] for each u"
+                ) from exc
         if values.shape != (len(u), 3) or not np.all(np.isfinite(values)):
             raise InputError("FunctionPath: the function must return finite 3-vectors [m]")
         return values
@@ -421,4 +541,11 @@ class FunctionPath(Path):
     def _rotation(self, s):
         if self._orientation is None:  # a constant orientation
             return super()._rotation(s)
-        return np.array([self._orientation(x) for x in s], dtype=float).reshape(len(s), 3, 3)
+        try:
+            rotations = [self._orientation(x) for x in s]
+        except Exception as exc:
+            raise InputError(
+                f"FunctionPath: the orientation function failed ({type(exc).__name__}: {exc}); "
+                "it must return a 3×3 rotation matrix for each path fraction s"
+            ) from exc
+        return np.stack([checks.rotation(r, "the orientation function's value") for r in rotations])

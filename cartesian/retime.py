@@ -22,23 +22,25 @@ GRID_SPACING = 0.0005
 GRID_POINTS = (201, 20001)
 
 
-def retime_for_speed_limits(tracker, path, timing: PathTiming, seed: np.ndarray, dt: float):
-    """A slower time law for ``path`` within the joint speed limits, or ``timing`` unchanged.
+def retime_for_speed_limits(
+    s: np.ndarray, dq_ds: np.ndarray, speed_limit: np.ndarray, timing: PathTiming, dt: float
+) -> PathTiming:
+    """A slower time law for a path within the joint speed limits, or ``timing`` unchanged.
 
-    ``timing`` is returned as is when it already respects the limits, or when the geometric
-    pass fails (the follower then reports that failure).
+    Args:
+        s: Path fractions of the geometric pass, increasing from 0 to 1 (see
+            :data:`GRID_SPACING` for a sensible spacing).
+        dq_ds: Joint rates dq/ds there (N, nq) [rad or m per unit s].
+        speed_limit: Joint speed limits (nq,) [rad/s or m/s].
+        timing: The nominal time law.
+        dt: Sampling period [s].
+
+    Returns:
+        ``timing`` itself when it already respects the limits, else the retimed law, sampled.
     """
-    from cartesian.follow import trace_geometry
-
-    count = int(np.clip(np.ceil(path.length / GRID_SPACING) + 1, *GRID_POINTS))
-    s = np.linspace(0.0, 1.0, count)
-    geometry = trace_geometry(tracker, path, s, seed)
-    if geometry.events:
-        return timing
-    s = geometry.s
-    rates = np.abs(geometry.dq_ds)
+    rates = np.abs(dq_ds)
     with np.errstate(divide="ignore"):
-        cap = np.min(SPEED_MARGIN * tracker.speed_limit / rates, axis=1)
+        cap = np.min(SPEED_MARGIN * speed_limit / rates, axis=1)
     nominal = np.interp(s, timing.s, timing.sd)
     if np.all(nominal <= cap / SPEED_MARGIN):
         return timing
@@ -46,6 +48,11 @@ def retime_for_speed_limits(tracker, path, timing: PathTiming, seed: np.ndarray,
     accel = float(np.abs(timing.sdd).max())
     speed = _feasible_speeds(np.minimum(cap, top), np.diff(s), accel)
     return sample_law(_law_from_speeds(s, speed), 1.0, dt)
+
+
+def grid_points(length: float) -> int:
+    """Number of points of the geometric grid of a path of ``length`` [m]."""
+    return int(np.clip(np.ceil(length / GRID_SPACING) + 1, *GRID_POINTS))
 
 
 def _feasible_speeds(cap: np.ndarray, ds: np.ndarray, accel: float) -> np.ndarray:

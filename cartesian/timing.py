@@ -14,6 +14,7 @@ import numpy as np
 from kinplan import trajectory
 from kinplan._profiles import PROFILES, REST_TO_REST_PEAKS
 from kinplan.errors import InputError
+from kinplan.sampling import motion_step
 
 #: Default time to reach the cruise speed when only a tool speed is given [s].
 DEFAULT_RAMP_TIME = 0.25
@@ -24,7 +25,9 @@ class PathTiming:
     """Samples of a time law s(t) along a path.
 
     Attributes:
-        t: Sample times [s], 0, dt, ..., duration (the last exactly at the end).
+        t: Sample times [s], 0, dt, ..., duration (the last exactly at the end); a motion
+            shorter than MIN_INTERVALS · dt is sampled more finely
+            (:func:`kinplan.sampling.motion_step`).
         s: Path fractions [-].
         sd: ds/dt [1/s].
         sdd: d²s/dt² [1/s²].
@@ -100,9 +103,10 @@ def time_path(
 
 
 def sample_law(law: trajectory.Trajectory, scale: float, dt: float) -> PathTiming:
-    """Sample a 1-D law u(t) every ``dt`` seconds as path fractions s = scale · u, the last
-    exactly 1 (``scale``: 1 / path length [1/m], or 1 for a law of s itself)."""
-    t = trajectory.time_grid(law.duration, dt)
+    """Sample a 1-D law u(t) every ``dt`` seconds (or finer for a short motion:
+    :func:`kinplan.sampling.motion_step`) as path fractions s = scale · u, the last exactly 1
+    (``scale``: 1 / path length [1/m], or 1 for a law of s itself)."""
+    t = trajectory.time_grid(law.duration, motion_step(law.duration, dt))
     u, ud, udd = law.sample(t)
     s = np.clip(u[:, 0] * scale, 0.0, 1.0)
     s[-1] = 1.0

@@ -29,6 +29,37 @@ Pieces = tuple[np.ndarray, list[np.ndarray]]
 RELATIVE_TOLERANCE = 1e-12
 """Relative slack for feasibility tests and for merging knots, against rounding [-]."""
 
+KNOT_MERGE_TOLERANCE = 64.0 * np.finfo(float).eps
+"""Phase boundaries of different joints closer than this fraction of the duration are merged
+into one knot [-]: a few units of rounding of the duration, so that merging moves no phase by
+more than rounding, whatever the ratio of the shortest phase to the whole motion."""
+
+LIMIT_MARGIN = 16.0 * np.finfo(float).eps
+"""Relative margin below velocity and acceleration limits that a minimum-time profile is planned
+for, so that the rounding of building and sampling it never exceeds the limits [-]."""
+
+NEGLIGIBLE_MOVE = 1e-150
+"""Moves smaller than this [rad or m] are planned as no move by the trapezoidal profiles: their
+blend times and accelerations would fall into the subnormal range, where quotients lose their
+digits. The trajectory still ends exactly at its target (the end state is given)."""
+
+
+def without_negligible_moves(q0: np.ndarray, qf: np.ndarray) -> np.ndarray:
+    """``qf`` with every joint that moves less than :data:`NEGLIGIBLE_MOVE` put back at ``q0``."""
+    return np.where(np.abs(qf - q0) > NEGLIGIBLE_MOVE, qf, q0)
+
+
+def round_up(value: float, digits: int = 6) -> float:
+    """``value`` > 0 rounded up to ``digits`` significant digits.
+
+    A minimum stated in a message this way is itself feasible when the caller copies it.
+    """
+    rounded = float(f"{value:.{digits}g}")
+    if rounded >= value:
+        return rounded
+    unit = 10.0 ** (math.floor(math.log10(value)) - digits + 1)
+    return float(f"{rounded + unit:.{digits}g}")
+
 
 # ----------------------------------------------------------------------------------------------
 # Polynomials fixed by boundary conditions
@@ -164,7 +195,7 @@ def merged_knots(breaks: np.ndarray) -> np.ndarray:
     """
     duration = float(breaks[0, -1])
     candidates = np.unique(breaks)
-    tolerance = RELATIVE_TOLERANCE * max(duration, 1.0)
+    tolerance = KNOT_MERGE_TOLERANCE * duration
     knots = [0.0]
     for t in candidates:
         if t - knots[-1] > tolerance and duration - t > tolerance:
@@ -240,7 +271,8 @@ def check_lspb_acceleration(distance: np.ndarray, duration: float, acceleration:
         raise InfeasibleError(
             f"joint {j}: acceleration {acceleration[j]:.6g} rad/s² is too low for a "
             f"{distance[j]:.6g} rad move in {duration:.6g} s; it must be at least "
-            f"{minimum[j]:.6g} rad/s² (4|qf-q0|/T²); raise the acceleration or the duration"
+            f"{round_up(minimum[j]):.6g} rad/s² (4|qf-q0|/T²); raise the acceleration or the "
+            "duration"
         )
 
 
@@ -286,6 +318,37 @@ def lspb_minimum_times(
     )
 
 
+def _limit_ratio(
+    distance: np.ndarray,
+    duration: float,
+    max_velocity: np.ndarray,
+    max_acceleration: np.ndarray,
+    blend: np.ndarray,
+) -> np.ndarray:
+    """Largest of cruise speed / max_velocity and acceleration / max_acceleration per joint [-].
+
+    The cruise speed of an LSPB of duration T with blend t is ``|Δ|/(T − t)`` and its blend
+    acceleration ``|Δ|/(t (T − t))``; both are evaluated directly (no cancellation for t ≤ T/2).
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rest = duration - blend
+        speed = distance / (rest * max_velocity)
+        acceleration = distance / (blend * rest * max_acceleration)
+    ratio = np.maximum(speed, acceleration)
+    return np.where(distance > 0.0, np.nan_to_num(ratio, nan=np.inf), 0.0)
+
+
+def synchronised_minimum_time(
+    distance: np.ndarray, max_velocity: np.ndarray, max_acceleration: np.ndarray
+) -> float:
+    """Shortest common duration of the synchronised LSPB [s], planned for the limits reduced by
+    :data:`LIMIT_MARGIN` (longer than the slowest joint's own minimum time by about 1e-15
+    relative); 0 when nothing moves."""
+    reduced = 1.0 - LIMIT_MARGIN
+    own = lspb_minimum_times(distance, max_velocity * reduced, max_acceleration * reduced)
+    return float(np.max(own))
+
+
 def synchronised_blend_times(
     distance: np.ndarray,
     duration: float,
@@ -297,20 +360,116 @@ def synchronised_blend_times(
 
     For duration T, a joint's admissible blend times form the interval [lo, hi]: ``lo`` is the
     blend time at its maximum acceleration (a shorter blend needs more) and
-    ``hi = min(T/2, T − |Δ|/v_max)`` (a longer blend needs a higher cruise speed). Each joint takes
-    the reference joint's blend time clipped to its interval, so the joints switch together
-    whenever their limits allow it. T must be at least every joint's minimum time.
+    ``hi = min(T/2, T − |Δ|/v_max)`` (a longer blend needs a higher cruise speed). The reference
+    joint (the slowest) takes its blend at maximum acceleration, exactly ``min(v/a, sqrt(|Δ|/a))``
+    when T is its own minimum time (the quadratic for ``lo`` has a double root there, where
+    solving it would lose half the digits); every joint takes that blend time clipped to its own
+    interval, so the joints switch together whenever their limits allow it. T must be at least
+    every joint's minimum time.
 
-    Where rounding makes ``hi < lo`` (a joint at both limits) ``lo`` wins: the acceleration
-    ``|Δ|/(t_a (T − t_a))`` is sensitive to t_a when t_a ≪ T, the velocity ``|Δ|/(T − t_a)``
-    is not (and ``hi = T − |Δ|/v`` suffers cancellation).
+    Where rounding makes ``hi < lo`` (a joint at both limits) the end whose limits are better
+    kept wins: ``lo`` is accurate when t ≪ T (``hi = T − |Δ|/v`` cancels there), ``hi`` near
+    T/2 (the quadratic for ``lo`` is ill-conditioned there); both are evaluated and the one with
+    the smaller excess over the limits is taken.
+
+    Args:
+        distance: Move magnitudes |qf − q0|, shape (n,) [rad].
+        duration: Common motion time T [s], at least every joint's minimum time.
+        max_velocity: Velocity limits, shape (n,) [rad/s].
+        max_acceleration: Acceleration limits, shape (n,) [rad/s²].
+        reference_joint: The joint whose own minimum time is the longest.
 
     Returns:
         Blend times, shape (n,) [s].
     """
     lo = lspb_blend_time(distance, duration, max_acceleration)
     hi = np.minimum(0.5 * duration, duration - distance / max_velocity)
-    return np.maximum(np.minimum(lo[reference_joint], hi), lo)
+    r = reference_joint
+    own = lspb_minimum_times(distance[r : r + 1], max_velocity[r : r + 1], max_acceleration[r : r + 1])
+    if duration <= own[0]:
+        target = min(
+            max_velocity[r] / max_acceleration[r], math.sqrt(distance[r] / max_acceleration[r])
+        )
+    else:
+        target = lo[r]
+    blend = np.minimum(np.maximum(target, lo), hi)
+    conflict = lo > hi
+    if np.any(conflict):
+        at_lo = _limit_ratio(distance, duration, max_velocity, max_acceleration, lo)
+        at_hi = _limit_ratio(distance, duration, max_velocity, max_acceleration, hi)
+        blend = np.where(conflict, np.where(at_lo <= at_hi, lo, hi), blend)
+    return blend
+
+
+def peak_rates(knots: np.ndarray, coefficients: Sequence[np.ndarray]) -> tuple[np.ndarray, ...]:
+    """Largest |velocity| and |acceleration| of quadratic pieces, rounded as they are sampled.
+
+    The velocity of a quadratic piece is linear in τ, so its extremes are at the ends of the
+    piece; it is evaluated as :meth:`kinplan.trajectory.Trajectory.sample` does (Horner on
+    ``[c1, 2 c2]`` at τ = 0 and τ = t1 − t0, in floating point), and floating-point rounding is
+    monotonic, so no sample in between exceeds these values.
+
+    Args:
+        knots: Knot times, shape (S + 1,) [s].
+        coefficients: S arrays of shape (n, 3).
+
+    Returns:
+        Peak speeds and peak acceleration magnitudes, each of shape (n,) [rad/s, rad/s²].
+    """
+    speed = np.zeros(coefficients[0].shape[0])
+    acceleration = np.zeros_like(speed)
+    for lo, hi, c in zip(knots[:-1], knots[1:], coefficients, strict=True):
+        doubled = 2.0 * c[:, 2]
+        speed = np.maximum(speed, np.abs(c[:, 1]))
+        speed = np.maximum(speed, np.abs(doubled * (hi - lo) + c[:, 1]))
+        acceleration = np.maximum(acceleration, np.abs(doubled))
+    return speed, acceleration
+
+
+def synchronised_lspb(
+    q0: np.ndarray,
+    qf: np.ndarray,
+    duration: float,
+    max_velocity: np.ndarray,
+    max_acceleration: np.ndarray,
+) -> Pieces:
+    """LSPB of every joint lasting ``duration``, never exceeding the limits, not even by rounding.
+
+    The timing is planned for limits reduced by :data:`LIMIT_MARGIN` (a few units of rounding),
+    and the pieces are then checked as they will be sampled (:func:`peak_rates`). In the rare case
+    that rounding still pushes a joint over a limit (knots of different joints merged within
+    rounding), the motion is slowed by a few more units of rounding until none is exceeded.
+
+    Args:
+        q0: Start positions, shape (n,) [rad].
+        qf: End positions, shape (n,) [rad].
+        duration: Motion time [s], at least :func:`lspb_minimum_times` for the reduced limits.
+        max_velocity: Velocity limits, shape (n,) [rad/s].
+        max_acceleration: Acceleration limits, shape (n,) [rad/s²].
+
+    Returns:
+        Knots and coefficient arrays of shape (n, 3); the last knot is ``duration`` unless it
+        had to be stretched (by at most a few units of rounding in practice).
+    """
+    distance = np.abs(qf - q0)
+    if duration == 0.0:  # nothing moves
+        return lspb_pieces(q0, qf, 0.0, np.zeros_like(distance))
+    velocity = max_velocity * (1.0 - LIMIT_MARGIN)
+    acceleration = max_acceleration * (1.0 - LIMIT_MARGIN)
+    reference = int(np.argmax(lspb_minimum_times(distance, velocity, acceleration)))
+    stretch = LIMIT_MARGIN
+    for _ in range(64):
+        blend = synchronised_blend_times(distance, duration, velocity, acceleration, reference)
+        knots, coefficients = lspb_pieces(q0, qf, duration, blend)
+        speed, peak = peak_rates(knots, coefficients)
+        if np.all(speed <= max_velocity) and np.all(peak <= max_acceleration):
+            return knots, coefficients
+        duration *= 1.0 + stretch
+        stretch *= 2.0
+    raise InfeasibleError(  # unreachable: each pass slows the motion by twice as much
+        "the synchronised trapezoid could not be kept within the limits against rounding; "
+        "give slightly lower max_velocity or max_acceleration"
+    )
 
 
 # ----------------------------------------------------------------------------------------------
@@ -331,7 +490,8 @@ def _check_end_segment(
     for j in np.flatnonzero(acceleration < minimum * (1.0 - RELATIVE_TOLERANCE)):
         raise InfeasibleError(
             f"joint {j}: acceleration {acceleration[j]:.6g} rad/s² is too low to {where} "
-            f"({distance[j]:.6g} rad in {span:.6g} s); it must be at least {minimum[j]:.6g} "
+            f"({distance[j]:.6g} rad in {span:.6g} s); it must be at least "
+            f"{round_up(minimum[j]):.6g} "
             f"rad/s² (2|Δ|/t²); raise the acceleration or lengthen {durations_name}"
         )
 
@@ -365,6 +525,7 @@ def blend_phases(
     """
     spans = np.diff(times)
     delta = np.diff(points, axis=0)
+    delta[np.abs(delta) <= NEGLIGIBLE_MOVE] = 0.0
     distance = np.abs(delta)
     _check_end_segment(distance[0], spans[0], acceleration, f"leave {names[0]}", span_names[0])
     _check_end_segment(

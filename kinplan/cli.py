@@ -31,10 +31,6 @@ from kinplan.errors import KinplanError
 
 __all__ = ["main"]
 
-REACH_SAMPLES = 2000
-"""Configurations sampled for the reach of a non-planar arm (``kinplan info``)."""
-
-
 # ----------------------------------------------------------------------------------------------
 # Output helpers
 # ----------------------------------------------------------------------------------------------
@@ -118,17 +114,10 @@ def _reach_text(robot: kinplan.Robot) -> str:
             f"reach: planar annulus {r_min:.4f} m ≤ r ≤ {r_max:.4f} m about the first joint "
             "(in its plane)"
         )
-    from kinplan.ik import halton
-
     origin = np.array(robot.model.jointPlacements[1].translation)
-    span = robot.upper - robot.lower
-    distances = [
-        np.linalg.norm(robot.fk(robot.lower + span * halton(i, robot.nq)).translation - origin)
-        for i in range(1, REACH_SAMPLES + 1)
-    ]
     return (
-        f"reach: max tool distance from the first joint {max(distances):.4f} m "
-        f"(over {REACH_SAMPLES} sampled configurations; first joint at {_fmt(origin, 3)} m)"
+        f"reach: max tool distance from the first joint {robot.reach():.4f} m within the joint "
+        f"limits (first joint at {_fmt(origin, 3)} m)"
     )
 
 
@@ -174,9 +163,11 @@ def _cmd_ik(args: argparse.Namespace) -> int:
         print(f"rotation error [rad]:  {result.rotation_error:.3g}")
     print(f"iterations:            {result.iterations}")
     if not result.success:
+        from cartesian.follow import out_of_reach
+
         return _fail(
-            f"no IK solution within the joint limits for {_fmt(position, 3)} m: the closest "
-            f"found is {result.position_error:.4f} m, {result.rotation_error:.4f} rad away"
+            f"no IK solution for the {what} at {_fmt(position, 3)} m: "
+            f"{out_of_reach(robot, result, position)}"
         )
     return 0
 
@@ -184,6 +175,7 @@ def _cmd_ik(args: argparse.Namespace) -> int:
 def _cmd_run(args: argparse.Namespace) -> int:
     from kinplan.program import load_program
 
+    plot = _plot_file(args.plot) if args.plot else None  # an unknown image type: before planning
     program = load_program(args.program)
     for warning in program.warnings:
         print(f"kinplan: warning: {warning}", file=sys.stderr)
@@ -194,13 +186,14 @@ def _cmd_run(args: argparse.Namespace) -> int:
             f"ok: {len(plan.moves)} moves, {plan.duration:.3f} s, {len(plan.t)} samples "
             f"every {plan.dt:g} s"
         )
-        _write_outputs(plan, args)
-        return 0
-    if args.html:
-        failed = plan.moves[-1].number if plan.moves else 0
-        path = _write_html(plan, args.html, title=f"{args.program}: failed at move {failed}")
-        print(f"wrote the motion up to the failure (for inspection, not a valid motion): {path}")
-    return _fail(plan.reason)
+    problems = _write_outputs(plan, args, plot)
+    if not plan.ok:
+        for problem in problems:
+            print(f"not written: {problem}")
+        return _fail(plan.reason)
+    if problems:
+        return _fail("; ".join(problems))
+    return 0
 
 
 def _plan_with_progress(program, dt: float):
@@ -250,20 +243,82 @@ def _summary_table(plan, title: str):
     return table
 
 
-def _write_outputs(plan, args: argparse.Namespace) -> None:
+def _image_types() -> dict[str, str]:
+    """Image file extensions Matplotlib writes (``png``, ``pdf``, ``svg``, ...) and their
+    descriptions."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    return dict(FigureCanvasBase.get_supported_filetypes())
+
+
+def _plot_file(text: str) -> Path:
+    """The file ``--plot`` writes: ``text``, or ``text.png`` when it has no extension.
+
+    Raises:
+        KinplanError: an extension Matplotlib cannot write (the message lists those it can),
+            or an existing folder.
+    """
+    path = Path(text)
+    if path.is_dir():
+        raise KinplanError(f"--plot {text} is a folder; give an image file name such as plot.png")
+    extension = path.suffix.lower().lstrip(".")
+    if not extension:  # Matplotlib would write <name>.png: say so
+        return path.with_name(path.name.rstrip(".") + ".png")
+    types = _image_types()
+    if extension not in types:
+        supported = ", ".join(f".{name}" for name in sorted(types))
+        raise KinplanError(
+            f"--plot {text}: Matplotlib cannot write .{extension} images; give a file ending in "
+            f"one of {supported}"
+        )
+    return path
+
+
+def _write_outputs(plan, args: argparse.Namespace, plot: Path | None) -> list[str]:
+    """Write the requested --csv, --plot and --html files; return what could not be written.
+
+    A failed plan's files hold the motion up to the failure (for inspection, not a valid
+    motion); with no motion before the failure nothing is written. Each file is reported on
+    stdout, written or not.
+    """
     from kinplan import export
 
     robot = plan.robot
-    if args.csv:
-        path = export.write_csv(args.csv, plan, robot.joint_names)
-        print(f"wrote {path} ({len(plan.t)} samples)")
-    if args.plot:
-        title = f"{args.program}: {robot.name}, {plan.duration:.2f} s"
-        export.plot_motion(plan, args.plot, robot.joint_names, title=title)
-        print(f"wrote {args.plot}")
-    if args.html:
-        path = _write_html(plan, args.html, title=f"{args.program}: {robot.name}")
-        print(f"wrote {path}")
+    requests = [
+        (flag, value)
+        for flag, value in (("--csv", args.csv), ("--plot", plot), ("--html", args.html))
+        if value
+    ]
+    if not requests:
+        return []
+    failed = plan.moves[-1] if not plan.ok and plan.moves else None
+    if failed is not None and len(plan.t) < 2:
+        why = f"move {failed.number} failed before any motion, so there is no motion to write"
+        return [f"{flag} {value}: {why}" for flag, value in requests]
+    partial = "" if plan.ok else f" up to the failure in move {failed.number}"
+    note = "" if plan.ok else " (for inspection, not a valid motion)"
+    title = f"{args.program}: {robot.name}" + (f", failed at move {failed.number}" if failed else "")
+    problems = []
+    for flag, value in requests:
+        try:
+            if flag == "--csv":
+                path = export.write_csv(value, plan, robot.joint_names)
+                what = f"{len(plan.t)} samples{partial}"
+            elif flag == "--plot":
+                figure_title = f"{title}, {plan.duration:.2f} s"
+                export.plot_motion(plan, value, robot.joint_names, title=figure_title)
+                path = value
+                what = f"{plan.duration:.3f} s{partial}"
+                if Path(value).name != Path(args.plot).name:
+                    what += f"; --plot {args.plot} had no extension, so PNG"
+            else:
+                path = _write_html(plan, value, title=title)
+                what = f"playback{partial}"
+        except (KinplanError, OSError, ValueError) as exc:
+            problems.append(f"{flag} {value}: {_one_line(exc)}")
+            continue
+        print(f"wrote {path} ({what}){note}")
+    return problems
 
 
 def _write_html(plan, path: str | Path, title: str) -> Path:
@@ -447,6 +502,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("kinplan: interrupted", file=sys.stderr)
         return 130
+    except Exception as exc:  # a bug: still one line (the traceback is logged with -v)
+        logging.getLogger(__name__).info("internal error", exc_info=True)
+        return _fail(
+            f"internal error ({type(exc).__name__}: {_one_line(exc)}); please report it with the "
+            "command that caused it (kinplan -v ... logs the traceback)"
+        )
 
 
 def _silence_stdout() -> None:

@@ -20,6 +20,9 @@ import eigenpy
 import numpy as np
 import pinocchio as pin
 
+from kinplan import checks
+from kinplan.errors import InputError
+
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 #: Damping λ = DAMPING_GAIN·½‖e‖² + DAMPING_FLOOR of the normal equations (Sugihara-style).
 DAMPING_GAIN = 1e-3
@@ -89,12 +92,28 @@ def _angle_of(frobenius2: float) -> float:
 
 def frobenius_tolerance(rotation_tolerance: float) -> float:
     """‖R* − R‖_F² of a rotation error of ``rotation_tolerance`` [rad]: 8 sin²(θ/2), the rotation
-    test of :meth:`IKSolver.accepts` in plain floats."""
+    test of :meth:`IKSolver.accepts` in plain floats.
+
+    Raises:
+        InputError: ``rotation_tolerance`` not a finite number ≥ 0.
+    """
+    if type(rotation_tolerance) is not float or not 0.0 <= rotation_tolerance < math.inf:
+        rotation_tolerance = checks.number(
+            rotation_tolerance, "rotation_tolerance", minimum=0.0, unit="rad"
+        )
     return 8.0 * math.sin(0.5 * min(rotation_tolerance, math.pi)) ** 2
 
 
 def halton(index: int, dim: int) -> np.ndarray:
-    """Point ``index`` (≥ 1) of the Halton low-discrepancy sequence in [0, 1)^dim."""
+    """Point ``index`` (≥ 1) of the Halton low-discrepancy sequence in [0, 1)^dim.
+
+    Raises:
+        InputError: ``index`` not an integer ≥ 1 or ``dim`` not an integer in [1, 1000].
+    """
+    index = checks.count(index, "index", minimum=1)
+    dim = checks.count(dim, "dim", minimum=1)
+    if dim > 1000:
+        raise InputError(f"dim must be an integer in [1, 1000] (one per joint), got {dim}")
     out = np.empty(dim)
     for k in range(dim):
         base = _PRIMES[k % len(_PRIMES)]
@@ -120,6 +139,15 @@ class IKSolver:
     """
 
     def __init__(self, model: pin.Model, frame_id: int, lower: np.ndarray, upper: np.ndarray):
+        if not isinstance(model, pin.Model):
+            raise InputError(f"model must be a pinocchio.Model, got {checks.describe(model)}")
+        frame_id = checks.count(frame_id, "frame_id", minimum=0)
+        if frame_id >= model.nframes:
+            raise InputError(f"frame_id must be a frame index < {model.nframes}, got {frame_id}")
+        lower = checks.vector(lower, "lower", model.nq, "rad or m")
+        upper = checks.vector(upper, "upper", model.nq, "rad or m")
+        if np.any(lower > upper):
+            raise InputError(f"every lower limit must be ≤ its upper limit: {lower} vs {upper}")
         self.model = model
         self.data = model.createData()
         self.frame_id = frame_id
@@ -301,7 +329,24 @@ class IKSolver:
             max_iterations: Iterations per attempt.
             max_restarts: Restarts after the seeded attempt fails.
             closed_form: Optional closed-form solver with ``nearest(position, rotation, q)``.
+
+        Raises:
+            InputError: a target or seed of the wrong size or not finite, a rotation that is
+                not 3×3, tolerances that are not finite numbers > 0, ``max_iterations`` not an
+                integer ≥ 1, ``max_restarts`` not an integer ≥ 0.
         """
+        position = checks.vector(position, "position", 3, "m")
+        if rotation is not None:
+            rotation = checks.matrix(rotation, "rotation", (3, 3))
+        q_seed = checks.vector(q_seed, "q_seed", self.nq, "rad or m")
+        position_tolerance = checks.number(
+            position_tolerance, "position_tolerance", positive=True, unit="m"
+        )
+        rotation_tolerance = checks.number(
+            rotation_tolerance, "rotation_tolerance", positive=True, unit="rad"
+        )
+        max_iterations = checks.count(max_iterations, "max_iterations", minimum=1)
+        max_restarts = checks.count(max_restarts, "max_restarts", minimum=0)
         best = None
         total = 0
         if closed_form is not None:

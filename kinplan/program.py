@@ -44,6 +44,7 @@ import logging
 import math
 import os
 import re
+import reprlib
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -53,12 +54,12 @@ import pinocchio as pin
 import yaml
 
 import cartesian
-from cartesian.follow import RETIME_HINT
-from kinplan import trajectory
+from kinplan import checks, trajectory
 from kinplan._meshcat_scene import pose_to_track
 from kinplan._profiles import PROFILES, REST_TO_REST_PEAKS, quintic_coefficients
-from kinplan.errors import KinplanError
+from kinplan.errors import InputError, KinplanError
 from kinplan.robot import Robot, load_robot, manipulability_of
+from kinplan.sampling import joint_speeds, motion_step
 from kinplan.sources import bundled_robots, known_names
 from kinplan.trajectory import Segment, Trajectory, Waypoints
 
@@ -269,21 +270,54 @@ class Program:
 # ----------------------------------------------------------------------------------------------
 
 
+class _ProgramLoader(yaml.SafeLoader):
+    """PyYAML's safe loader with YAML 1.2 floats.
+
+    YAML 1.1 (PyYAML's default) only reads a float with a dot and a signed exponent, so
+    ``speed: 1e9`` or ``1.0e9`` would be a string; YAML 1.2's core schema reads ``1e9``,
+    ``1.0e9``, ``.5`` and ``-2E-3`` as floats, as programs mean them.
+    """
+
+
+_ProgramLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(
+        r"^[-+]?(?:(?:[0-9][0-9_]*)?\.[0-9_]+(?:[eE][-+]?[0-9]+)?"  # .5, 1.5, 1.5e9
+        r"|[0-9][0-9_]*\.(?:[eE][-+]?[0-9]+)?"  # 1., 1.e9
+        r"|[0-9][0-9_]*[eE][-+]?[0-9]+)$"  # 1e9, 2E-3
+    ),
+    list("-+0123456789."),
+)
+
+
 def load_program(path: str | os.PathLike[str]) -> Program:
     """Read and validate a program file.
 
     Args:
-        path: The YAML file; a URDF path in it is relative to the file's folder.
+        path: The YAML file (UTF-8); a URDF path in it is relative to the file's folder.
 
     Raises:
-        ProgramError: the file is missing, unreadable, not YAML, or invalid (every problem is
-            listed with its key path and line).
+        ProgramError: the file is missing, unreadable, not UTF-8 text, not YAML, or invalid
+            (every problem is listed with its key path and line).
+        InputError: ``path`` is not a file path (str or os.PathLike).
     """
-    file = Path(path)
+    file = Path(checks.file_path(path, "path (the program file)"))
     try:
-        text = file.read_text(encoding="utf-8")
+        raw = file.read_bytes()
     except OSError as exc:
-        raise ProgramError(str(file), [Issue("program", f"cannot read the file: {exc}")]) from exc
+        reason = exc.strerror or str(exc)
+        raise ProgramError(str(file), [Issue("program", f"cannot read the file: {reason}")]) from exc
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = raw.count(b"\n", 0, exc.start) + 1
+        issue = Issue(
+            "program",
+            f"the file is not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start}); "
+            "save it with UTF-8 encoding",
+            line,
+        )
+        raise ProgramError(str(file), [issue]) from None
     return parse_program(text, base_dir=file.parent, source=str(file))
 
 
@@ -301,19 +335,28 @@ def parse_program(
 
     Raises:
         ProgramError: listing every problem found.
+        InputError: ``text`` is not a string, ``base_dir`` not a path, ``source`` not a string.
     """
+    source = checks.text(source, "source (the program's name in messages)")
+    if not isinstance(text, str):
+        raise InputError(f"text must be the program's YAML text (a str), got {_describe(text)}")
+    if base_dir is not None:
+        base_dir = checks.file_path(base_dir, "base_dir (the folder of relative URDF paths)")
     try:
-        node = yaml.compose(text, Loader=yaml.SafeLoader)
-        data = yaml.safe_load(text)
+        node = yaml.compose(text, Loader=_ProgramLoader)
+        data = yaml.load(text, Loader=_ProgramLoader)
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         line = mark.line + 1 if mark is not None else None
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        problem = getattr(exc, "problem", None) or (str(exc).splitlines() or ["?"])[0]
         raise ProgramError(source, [Issue("program", f"not valid YAML: {problem}", line)]) from exc
+    except RecursionError:
+        issue = Issue("program", "nested too deeply to read; flatten the lists and mappings")
+        raise ProgramError(source, [issue]) from None
     lines: dict[KeyPath, int] = {}
     duplicates: list[tuple[KeyPath, str, int]] = []
     if node is not None:
-        _index_lines(node, (), lines, duplicates)
+        _index_lines(node, (), lines, duplicates, set())
     validator = _Validator(lines, Path(base_dir) if base_dir is not None else Path.cwd())
     for path, key, line in duplicates:
         validator.issues.append(
@@ -327,21 +370,28 @@ def parse_program(
 
 
 def _index_lines(
-    node: yaml.Node, path: KeyPath, lines: dict[KeyPath, int], duplicates: list
+    node: yaml.Node, path: KeyPath, lines: dict[KeyPath, int], duplicates: list, visited: set
 ) -> None:
-    """Record the 1-based line of every key path of the YAML node tree (and duplicate keys)."""
+    """Record the 1-based line of every key path of the YAML node tree (and duplicate keys).
+
+    A node reached again through an alias (``*name``) is not walked twice: aliases can make the
+    tree cyclic or exponentially large.
+    """
     lines[path] = node.start_mark.line + 1
+    if id(node) in visited:
+        return
+    visited.add(id(node))
     if isinstance(node, yaml.MappingNode):
         seen = set()
         for key_node, value_node in node.value:
-            key = str(key_node.value)
+            key = str(key_node.value) if isinstance(key_node, yaml.ScalarNode) else "<complex key>"
             if key in seen:
                 duplicates.append((path + (key,), key, key_node.start_mark.line + 1))
             seen.add(key)
-            _index_lines(value_node, path + (key,), lines, duplicates)
+            _index_lines(value_node, path + (key,), lines, duplicates, visited)
     elif isinstance(node, yaml.SequenceNode):
         for i, item in enumerate(node.value):
-            _index_lines(item, path + (i,), lines, duplicates)
+            _index_lines(item, path + (i,), lines, duplicates, visited)
 
 
 def _format_path(path: KeyPath) -> str:
@@ -355,8 +405,13 @@ def _is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
+_REPR = reprlib.Repr()
+_REPR.maxlevel, _REPR.maxlist, _REPR.maxdict, _REPR.maxstring, _REPR.maxother = 3, 6, 4, 40, 40
+
+
 def _describe(value: object) -> str:
-    text = repr(value)
+    """A short repr (bounded in depth and length: a value may be a huge aliased structure)."""
+    text = " ".join(_REPR.repr(value).split())
     return text if len(text) <= 60 else text[:57] + "..."
 
 
@@ -564,7 +619,11 @@ class _Validator:
             quat = self.numbers(spec["quat_xyzw"], path + ("quat_xyzw",), 4, "quaternion x y z w")
             if quat is None:
                 return None
-            norm = float(np.linalg.norm(quat))
+            with np.errstate(over="ignore"):
+                norm = float(np.linalg.norm(quat))
+            if not math.isfinite(norm):
+                self.error(path + ("quat_xyzw",), "the quaternion is too large; give a unit one")
+                return None
             if norm < 1e-9:
                 self.error(path + ("quat_xyzw",), "the quaternion is zero; give a unit quaternion")
                 return None
@@ -597,16 +656,11 @@ class _Validator:
         if result.success:
             return
         where = ", ".join(f"{x:.4g}" for x in point.position)
-        if point.rotation is None:
-            closest, fix = f"{result.position_error:.4f} m", "move the point"
-        else:
-            closest = f"{result.position_error:.4f} m, {result.rotation_error:.3f} rad"
-            fix = "move the point or change its orientation"
-        self.error(
-            path,
-            f"({where}) m is out of reach of {robot.name}: no inverse kinematics solution within "
-            f"the joint limits (the closest found is {closest} away); {fix}",
-        )
+        from cartesian.follow import out_of_reach
+
+        why = out_of_reach(robot, result, point.position)
+        fix = "move the point" + ("" if point.rotation is None else " or change its orientation")
+        self.error(path, f"({where}) m is out of reach of {robot.name}: {why}; {fix}")
 
     def moves(self, spec: object, points: dict[str, Point]) -> list[Move]:
         if spec is None:
@@ -929,6 +983,26 @@ def _where(position: np.ndarray) -> str:
     return f"({text}) m"
 
 
+def _program_remedy(plan: cartesian.CartesianPlan) -> str:
+    """What the author of a program can do about a failed move's first event (the event's own
+    remedy names :func:`cartesian.follow`'s arguments)."""
+    event = plan.events[0]
+    if event.kind == "velocity_limit":
+        factor = plan.peak_speed_ratio
+        return (
+            f"slow this move down by a factor of at least {factor:.3g} (a lower speed: or a "
+            "longer duration:)"
+        )
+    if event.kind in ("joint_limit", "jump"):
+        return (
+            "reach the move's start in another configuration (a ptp with joints: before it), or "
+            "move its points"
+        )
+    if event.kind == "unreachable":
+        return "move the points closer to the robot"
+    return event.remedy
+
+
 def _start_turn(path: cartesian.Path, pose: pin.SE3, position_only: bool) -> float:
     """Angle between a path's start orientation and the tool's [rad] (0 if not oriented)."""
     if position_only or not path.has_orientation:
@@ -936,14 +1010,17 @@ def _start_turn(path: cartesian.Path, pose: pin.SE3, position_only: bool) -> flo
     return float(np.linalg.norm(pin.log3(pose.rotation.T @ path.start.rotation)))
 
 
-def _peak_speed_ratio(robot: Robot, qd: np.ndarray) -> float:
+def _peak_speed_ratio(robot: Robot, t: np.ndarray, q: np.ndarray, qd: np.ndarray) -> float:
+    """Largest joint speed over its limit: the rates at the samples and the mean speeds
+    between them (:func:`kinplan.sampling.joint_speeds`)."""
     if qd.size == 0:
         return 0.0
     limit = robot.velocity_limit
     finite = np.isfinite(limit)
     if not finite.any():
         return 0.0
-    return float(np.max(np.abs(qd[:, finite]) / limit[finite]))
+    speeds = joint_speeds(q, qd, t)
+    return float(np.max(speeds[:, finite] / limit[finite]))
 
 
 class MotionBuilder:
@@ -1051,15 +1128,15 @@ class MotionBuilder:
         self._check_open()
         q_goal = self.robot.check_q(q_goal, "ptp goal")
         traj = self._joint_trajectory(q_goal, duration, speed, profile)
-        t = traj.time_grid(self.dt)
+        t = traj.time_grid(motion_step(traj.duration, self.dt))
         q, qd, qdd = traj.sample(t)
-        ratio = _peak_speed_ratio(self.robot, qd)
+        ratio = _peak_speed_ratio(self.robot, t, q, qd)
         if ratio > 1.0 + 1e-6:
-            over = np.max(np.abs(qd), axis=0) / self.robot.velocity_limit
-            j = int(np.argmax(over))
+            speeds = np.max(joint_speeds(q, qd, t), axis=0)
+            j = int(np.argmax(speeds / self.robot.velocity_limit))
             why = (
                 f"velocity_limit: joint {j} ({self.robot.joint_names[j]}) would need "
-                f"{np.max(np.abs(qd[:, j])):.3f} rad/s, above its limit "
+                f"{speeds[j]:.4g} rad/s, above its limit "
                 f"{self.robot.velocity_limit[j]:.3f} rad/s; give a duration of at least "
                 f"{traj.duration * ratio:.3f} s, or no duration (minimum time)"
             )
@@ -1165,7 +1242,7 @@ class MotionBuilder:
         except KinplanError as exc:
             self._record(kind, label, key, status="invalid", why=f"invalid: {exc}")
         self.paths.append(path)
-        ratio = _peak_speed_ratio(self.robot, plan.qd)
+        ratio = _peak_speed_ratio(self.robot, plan.t, plan.q, plan.qd)
         samples = (plan.t, plan.q, plan.qd, plan.qdd) if len(plan.t) else None
         if samples and np.max(np.abs(plan.q[0] - self.q)) > JOIN_TOLERANCE:
             why = (
@@ -1175,8 +1252,10 @@ class MotionBuilder:
             self._record(kind, label, key, status="jump", why=why, ratio=ratio, plan=plan)
         if not plan.ok:
             event = plan.events[0]
-            detail = event.message.replace(RETIME_HINT, "")  # not a program option
-            why = f"{event.kind} at s = {event.s:.2f}, {_where(event.position)}: {detail}"
+            why = (
+                f"{event.kind} at s = {event.s:.2f}, {_where(event.position)}: {event.message}; "
+                f"{_program_remedy(plan)}"
+            )
             self._record(
                 kind, label, key, samples, status=plan.status, why=why, ratio=ratio,
                 fraction=plan.fraction, plan=plan,

@@ -8,19 +8,27 @@ one ``pin.Model`` (reduced to the chain from the URDF root to the tool frame) an
 
 from __future__ import annotations
 
+import contextlib
+import logging
 import math
 import os
+import re
+import sys
+import tempfile
 import xml.etree.ElementTree as ET
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 
+from kinplan import checks
 from kinplan.errors import FrameError, InputError, URDFError
 from kinplan.ik import IKResult, IKSolver
 from kinplan.planar import planar_arm_urdf, write_planar_arm
-from kinplan.sources import RobotSpec, resolve_source
+from kinplan.sources import RobotSpec, known_names, resolve_source
+
+logger = logging.getLogger(__name__)
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 _ONES3 = np.ones(3)
@@ -42,6 +50,8 @@ def _root_link(urdf_path: Path) -> tuple[str, str]:
         root = ET.parse(urdf_path).getroot()
     except ET.ParseError as exc:
         raise URDFError(f"{urdf_path} is not valid XML ({exc}); fix the file") from exc
+    except OSError as exc:
+        raise URDFError(f"cannot read the URDF file {urdf_path}: {exc}") from exc
     if root.tag != "robot":
         raise URDFError(f"{urdf_path} is not a URDF: its root element is <{root.tag}>, not <robot>")
     links = [link.get("name") for link in root.findall("link")]
@@ -55,11 +65,65 @@ def _root_link(urdf_path: Path) -> tuple[str, str]:
     return root.get("name", urdf_path.stem), roots[0]
 
 
-def _build_model(urdf_path: Path) -> pin.Model:
+@contextlib.contextmanager
+def _native_stderr_captured() -> Iterator[list[str]]:
+    """Redirect file descriptor 2 into a temporary file while the block runs.
+
+    Native code (urdfdom inside Pinocchio) prints its diagnostics straight to file descriptor
+    2, past Python's ``sys.stderr``; this keeps them off the terminal. The yielded list receives
+    the captured text when the block ends. Without a usable descriptor 2 nothing is captured.
+    """
+    captured: list[str] = []
     try:
-        return pin.buildModelFromUrdf(str(urdf_path))
-    except (RuntimeError, ValueError) as exc:
-        raise URDFError(f"Pinocchio could not read {urdf_path}: {exc}") from exc
+        saved = os.dup(2)
+    except OSError:  # no descriptor 2 (a daemon): nothing to keep off the terminal
+        yield captured
+        return
+    with tempfile.TemporaryFile() as sink:
+        try:
+            sys.stderr.flush()
+        except (AttributeError, OSError, ValueError):  # replaced or closed sys.stderr
+            pass
+        os.dup2(sink.fileno(), 2)
+        try:
+            yield captured
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            sink.seek(0)
+            captured.append(sink.read().decode("utf-8", errors="replace"))
+
+
+def _parser_messages(text: str) -> str:
+    """urdfdom's captured ``Error:``/``Warning:`` lines on one line, without the source
+    locations of its C++ code (``at line 105 in .../pose.cpp``)."""
+    messages = []
+    for line in text.splitlines():
+        line = " ".join(line.split())
+        if not line or re.match(r"^at line \d+ in ", line):
+            continue
+        messages.append(re.sub(r"^Error:\s*", "", line))
+    return "; ".join(messages)
+
+
+def _build_model(urdf_path: Path) -> pin.Model:
+    """Pinocchio's model of the URDF; urdfdom's own messages go into the error (or the log)."""
+    with _native_stderr_captured() as captured:
+        try:
+            model = pin.buildModelFromUrdf(str(urdf_path))
+            failure = None
+        except Exception as exc:  # RuntimeError, ValueError or Boost.Python errors: all bad URDF
+            model, failure = None, exc
+    details = _parser_messages("".join(captured))
+    if failure is not None:
+        said = f" (the URDF parser reported: {details})" if details else ""
+        reason = str(failure).strip().rstrip(".")
+        raise URDFError(
+            f"Pinocchio could not read {urdf_path}: {reason}{said}; fix the file"
+        ) from failure
+    if details:
+        logger.info("URDF parser on %s: %s", urdf_path, details)
+    return model
 
 
 def _body_frames(model: pin.Model) -> list[str]:
@@ -125,6 +189,13 @@ class Robot:
     """
 
     def __init__(self, spec: RobotSpec, tip: str | None = None):
+        if not isinstance(spec, RobotSpec):
+            raise InputError(
+                "Robot(spec) takes a kinplan.sources.RobotSpec; load a robot with "
+                f"kinplan.load_robot(name or URDF path), got {checks.describe(spec)}"
+            )
+        if tip is not None:
+            tip = checks.text(tip, "tip (a frame or link name)")
         urdf_path = Path(spec.urdf_path)
         urdf_name, self.base_frame = _root_link(urdf_path)
         full = _build_model(urdf_path)
@@ -157,19 +228,48 @@ class Robot:
 
     # ------------------------------------------------------------------ validation
     def check_q(self, q: Sequence[float] | np.ndarray, what: str = "q") -> np.ndarray:
-        """``q`` as a float array of shape (nq,); InputError for a wrong size, NaN or inf."""
-        arr = np.asarray(q, dtype=float)
+        """``q`` as a float array of shape (nq,) [rad or m].
+
+        Args:
+            q: Joint values, one per joint (a list, tuple or array of numbers).
+            what: How the argument is named in messages.
+
+        Raises:
+            InputError: not numbers (text, None, booleans, nested lists), the wrong size, NaN or
+                inf; the message names the joints.
+        """
+        if type(q) is np.ndarray and q.dtype == np.float64:  # the common case: no conversion
+            arr = q
+        elif q is None or isinstance(q, (str, bytes)):
+            raise self._q_error(what, q)
+        else:
+            try:
+                arr = np.asarray(q)
+                if arr.dtype.kind not in "iuf" and arr.dtype != object:
+                    raise TypeError  # booleans, text, complex numbers
+                arr = arr.astype(float, copy=False)
+            except Exception:  # ragged nesting, objects that are not numbers
+                raise self._q_error(what, q) from None
         if arr.shape != (self.nq,):
-            raise InputError(
-                f"{what} must hold {self.nq} joint values for {self.name} "
-                f"({', '.join(self.joint_names)}), got shape {arr.shape}"
-            )
-        if not math.isfinite(sum(arr.tolist())):  # finite only when every term is (floats: fast)
+            raise self._q_error(what, q, f"shape {arr.shape}")
+        # finite only when every term is (plain floats: fast); a huge finite q may overflow
+        # the sum, so numpy has the last word
+        if not math.isfinite(sum(arr.tolist())) and not np.all(np.isfinite(arr)):
             raise InputError(f"{what} must be finite, got {arr}")
         return arr
 
-    def within_limits(self, q: np.ndarray, tolerance: float = 1e-9) -> bool:
-        """Whether ``q`` lies within the position limits (± ``tolerance``)."""
+    def _q_error(self, what: str, q: object, note: str = "") -> InputError:
+        return InputError(
+            f"{what} must hold {self.nq} joint values for {self.name} "
+            f"({', '.join(self.joint_names)}) [rad, or m for prismatic joints], got "
+            f"{checks.describe(q)}" + (f" ({note})" if note else "")
+        )
+
+    def within_limits(self, q: Sequence[float] | np.ndarray, tolerance: float = 1e-9) -> bool:
+        """Whether ``q`` lies within the position limits (± ``tolerance`` [rad or m], ≥ 0)."""
+        q = self.check_q(q)
+        if type(tolerance) is not float or not 0.0 <= tolerance < math.inf:
+            tolerance = checks.number(tolerance, "tolerance", minimum=0.0, unit="rad or m")
         return bool(np.all(q >= self.lower - tolerance) and np.all(q <= self.upper + tolerance))
 
     def neutral(self) -> np.ndarray:
@@ -177,7 +277,13 @@ class Robot:
         return np.clip(np.zeros(self.nq), self.lower, self.upper)
 
     def random_configuration(self, rng: np.random.Generator) -> np.ndarray:
-        """A configuration drawn uniformly within the limits with the caller's generator."""
+        """A configuration drawn uniformly within the limits with the caller's generator
+        (``numpy.random.default_rng(seed)``)."""
+        if not isinstance(rng, np.random.Generator):
+            raise InputError(
+                f"rng must be a numpy.random.Generator (numpy.random.default_rng(seed)); got "
+                f"{checks.describe(rng)}"
+            )
         return rng.uniform(self.lower, self.upper)
 
     # ------------------------------------------------------------------ kinematics
@@ -190,12 +296,7 @@ class Robot:
     def tool_positions(self, q: Sequence[Sequence[float]] | np.ndarray) -> np.ndarray:
         """Tool positions [m] in the base frame for joint rows ``q`` (N, nq): shape (N, 3),
         one FK pass per row."""
-        rows = np.asarray(q, dtype=float)
-        if rows.ndim != 2 or rows.shape[1] != self.nq or not np.all(np.isfinite(rows)):
-            raise InputError(
-                f"joint rows must have shape (N, {self.nq}) and finite values for {self.name}, "
-                f"got shape {rows.shape}"
-            )
+        rows = checks.rows(q, f"the joint rows of {self.name}", self.nq, unit="rad or m")
         out = np.empty((len(rows), 3))
         for k, row in enumerate(rows):
             pin.forwardKinematics(self.model, self.data, row)
@@ -265,13 +366,74 @@ class Robot:
         total = float(sum(self.link_lengths))
         return max(0.0, 2.0 * max(self.link_lengths) - total), total
 
+    def reach(self) -> float:
+        """Reach [m]: the largest distance of the tool from the first joint's origin within the
+        joint limits (cached).
+
+        Planar arms: r_max of :meth:`planar_reach`, exact. Other arms: the tool is driven, with
+        the limits respected, toward points far away in 128 directions spread over the sphere;
+        the farthest result is then pushed further along its own direction until it stops
+        (a local maximum of the distance, which the spread of starts makes the global one in
+        practice; never more than the true reach).
+        """
+        cached = self.__dict__.get("_reach")
+        if cached is not None:
+            return cached
+        annulus = self.planar_reach()
+        if annulus is not None:
+            self._reach = annulus[1]
+            return self._reach
+        origin = np.array(self.model.jointPlacements[1].translation)
+        solver = IKSolver(self.model, self.tip_id, self.lower, self.upper)
+        # a distance no configuration exceeds: the chain's offsets laid end to end
+        far = 10.0 * (self._chain_length() + 1.0)
+
+        def push(q: np.ndarray, direction: np.ndarray) -> tuple[np.ndarray, float]:
+            q, *_ = solver.descend(q, origin + far * direction, None, 1e-12, 1.0, 30)
+            return q, self.shoulder_distance(self.tool_positions(q[None])[0])
+
+        count = 128
+        k = np.arange(count) + 0.5
+        polar, azimuth = np.arccos(1 - 2 * k / count), np.pi * (1 + 5**0.5) * k
+        directions = np.stack(
+            [np.sin(polar) * np.cos(azimuth), np.sin(polar) * np.sin(azimuth), np.cos(polar)], 1
+        )
+        start = self.neutral()
+        q, best = max((push(start, u) for u in directions), key=lambda pair: pair[1])
+        for _ in range(20):
+            tool = self.tool_positions(q[None])[0] - origin
+            q_next, distance = push(q, tool / max(np.linalg.norm(tool), 1e-12))
+            if distance <= best * (1 + 1e-12):
+                break
+            q, best = q_next, distance
+        self._reach = float(best)
+        return self._reach
+
+    def _chain_length(self) -> float:
+        """Sum of the distances between consecutive joint origins and the tool offset, plus
+        the largest extension of every prismatic joint [m]: an upper bound of the reach."""
+        model = self.model
+        offsets = [model.jointPlacements[j] for j in range(2, model.njoints)]
+        total = sum(float(np.linalg.norm(p.translation)) for p in offsets)
+        total += float(np.linalg.norm(model.frames[self.tip_id].placement.translation))
+        for j in range(1, model.njoints):
+            joint = model.joints[j]
+            if joint.nq == 1 and joint.shortname().startswith("JointModelP"):  # prismatic
+                total += max(abs(self.lower[joint.idx_q]), abs(self.upper[joint.idx_q]))
+        return total
+
+    def shoulder_distance(self, position: Sequence[float] | np.ndarray) -> float:
+        """Distance [m] of a position (base frame) from the first joint's origin."""
+        origin = self.model.jointPlacements[1].translation
+        return float(np.linalg.norm(np.asarray(position, dtype=float) - origin))
+
     def task_rows(self, position_only: bool) -> np.ndarray:
         """Rows of the tool Jacobian the arm acts on ([0, 1] for a planar arm's position)."""
-        return self._task[position_only][0]
+        return self._task[checks.flag(position_only, "position_only")][0]
 
     def task_rank(self, position_only: bool) -> int:
         """How many independent tool motions the arm has (2 for a planar arm's position)."""
-        return self._task[position_only][1]
+        return self._task[checks.flag(position_only, "position_only")][1]
 
     def default_position_only(self) -> bool:
         """Position only for arms that cannot control a full 6-D pose (fewer than 6 joints)."""
@@ -290,7 +452,7 @@ class Robot:
         """
         if position_only is None:
             position_only = self.default_position_only()
-        rows, rank = self._task[position_only]
+        rows, rank = self._task[checks.flag(position_only, "position_only")]
         return manipulability_of(self.jacobian(q)[rows], rank)
 
     # ------------------------------------------------------------------ inverse kinematics
@@ -327,12 +489,22 @@ class Robot:
             IKResult; failure is ``success=False`` with the best ``q`` found, never an exception.
 
         Raises:
-            InputError: malformed target or seed (wrong size, NaN, inf).
+            InputError: malformed target or seed (wrong size, NaN, inf, not numbers, a matrix
+                that is not a rotation), a tolerance that is not a finite number > 0, counts that
+                are not integers (``max_iterations`` ≥ 1, ``max_restarts`` ≥ 0).
         """
-        position, rotation = parse_target(target)
-        if rotation is None or position_only:
+        position, rotation = parse_target(target, "target")
+        if rotation is None or checks.flag(position_only, "position_only"):
             rotation = None
         seed = self.neutral() if q_seed is None else self.check_q(q_seed, "q_seed")
+        position_tolerance = checks.number(
+            position_tolerance, "position_tolerance", positive=True, unit="m"
+        )
+        rotation_tolerance = checks.number(
+            rotation_tolerance, "rotation_tolerance", positive=True, unit="rad"
+        )
+        max_iterations = checks.count(max_iterations, "max_iterations", minimum=1)
+        max_restarts = checks.count(max_restarts, "max_restarts", minimum=0)
         closed_form = self.closed_form_ik
         if closed_form is not None and rotation is None and closed_form.needs_rotation:
             closed_form = None  # a position-only target: the numerical solver
@@ -433,32 +605,40 @@ def parse_target(
         what: How the value is named in error messages.
 
     Raises:
-        InputError: another shape, a non-finite value, or a matrix that is not a rotation.
+        InputError: not numbers (text, None, booleans, ragged lists), another shape, a
+            non-finite value, a 4×4 matrix whose last row is not (0, 0, 0, 1), or a rotation part
+            that is not a rotation (orthonormal, det +1).
     """
+    wanted = "a pinocchio.SE3, a 4×4 homogeneous matrix or a position 3-vector [m]"
     if isinstance(target, pin.SE3):
         matrix = target.homogeneous  # a fresh copy: the views below are the caller's to keep
     else:
-        matrix = np.array(target, dtype=float)
+        matrix = checks.floats(target, what, wanted)
         if matrix.shape == (3,):
-            if not math.isfinite(matrix @ _ONES3):  # finite only when every term is
+            if not math.isfinite(matrix @ _ONES3) and not np.all(np.isfinite(matrix)):
                 raise InputError(f"{what} must be finite, got position {matrix}")
             return matrix, None
         if matrix.shape != (4, 4):
-            raise InputError(
-                f"{what} must be a pinocchio.SE3, a 4×4 homogeneous matrix or a position "
-                f"3-vector [m]; got an array of shape {matrix.shape}"
-            )
+            raise InputError(f"{what} must be {wanted}; got an array of shape {matrix.shape}")
     # plain floats: cheaper than numpy for a 4×4
-    (a, b, c, x), (d, e, f, y), (g, h, i, z), _ = matrix.tolist()
-    if not math.isfinite(a + b + c + d + e + f + g + h + i + x + y + z):  # NaN or inf in a term
+    (a, b, c, x), (d, e, f, y), (g, h, i, z), bottom = matrix.tolist()
+    if not np.all(np.isfinite(matrix)):
         raise InputError(f"{what} must be finite, got\n{matrix}")
     # ‖RᵀR − I‖_F² from the columns' lengths and mutual products
     defect = (a * a + d * d + g * g - 1.0) ** 2 + (b * b + e * e + h * h - 1.0) ** 2
     defect += (c * c + f * f + i * i - 1.0) ** 2
     defect += 2.0 * ((a * b + d * e + g * h) ** 2 + (a * c + d * f + g * i) ** 2)
     defect += 2.0 * (b * c + e * f + h * i) ** 2
-    if defect > 1e-12:  # ‖RᵀR − I‖_F > 1e-6
-        raise InputError(f"the rotation of {what} is not a rotation matrix (RᵀR ≠ I)")
+    determinant = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+    if not defect <= 1e-12 or determinant < 0:  # ‖RᵀR − I‖_F > 1e-6 (or overflow), reflection
+        problem = checks.rotation_problem(matrix[:3, :3]) or "it is not orthonormal"
+        raise InputError(
+            f"the rotation of {what} is not a rotation matrix: {problem}; {checks.ROTATION_ADVICE}"
+        )
+    if bottom != [0.0, 0.0, 0.0, 1.0]:
+        raise InputError(
+            f"{what}: the last row of a 4×4 homogeneous matrix must be 0 0 0 1, got {bottom}"
+        )
     return matrix[:3, 3], matrix[:3, :3]
 
 
@@ -476,7 +656,20 @@ def load_robot(source: str | os.PathLike[str], tip: str | None = None) -> Robot:
         URDFError: malformed XML, a URDF Pinocchio rejects, several chains without ``tip``, a
             floating or continuous joint on the chain.
         FrameError: ``tip`` is not a frame of the robot (the message lists the candidates).
+        InputError: ``source`` is not a string or path, ``tip`` not a string.
     """
+    if isinstance(source, os.PathLike):
+        try:
+            source = os.fsdecode(os.fspath(source))
+        except (TypeError, ValueError):
+            pass  # reported below
+    if not isinstance(source, str) or not source.strip() or "\0" in source:
+        raise InputError(
+            f"source must be a robot name ({', '.join(known_names())}) or the path of a URDF "
+            f"file (a str or os.PathLike), got {checks.describe(source)}"
+        )
+    if tip is not None:
+        tip = checks.text(tip, "tip (a frame or link name)")
     return Robot(resolve_source(source), tip=tip)
 
 
@@ -495,8 +688,25 @@ def planar_arm(
         upper: Upper position limits [rad] (default +π).
         velocity_limit: Speed limits [rad/s] (default 2π).
         name: Robot name (default ``planar_<n>r``).
+
+    Raises:
+        InputError: ``lengths`` not a non-empty list of finite numbers > 0; limits that are not
+            a number or one number per joint, or ``lower`` ≥ ``upper``; a non-positive velocity
+            limit; ``name`` not a string.
     """
-    name = name or f"planar_{len(lengths)}r"
+    lengths = checks.vector(lengths, "lengths (link lengths)", unit="m")
+    if lengths.size == 0 or np.any(lengths <= 0):
+        raise InputError(f"link lengths must be finite and > 0 m, got {lengths.tolist()}")
+    for value, what, unit in (
+        (lower, "lower", "rad"),
+        (upper, "upper", "rad"),
+        (velocity_limit, "velocity_limit", "rad/s"),
+    ):
+        if value is not None and not isinstance(value, (int, float, np.integer, np.floating)):
+            checks.vector(value, f"{what} (a number, or one per joint)", lengths.size, unit)
+        elif value is not None:
+            checks.number(value, what, unit=unit)
+    name = f"planar_{lengths.size}r" if name is None else checks.text(name, "name")
     text = planar_arm_urdf(
         lengths, name=name, lower=lower, upper=upper, velocity_limit=velocity_limit
     )

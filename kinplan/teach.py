@@ -28,7 +28,8 @@ import numpy as np
 import pinocchio as pin
 
 import cartesian
-from kinplan.errors import KinplanError
+from kinplan import checks
+from kinplan.errors import InputError, KinplanError
 from kinplan.robot import Robot
 
 logger = logging.getLogger(__name__)
@@ -121,15 +122,27 @@ class TeachPendant:
         linear_step: float = DEFAULT_LINEAR_STEP,
         angular_step_deg: float = DEFAULT_ANGULAR_STEP_DEG,
     ):
+        if not isinstance(robot, Robot):
+            raise InputError(
+                f"robot must be a kinplan.Robot (from kinplan.load_robot), got "
+                f"{checks.describe(robot)}"
+            )
         self.robot = robot
-        start = home_configuration(robot) if q_start is None else robot.check_q(q_start)
+        start = home_configuration(robot) if q_start is None else robot.check_q(q_start, "q_start")
         if not robot.within_limits(start):
-            raise KinplanError(f"the start configuration {np.degrees(start)} deg is beyond limits")
+            raise InputError(
+                f"q_start {np.round(np.degrees(start), 3).tolist()} deg is beyond the joint "
+                f"limits of {robot.name}; give a start within them"
+            )
         self.start = start.copy()
         self.q = start.copy()
+        if robot_source is not None:
+            robot_source = checks.text(robot_source, "robot_source (a robot name or URDF path)")
         self.robot_source = robot_source or robot.name
-        self.linear_step = float(linear_step)
-        self.angular_step = math.radians(angular_step_deg)
+        self.linear_step = checks.number(linear_step, "linear_step", positive=True, unit="m")
+        self.angular_step = math.radians(
+            checks.number(angular_step_deg, "angular_step_deg", positive=True, unit="deg")
+        )
         self.points: dict[str, np.ndarray] = {}
 
     # -- display -------------------------------------------------------------------------------
@@ -147,6 +160,8 @@ class TeachPendant:
     # -- commands ------------------------------------------------------------------------------
     def execute(self, line: str) -> Reply:
         """Run one command line; unknown or malformed commands get a message, never raise."""
+        if not isinstance(line, str):
+            return Reply(f"error: a command is a line of text, got {checks.describe(line)}")
         words = line.split("#", 1)[0].split()
         if not words:
             return Reply("")
@@ -198,7 +213,7 @@ class TeachPendant:
         elif len(arguments) == 2 and arguments[1] in ("+", "-"):
             delta = self.angular_step * (1.0 if arguments[1] == "+" else -1.0)
         elif len(arguments) == 2 and not sign:
-            delta = math.radians(float(arguments[1]))
+            delta = math.radians(_finite(arguments[1], "the joint jog [deg]"))
         else:
             raise ValueError("usage: j <index or name> <delta_deg>, or j <index>+ / j <index>-")
         q = self.q.copy()
@@ -234,7 +249,7 @@ class TeachPendant:
             step = self.angular_step if rotate else self.linear_step
             delta = step if sign == "+" else -step
         elif len(arguments) == 1 and not sign:
-            value = float(arguments[0])
+            value = _finite(arguments[0], "the jog [deg]" if rotate else "the jog [m]")
             delta = math.radians(value) if rotate else value
         else:
             unit = "deg" if rotate else "m"
@@ -245,6 +260,12 @@ class TeachPendant:
             return Reply(
                 f"refused: {robot.name} has {robot.nq} joints and controls the tool position "
                 "only; jog x, y, z or the joints"
+            )
+        plane_normal = robot.model.jointPlacements[1].rotation[:, 2]
+        if axis == "z" and robot.planar_reach() is not None and abs(plane_normal[2]) > 1 - 1e-9:
+            return Reply(
+                f"refused: {robot.name} is a planar arm and moves in its xy-plane; jog x, y or "
+                "the joints"
             )
         pose = robot.fk(self.q)
         position, rotation = pose.translation.copy(), pose.rotation.copy()
@@ -271,9 +292,18 @@ class TeachPendant:
         )
         if not check.ok:
             event = check.events[0]
+            advice = _pendant_advice(event, robot)
+            distance, reach = robot.shoulder_distance(position), robot.reach()
+            beyond = ""
+            if distance > reach * (1.0 + 1e-9) and event.kind != "unreachable":
+                beyond = (
+                    f" (the jog ends {distance:.4f} m from the first joint, beyond the reach of "
+                    f"{robot.name}, {reach:.4f} m)"
+                )
+                advice = _PENDANT_ADVICE["unreachable"]
             return Reply(
                 f"refused: {event.kind} at {100 * event.s:.0f} % of the jog to ({where}) m: "
-                f"{event.message}"
+                f"{event.message}{beyond}" + (f"; {advice}" if advice else "")
             )
         if len(check.q):
             q = check.q[-1]
@@ -281,7 +311,13 @@ class TeachPendant:
             target = position if rotation is None else pin.SE3(rotation, position)
             result = robot.ik(target, q_seed=self.q, position_only=rotation is None)
             if not result.success:
-                return Reply(f"refused: no IK solution for ({where}) m from here")
+                from cartesian.follow import out_of_reach
+
+                why = out_of_reach(robot, result, position)
+                return Reply(
+                    f"refused: ({where}) m cannot be reached from here: {why}; "
+                    f"{_PENDANT_ADVICE['unreachable']}"
+                )
             q = result.q
         change = np.abs(q - self.q)
         if change.max() > MAX_BRANCH_STEP + path.length + (path.slerp.angle if path.slerp else 0):
@@ -295,9 +331,12 @@ class TeachPendant:
         return Reply(self.status(), moved=True)
 
     def _set_step(self, arguments: list[str], angular: bool) -> Reply:
-        if len(arguments) != 1 or float(arguments[0]) <= 0:
-            raise ValueError(f"usage: {'astep <deg>' if angular else 'step <m>'} (a number > 0)")
-        value = float(arguments[0])
+        usage = f"usage: {'astep <deg>' if angular else 'step <m>'} (a number > 0)"
+        if len(arguments) != 1:
+            raise ValueError(usage)
+        value = _finite(arguments[0], "the step")
+        if value <= 0:
+            raise ValueError(usage)
         if angular:
             self.angular_step = math.radians(value)
             return Reply(f"angle step {value:g}°")
@@ -392,6 +431,40 @@ class TeachPendant:
             raise KinplanError(f"cannot write the program {target}: {exc}") from exc
         logger.info("wrote %s", target)
         return target
+
+
+_PENDANT_ADVICE = {
+    "unreachable": "jog back toward the robot, or take a smaller step (step <m>)",
+    "joint_limit": "jog that joint away from its limit (j <joint> <deg>), or go around another way",
+    "jump": "take a smaller step (step <m> / astep <deg>), or jog the joints",
+    "singular": "jog the joints out of the singular pose (e.g. bend the elbow or the wrist), or "
+    "jog in another direction",
+    "velocity_limit": "take a smaller step (step <m> / astep <deg>)",
+    "collision": "jog away from the obstacle, or jog the joints around it",
+}
+"""What the operator can do about a refused tool jog, by event kind: pendant commands only (an
+event's own ``remedy`` names arguments of :func:`cartesian.follow` the pendant does not have)."""
+
+
+def _finite(text: str, what: str) -> float:
+    """A finite number typed by the operator (ValueError with a message otherwise)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise ValueError(f"{what} must be a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise ValueError(f"{what} must be a finite number, got {text!r}")
+    return value
+
+
+def _pendant_advice(event, robot: Robot) -> str:
+    """The pendant's advice for a refused jog's event (see :data:`_PENDANT_ADVICE`)."""
+    advice = _PENDANT_ADVICE.get(event.kind, "")
+    joint = getattr(event, "joint", None)
+    if event.kind == "joint_limit" and joint in robot.joint_names:
+        j = robot.joint_names.index(joint)
+        advice = advice.replace("that joint", f"joint {j} ({joint})").replace("<joint>", str(j))
+    return advice
 
 
 def _degrees(q: np.ndarray) -> str:

@@ -27,6 +27,7 @@ Example:
 from __future__ import annotations
 
 import math
+import reprlib
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
@@ -66,6 +67,27 @@ _BLOCK = 4096
 _GRID_TOLERANCE = 1e-6
 """A remainder below this fraction of ``dt`` does not add a sample to :func:`time_grid` [-]."""
 
+MIN_DURATION = 1e-9
+"""Shortest duration (and time between points) the constructors accept [s]."""
+
+MAX_DURATION = 1e9
+"""Longest duration (and time between points) the constructors accept [s] (about 32 years)."""
+
+MAX_MAGNITUDE = 1e12
+"""Largest |value| of a position, velocity, acceleration or limit the constructors accept [rad,
+rad/s, rad/s² or m, m/s, m/s²].
+
+With these bounds and :data:`MIN_DURATION` / :data:`MAX_DURATION`, every polynomial coefficient
+(at most ~1e12 / (1e-9)⁵ = 1e57) and every intermediate stays far inside double range, so no
+input can overflow; beyond them the inputs are almost surely a unit mistake.
+"""
+
+MIN_MAGNITUDE = 1.0 / MAX_MAGNITUDE
+"""Smallest accepted positive limit or blend acceleration [rad/s, rad/s² or m/s, m/s²]."""
+
+MAX_SAMPLES = 10_000_000
+"""Most samples :func:`time_grid` returns (80 MB of times); a finer grid is a mistake in dt."""
+
 
 # ----------------------------------------------------------------------------------------------
 # Types
@@ -93,9 +115,9 @@ class Segment:
             raise InputError(
                 f"segment coefficients must have shape (n, degree + 1), got {coefficients.shape}"
             )
-        t0, t1 = float(self.t0), float(self.t1)
-        if not (math.isfinite(t0) and math.isfinite(t1)) or t1 < t0:
-            raise InputError(f"segment times must be finite with t1 >= t0, got t0={t0}, t1={t1}")
+        t0, t1 = _scalar(self.t0, "segment t0"), _scalar(self.t1, "segment t1")
+        if t1 < t0:
+            raise InputError(f"segment times must have t1 >= t0, got t0={t0}, t1={t1}")
         coefficients.setflags(write=False)
         object.__setattr__(self, "t0", t0)
         object.__setattr__(self, "t1", t1)
@@ -125,8 +147,8 @@ class Waypoints:
     positions: np.ndarray
 
     def __post_init__(self) -> None:
-        times = _frozen(np.reshape(self.times, -1))
-        positions = _frozen(np.atleast_2d(self.positions))
+        times = _frozen(np.reshape(_finite_array(self.times, "waypoint times"), -1))
+        positions = _frozen(np.atleast_2d(_finite_array(self.positions, "waypoint positions")))
         if positions.shape[0] != times.size:
             raise InputError(
                 f"waypoints need one position row per time, got {times.size} times and "
@@ -171,8 +193,10 @@ class Trajectory:
         Raises:
             InputError: no segments, mixed joint counts, gaps in time or jumps in position.
         """
-        self.segments: tuple[Segment, ...] = tuple(segments)
+        self.segments: tuple[Segment, ...] = _segment_tuple(segments)
         _check_segments(self.segments)
+        if waypoints is not None and not isinstance(waypoints, Waypoints):
+            raise InputError(f"waypoints must be a Waypoints or None, got {_describe(waypoints)}")
         self.n: int = self.segments[0].coefficients.shape[0]
         self.duration: float = self.segments[-1].t1
         self._build_evaluator()
@@ -243,9 +267,22 @@ class Trajectory:
         Raises:
             InputError: no trajectories, different joint counts or a jump in position.
         """
-        parts = list(trajectories)
+        try:
+            parts = list(trajectories)
+        except TypeError as error:
+            raise InputError(
+                f"concatenate needs a list of Trajectory objects, got {_describe(trajectories)}"
+            ) from error
         if not parts:
             raise InputError("concatenate needs at least one trajectory")
+        for k, part in enumerate(parts):
+            if not isinstance(part, Trajectory):
+                raise InputError(
+                    f"concatenate needs Trajectory objects; item {k} is {_describe(part)}"
+                )
+        tolerance = _scalar(tolerance, "tolerance")
+        if tolerance < 0.0:
+            raise InputError(f"tolerance must be >= 0 rad, got {tolerance}")
         for k, (before, after) in enumerate(zip(parts[:-1], parts[1:], strict=True)):
             _check_junction(k, before, after, tolerance)
         moving = [p for p in parts if p.duration > 0.0] or parts[-1:]
@@ -345,7 +382,8 @@ def time_grid(duration: float, dt: float) -> np.ndarray:
         Increasing times, shape (k,) [s].
 
     Raises:
-        InputError: a negative duration, a non-positive dt, NaN or inf.
+        InputError: a negative duration, a non-positive dt, NaN or inf, or more than
+            :data:`MAX_SAMPLES` samples.
     """
     duration = _scalar(duration, "duration")
     dt = _scalar(dt, "dt")
@@ -354,6 +392,12 @@ def time_grid(duration: float, dt: float) -> np.ndarray:
     if dt <= 0.0:
         raise InputError(f"dt must be > 0 s, got {dt}; give the sampling step in seconds")
     steps = duration / dt
+    if not steps < MAX_SAMPLES:  # also catches an overflow to inf
+        raise InputError(
+            f"dt = {dt:.6g} s would need {steps:.3g} samples over {duration:.6g} s (at most "
+            f"{MAX_SAMPLES:,}); give a dt of at least "
+            f"{_profiles.round_up(duration / MAX_SAMPLES, 3):.3g} s"
+        )
     count = round(steps)
     if abs(steps - count) > _GRID_TOLERANCE:
         count = math.ceil(steps)
@@ -388,7 +432,7 @@ def cubic(
         InputError: mismatched lengths, NaN or inf, or a non-positive duration.
     """
     q0, qf, v0, vf = _joint_vectors(q0=q0, qf=qf, v0=v0, vf=vf)
-    duration = _positive(duration, "duration")
+    duration = _duration(duration, "duration")
     segment = Segment(0.0, duration, _profiles.hermite_cubic(q0, qf, v0, vf, duration))
     return Trajectory([segment], end=qf, end_velocity=vf)
 
@@ -420,7 +464,7 @@ def quintic(
         InputError: mismatched lengths, NaN or inf, or a non-positive duration.
     """
     q0, qf, v0, vf, a0, af = _joint_vectors(q0=q0, qf=qf, v0=v0, vf=vf, a0=a0, af=af)
-    duration = _positive(duration, "duration")
+    duration = _duration(duration, "duration")
     coefficients = _profiles.quintic_coefficients(q0, qf, v0, vf, a0, af, duration)
     return Trajectory(
         [Segment(0.0, duration, coefficients)], end=qf, end_velocity=vf, end_acceleration=af
@@ -469,13 +513,7 @@ def cubic_via(
             )
         velocities = _profiles.heuristic_velocities(points, times, v0, vf)
     else:
-        given = _finite_array(via_velocities, "via_velocities").reshape(m - 2, -1)
-        if given.shape != (m - 2, n):
-            raise InputError(
-                f"via_velocities must have shape ({m - 2}, {n}) (one row per via point), "
-                f"got {np.shape(via_velocities)}"
-            )
-        velocities = np.vstack([v0, given, vf])
+        velocities = np.vstack([v0, _via_velocities(via_velocities, m, n), vf])
     knots, coefficients = _profiles.hermite_pieces(points, times, velocities)
     return _from_pieces(
         knots,
@@ -532,7 +570,8 @@ def trapezoid(
     """
     q0, qf = _joint_vectors(q0=q0, qf=qf)
     n = q0.size
-    distance = np.abs(qf - q0)
+    target = _profiles.without_negligible_moves(q0, qf)
+    distance = np.abs(target - q0)
     if max_velocity is not None or max_acceleration is not None:
         if max_velocity is None or max_acceleration is None:
             raise InputError("give both max_velocity and max_acceleration for a minimum-time move")
@@ -543,25 +582,25 @@ def trapezoid(
             )
         max_velocity = _magnitudes(max_velocity, "max_velocity", n)
         max_acceleration = _magnitudes(max_acceleration, "max_acceleration", n)
-        requested = None if duration is None else _positive(duration, "duration")
-        duration, blend = _synchronised(distance, max_velocity, max_acceleration, requested)
-    elif duration is None:
+        requested = None if duration is None else _duration(duration, "duration")
+        knots, coefficients = _synchronised(q0, target, max_velocity, max_acceleration, requested)
+        return _from_pieces(knots, coefficients, end=qf, end_velocity=np.zeros(n))
+    if duration is None:
         raise InputError(
             "trapezoid needs a duration (with an acceleration, a blend_time or neither), "
             "or max_velocity and max_acceleration for a minimum-time move"
         )
+    duration = _duration(duration, "duration")
+    if acceleration is not None and blend_time is not None:
+        raise InputError("give acceleration or blend_time, not both")
+    if acceleration is not None:
+        acceleration = _magnitudes(acceleration, "acceleration", n)
+        _profiles.check_lspb_acceleration(distance, duration, acceleration)
+        blend = _profiles.lspb_blend_time(distance, duration, acceleration)
     else:
-        duration = _positive(duration, "duration")
-        if acceleration is not None and blend_time is not None:
-            raise InputError("give acceleration or blend_time, not both")
-        if acceleration is not None:
-            acceleration = _magnitudes(acceleration, "acceleration", n)
-            _profiles.check_lspb_acceleration(distance, duration, acceleration)
-            blend = _profiles.lspb_blend_time(distance, duration, acceleration)
-        else:
-            fraction = DEFAULT_BLEND_FRACTION * duration
-            blend = np.full(n, fraction if blend_time is None else _blend(blend_time, duration))
-    knots, coefficients = _profiles.lspb_pieces(q0, qf, duration, blend)
+        fraction = DEFAULT_BLEND_FRACTION * duration
+        blend = np.full(n, fraction if blend_time is None else _blend(blend_time, duration))
+    knots, coefficients = _profiles.lspb_pieces(q0, target, duration, blend)
     return _from_pieces(knots, coefficients, end=qf, end_velocity=np.zeros(n))
 
 
@@ -602,13 +641,16 @@ def trapezoid_via(
     m, n = points.shape
     durations = _positive_array(durations, "durations", m - 1)
     acceleration = _magnitudes(acceleration, "acceleration", n)
-    times = np.concatenate([[0.0], np.cumsum(durations)])
+    if not isinstance(pass_through, (bool, np.bool_)):
+        raise InputError(f"pass_through must be True or False, got {_describe(pass_through)}")
+    times = _knot_times(durations)
     waypoints = Waypoints(times, points)
     if m == 2:  # no via point: the classic LSPB
-        distance = np.abs(points[1] - points[0])
+        target = _profiles.without_negligible_moves(points[0], points[1])
+        distance = np.abs(target - points[0])
         _profiles.check_lspb_acceleration(distance, times[-1], acceleration)
         blend = _profiles.lspb_blend_time(distance, times[-1], acceleration)
-        knots, coefficients = _profiles.lspb_pieces(points[0], points[1], times[-1], blend)
+        knots, coefficients = _profiles.lspb_pieces(points[0], target, times[-1], blend)
     else:
         if pass_through:
             corners, corner_times, names, span_names, half = _pseudo_via_points(points, times)
@@ -652,12 +694,20 @@ def four_three_four(
         A trajectory of three segments of degrees 4, 3 and 4.
 
     Raises:
-        InputError: mismatched lengths, NaN or inf, or non-positive durations.
+        InputError: mismatched lengths, NaN or inf, durations out of range, or durations so far
+            apart (a factor of about 1e7) that the solve cannot meet the conditions to 1e-9.
     """
     q0, q_lift, q_set, qf = _joint_vectors(q0=q0, q_lift=q_lift, q_set=q_set, qf=qf)
     durations = _positive_array(durations, "durations", 3)
-    coefficients = _profiles.four_three_four_coefficients([q0, q_lift, q_set, qf], durations)
-    knots = np.concatenate([[0.0], np.cumsum(durations)])
+    knots = _knot_times(durations)
+    try:
+        coefficients = _profiles.four_three_four_coefficients([q0, q_lift, q_set, qf], durations)
+    except np.linalg.LinAlgError as error:
+        raise InputError(
+            f"durations {durations.tolist()} s are too far apart for the 4-3-4 solve; give "
+            "durations within a factor of about 1e6 of each other"
+        ) from error
+    _check_rates_continuous(coefficients, durations)
     zero = np.zeros(q0.size)
     return _from_pieces(
         knots,
@@ -675,39 +725,83 @@ def four_three_four(
 
 
 def _from_pieces(knots: np.ndarray, coefficients: list[np.ndarray], **kwargs) -> Trajectory:
+    """A trajectory of the constructors' pieces (continuous by construction).
+
+    Raises:
+        InputError: the pieces do not join within rounding: the inputs mix magnitudes that
+            double precision cannot resolve together.
+    """
     segments = [
         Segment(float(t0), float(t1), c)
         for t0, t1, c in zip(knots[:-1], knots[1:], coefficients, strict=True)
     ]
-    return Trajectory(segments, **kwargs)
+    try:
+        return Trajectory(segments, **kwargs)
+    except InputError as error:
+        raise InputError(
+            f"the motion cannot be computed accurately in double precision ({error}); the "
+            "inputs mix magnitudes too far apart: give durations within a factor of about 1e6 "
+            "of each other and moves that are not tiny next to the positions"
+        ) from error
+
+
+def _check_rates_continuous(coefficients: list[np.ndarray], durations: np.ndarray) -> None:
+    """InputError unless velocity and acceleration are continuous at the inner knots and zero at
+    both ends within 1e-9 of their largest value there, or within the rounding of evaluating the
+    polynomials (the 4-3-4 solve loses digits as the durations part)."""
+    for order in (1, 2):
+        rates = []
+        for c, h in zip(coefficients, durations, strict=True):
+            powers = np.arange(c.shape[1])
+            derivative = c * math.prod(powers - k for k in range(order))[None, :]
+            tau = h ** np.maximum(powers - order, 0)
+            rates.append((derivative[:, order], derivative @ tau, np.abs(derivative) @ tau))
+        values = np.max([np.maximum(np.abs(r[0]), np.abs(r[1])) for r in rates], axis=0)
+        terms = np.max([r[2] for r in rates], axis=0)
+        gaps = [
+            np.abs(rates[0][0]),
+            np.abs(rates[0][1] - rates[1][0]),
+            np.abs(rates[1][1] - rates[2][0]),
+            np.abs(rates[2][1]),
+        ]
+        rounding = 64.0 * np.finfo(float).eps * terms
+        if np.any(np.max(gaps, axis=0) > CONTINUITY_TOLERANCE * values + rounding):
+            raise InputError(
+                f"durations {durations.tolist()} s are too far apart for an accurate 4-3-4 "
+                f"profile (its {'velocity' if order == 1 else 'acceleration'} is continuous "
+                "only to more than 1e-9 of its scale); give durations within a factor of about "
+                "1e6 of each other"
+            )
 
 
 def _synchronised(
-    distance: np.ndarray,
+    q0: np.ndarray,
+    qf: np.ndarray,
     max_velocity: np.ndarray,
     max_acceleration: np.ndarray,
     requested: float | None,
-) -> tuple[float, np.ndarray]:
-    """Common duration [s] and per-joint blend times [s] of the synchronised minimum-time LSPB."""
+) -> tuple[np.ndarray, list[np.ndarray]]:
+    """Knots [s] and coefficients of the synchronised minimum-time LSPB (or lasting ``requested``).
+
+    A requested duration within rounding (relative 1e-12) of the minimum time is taken as the
+    minimum time.
+    """
+    distance = np.abs(qf - q0)
     own = _profiles.lspb_minimum_times(distance, max_velocity, max_acceleration)
     slowest = int(np.argmax(own))
-    duration = float(own[slowest])
+    if requested is not None and requested < own[slowest] * (1.0 - _profiles.RELATIVE_TOLERANCE):
+        least = _profiles.round_up(float(own[slowest]))
+        raise InfeasibleError(
+            f"duration {requested:.6g} s is too short: joint {slowest} needs at least "
+            f"{least:.6g} s to move {distance[slowest]:.6g} rad within max_velocity "
+            f"{max_velocity[slowest]:.6g} rad/s and max_acceleration "
+            f"{max_acceleration[slowest]:.6g} rad/s²; give a duration of at least "
+            f"{least:.6g} s or raise the limits"
+        )
+    duration = _profiles.synchronised_minimum_time(distance, max_velocity, max_acceleration)
     if requested is not None:
-        if requested < duration * (1.0 - _profiles.RELATIVE_TOLERANCE):
-            raise InfeasibleError(
-                f"duration {requested:.6g} s is too short: joint {slowest} needs at least "
-                f"{duration:.6g} s to move {distance[slowest]:.6g} rad within max_velocity "
-                f"{max_velocity[slowest]:.6g} rad/s and max_acceleration "
-                f"{max_acceleration[slowest]:.6g} rad/s²; give a duration of at least "
-                f"{duration:.6g} s or raise the limits"
-            )
         duration = max(requested, duration)
-    if duration == 0.0:  # nothing moves
-        return 0.0, np.zeros_like(distance)
-    blend = _profiles.synchronised_blend_times(
-        distance, duration, max_velocity, max_acceleration, slowest
-    )
-    return duration, blend
+    return _profiles.synchronised_lspb(q0, qf, duration, max_velocity, max_acceleration)
 
 
 def _pseudo_via_points(
@@ -760,13 +854,42 @@ def _check_through_via_points(widths: np.ndarray, half: np.ndarray) -> None:
 # ----------------------------------------------------------------------------------------------
 
 
+def _describe(value: object) -> str:
+    """A short description of an argument for messages (long arrays abbreviated)."""
+    return reprlib.repr(value)
+
+
 def _finite_array(value: object, name: str) -> np.ndarray:
+    """``value`` as a new float array: real numbers only (no text, None, booleans or ragged
+    nesting), all finite."""
+    if isinstance(value, (str, bytes)):
+        raise InputError(f"{name} must be a number or an array of numbers, got the text {value!r}")
     try:
-        array = np.array(value, dtype=float)
-    except (TypeError, ValueError) as error:
-        raise InputError(f"{name} must be numeric, got {value!r}") from error
+        raw = np.asarray(value)
+    except Exception as error:  # ragged nesting, or objects numpy cannot read as an array
+        raise InputError(
+            f"{name} must be a number or a regular array of numbers (equal-length rows), "
+            f"got {_describe(value)}"
+        ) from error
+    if raw.dtype.kind == "O":
+        for item in raw.flat:
+            if item is None or isinstance(item, (str, bytes, bool, np.bool_)):
+                raise InputError(
+                    f"{name} must hold numbers only, got {item!r} in {_describe(value)}"
+                )
+    elif raw.dtype.kind not in "iuf":
+        what = "booleans" if raw.dtype.kind == "b" else f"values of type {raw.dtype}"
+        raise InputError(f"{name} must be real numbers, got {what}: {_describe(value)}")
+    try:
+        array = raw.astype(float)
+    except Exception as error:  # objects that are not numbers, integers beyond float range
+        raise InputError(
+            f"{name} must be real numbers within floating-point range, got {_describe(value)}"
+        ) from error
     if not np.all(np.isfinite(array)):
-        raise InputError(f"{name} must be finite, got {array} (NaN or inf); give finite values")
+        raise InputError(
+            f"{name} must be finite, got {_describe(value)} (NaN or inf); give finite values"
+        )
     return array
 
 
@@ -777,10 +900,22 @@ def _scalar(value: object, name: str) -> float:
     return float(array)
 
 
-def _positive(value: object, name: str) -> float:
+def _check_durations(values: np.ndarray, name: str) -> None:
+    """InputError unless every value is within [MIN_DURATION, MAX_DURATION] s."""
+    flat = np.atleast_1d(values)
+    label = (lambda k: name) if np.ndim(values) == 0 else (lambda k: f"{name}[{k}]")
+    for k in np.flatnonzero(flat <= 0.0):
+        raise InputError(f"{label(k)} must be > 0 s, got {flat[k]}")
+    for k in np.flatnonzero((flat < MIN_DURATION) | (flat > MAX_DURATION)):
+        raise InputError(
+            f"{label(k)} = {flat[k]:.6g} s is outside the supported range "
+            f"[{MIN_DURATION:g}, {MAX_DURATION:g}] s; give a duration in seconds within it"
+        )
+
+
+def _duration(value: object, name: str) -> float:
     result = _scalar(value, name)
-    if result <= 0.0:
-        raise InputError(f"{name} must be > 0 s, got {result}")
+    _check_durations(np.asarray(result), name)
     return result
 
 
@@ -790,7 +925,20 @@ def _blend(value: object, duration: float) -> float:
         raise InputError(
             f"blend_time must be in (0, duration/2] = (0, {0.5 * duration:.6g}] s, got {result}"
         )
+    _check_durations(np.asarray(result), "blend_time")
     return result
+
+
+def _check_magnitudes(array: np.ndarray, name: str) -> None:
+    """InputError when a value exceeds MAX_MAGNITUDE in absolute value."""
+    flat = array.reshape(-1)
+    for k in np.flatnonzero(np.abs(flat) > MAX_MAGNITUDE):
+        where = name if array.ndim == 0 else f"{name} (element {k})"
+        raise InputError(
+            f"{where} = {flat[k]:.6g} is beyond the supported magnitude {MAX_MAGNITUDE:g}; "
+            "give positions, velocities and accelerations in rad, rad/s and rad/s² (or m, m/s, "
+            "m/s²) of at most that size"
+        )
 
 
 def _vector(value: object, name: str) -> np.ndarray:
@@ -799,6 +947,7 @@ def _vector(value: object, name: str) -> np.ndarray:
         raise InputError(f"{name} must be a joint vector or a scalar, got shape {array.shape}")
     if array.size == 0:
         raise InputError(f"{name} is empty; give one value per joint")
+    _check_magnitudes(array, name)
     return array.reshape(-1)
 
 
@@ -823,15 +972,22 @@ def _magnitudes(value: object, name: str, n: int) -> np.ndarray:
     (result,) = _joint_vectors(n=n, **{name: value})
     for j in np.flatnonzero(result <= 0.0):
         raise InputError(f"{name} must be > 0 for every joint, got {result[j]} for joint {j}")
+    for j in np.flatnonzero(result < MIN_MAGNITUDE):
+        raise InputError(
+            f"{name} = {result[j]:.6g} for joint {j} is below the supported minimum "
+            f"{MIN_MAGNITUDE:g}; give it in rad/s or rad/s² (m/s or m/s²)"
+        )
     return result
 
 
 def _positive_array(value: object, name: str, count: int) -> np.ndarray:
     array = _finite_array(value, name)
     if array.shape != (count,):
-        raise InputError(f"{name} must have shape ({count},), got {array.shape}")
-    for k in np.flatnonzero(array <= 0.0):
-        raise InputError(f"{name}[{k}] must be > 0 s, got {array[k]}")
+        raise InputError(
+            f"{name} must be a list of {count} durations [s], shape ({count},), got shape "
+            f"{array.shape}"
+        )
+    _check_durations(array, name)
     return array
 
 
@@ -843,6 +999,7 @@ def _points(value: object, name: str) -> np.ndarray:
         raise InputError(
             f"{name} must have shape (m, n) or (m,) with at least 2 points, got {np.shape(value)}"
         )
+    _check_magnitudes(array, name)
     return array
 
 
@@ -855,7 +1012,49 @@ def _increasing_times(value: object, count: int) -> np.ndarray:
             f"times must strictly increase: times[{k + 1}] = {times[k + 1]} s is not after "
             f"times[{k}] = {times[k]} s"
         )
+    for k in np.flatnonzero((np.diff(times) < MIN_DURATION) | (np.diff(times) > MAX_DURATION)):
+        raise InputError(
+            f"times[{k + 1}] − times[{k}] = {times[k + 1] - times[k]:.6g} s is outside the "
+            f"supported range [{MIN_DURATION:g}, {MAX_DURATION:g}] s; give times in seconds"
+        )
     return times
+
+
+def _knot_times(durations: np.ndarray) -> np.ndarray:
+    """Times from 0 after each duration [s]; InputError when a duration is lost in the rounding
+    of the running total (durations too many orders of magnitude apart)."""
+    times = np.concatenate([[0.0], np.cumsum(durations)])
+    resolved = np.diff(times)
+    for k in np.flatnonzero(np.abs(resolved - durations) > 1e-6 * durations):
+        raise InputError(
+            f"durations[{k}] = {durations[k]:.6g} s is lost in the rounding of the {times[k]:.6g} "
+            "s before it; give durations within a factor of about 1e9 of each other"
+        )
+    return times
+
+
+def _via_velocities(value: object, m: int, n: int) -> np.ndarray:
+    """Explicit via-point velocities as shape (m − 2, n) [rad/s].
+
+    Accepted: shape (m − 2, n); (m − 2,) for one joint; (n,) or a scalar (one joint) for one via
+    point; an empty list when there is no via point.
+    """
+    given = _finite_array(value, "via_velocities")
+    shapes = {(m - 2, n)}
+    if n == 1:
+        shapes |= {(m - 2,)}
+    if m == 3:
+        shapes |= {(n,)} | ({()} if n == 1 else set())
+    if m == 2:
+        shapes |= {(0,)}
+    if given.shape not in shapes:
+        raise InputError(
+            f"via_velocities must have shape ({m - 2}, {n}) (one row per via point, one column "
+            f"per joint), got shape {given.shape}; or pass None or 'heuristic'"
+        )
+    given = given.reshape(m - 2, n)
+    _check_magnitudes(given, "via_velocities")
+    return given
 
 
 def _given_or(value: ArrayLike | None, default: np.ndarray, n: int, name: str) -> np.ndarray:
@@ -871,25 +1070,43 @@ def _frozen(array: np.ndarray) -> np.ndarray:
     return result
 
 
+def _segment_tuple(segments: object) -> tuple[Segment, ...]:
+    try:
+        result = tuple(segments)  # type: ignore[arg-type]
+    except TypeError as error:
+        raise InputError(f"segments must be a list of Segment, got {_describe(segments)}") from error
+    for k, segment in enumerate(result):
+        if not isinstance(segment, Segment):
+            raise InputError(f"segments must be Segment objects; item {k} is {_describe(segment)}")
+    return result
+
+
 def _check_segments(segments: tuple[Segment, ...]) -> None:
     if not segments:
         raise InputError("a trajectory needs at least one segment")
     if segments[0].t0 != 0.0:
         raise InputError(f"the first segment must start at t = 0 s, got t0 = {segments[0].t0}")
     n = segments[0].coefficients.shape[0]
-    for k, (before, after) in enumerate(zip(segments[:-1], segments[1:], strict=True)):
-        if after.coefficients.shape[0] != n:
+    for k, segment in enumerate(segments[1:], start=1):
+        if segment.coefficients.shape[0] != n:
             raise InputError(
-                f"segment {k + 1} has {after.coefficients.shape[0]} joints, segment 0 has {n}"
+                f"segment {k} has {segment.coefficients.shape[0]} joints, segment 0 has {n}"
             )
+    ends, terms = [], []
+    for segment in segments:
+        powers = segment.duration ** np.arange(segment.degree + 1)
+        ends.append(segment.coefficients @ powers)
+        terms.append(np.abs(segment.coefficients) @ powers)
+    # Positions accumulate rounding in proportion to the largest terms anywhere in the motion
+    # (its extent), not to the position at the junction.
+    scale = 1.0 + np.max(terms, axis=0)
+    for k, (before, after) in enumerate(zip(segments[:-1], segments[1:], strict=True)):
         if abs(after.t0 - before.t1) > 1e-12 * max(1.0, abs(before.t1)):
             raise InputError(
                 f"segment {k + 1} starts at {after.t0} s but segment {k} ends at {before.t1} s; "
                 "segments must be contiguous"
             )
-        tau = before.duration ** np.arange(before.degree + 1)
-        gap = np.abs(before.coefficients @ tau - after.coefficients[:, 0])
-        scale = 1.0 + np.abs(after.coefficients[:, 0])
+        gap = np.abs(ends[k] - after.coefficients[:, 0])
         for j in np.flatnonzero(gap > CONTINUITY_TOLERANCE * scale):
             raise InputError(
                 f"joint {j} jumps by {gap[j]:.3g} rad between segments {k} and {k + 1} "

@@ -597,3 +597,58 @@ def test_fast_path_rejects_bad_input_like_the_batch_path():
         solver.nearest(np.zeros(3), np.eye(3), [0.0] * 5 + [np.nan])
     with pytest.raises(InputError):
         solver.solutions(np.zeros(3), bad_rotation)
+
+
+def base_turn_paths(robot, rng, count: int):
+    """Random joint-space paths whose base joint crosses ±π (where the closed form's θ1, an
+    atan2, wraps by 2π), sampled coarsely or finely, as (positions, rotations, q_path)."""
+    for k in range(count):
+        q0 = rng.uniform(np.maximum(robot.lower, -3.0), np.minimum(robot.upper, 3.0))
+        side = 1.0 if k % 2 else -1.0
+        q0[0] = side * rng.uniform(2.4, 3.1)
+        q1 = q0 + rng.uniform(-0.6, 0.6, robot.nq)
+        q1[0] = q0[0] + side * rng.uniform(0.3, 1.5)  # through ±π, outwards
+        samples = int(rng.integers(3, 120))
+        q_path = q0 + np.linspace(0.0, 1.0, samples)[:, None] * (q1 - q0)
+        poses = [robot.fk(q) for q in q_path]
+        positions = np.array([p.translation for p in poses])
+        rotations = np.array([p.rotation for p in poses])
+        yield positions, rotations, q_path
+
+
+@pytest.mark.parametrize("name", UR_ARMS)
+def test_batch_equals_per_sample_where_the_base_joint_crosses_pi(name):
+    """nearest_batch against nearest() sample by sample on 40 random paths whose base joint
+    crosses ±π: equal to 1e-9 rad at every sample, so θ1 does not jump by 2π where the closed
+    form's atan2 wraps."""
+    robot = cached_robot(name)
+    solver = solver_of(name)
+    rng = np.random.default_rng(21)
+    for positions, rotations, q_path in base_turn_paths(robot, rng, 40):
+        q_ref = q_path[0] + rng.normal(0.0, 0.02, robot.nq)
+        batch = solver.nearest_batch(positions, rotations, q_ref)
+        expected = follow_per_sample(solver, positions, rotations, q_ref)
+        np.testing.assert_allclose(batch, expected, atol=1e-9, equal_nan=True)
+        assert not np.isnan(batch).any()
+        assert np.abs(np.diff(batch[:, 0])).max(initial=0.0) < np.pi  # no 2π wrap of θ1
+
+
+def test_batch_equals_per_sample_on_random_pose_sequences(ur5):
+    """Random walks of every size of step (0.05 rad to whole turns) from random references,
+    some targets out of reach: batch equals per-sample, NaN rows included."""
+    solver = solver_of("ur5")
+    rng = np.random.default_rng(22)
+    for k in range(60):
+        samples = int(rng.integers(2, 40))
+        step = (0.05, 0.3, 1.0, 3.0)[k % 4]
+        q_path = ur5.random_configuration(rng) + np.cumsum(
+            rng.normal(0.0, step, (samples, 6)), axis=0
+        )
+        poses = [ur5.fk(q) for q in q_path]
+        positions = np.array([p.translation for p in poses])
+        rotations = np.array([p.rotation for p in poses])
+        positions[rng.random(samples) < 0.1] += [2.0, 0.0, 0.0]  # some out of reach
+        q_ref = ur5.random_configuration(rng)
+        batch = solver.nearest_batch(positions, rotations, q_ref)
+        expected = follow_per_sample(solver, positions, rotations, q_ref)
+        np.testing.assert_allclose(batch, expected, atol=1e-9, equal_nan=True)

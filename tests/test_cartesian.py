@@ -353,12 +353,16 @@ def test_line_through_the_base_is_singular_then_a_jump(planar_2r):
     plan = cartesian.follow(planar_2r, line, duration=1.0, q_seed=[-1.3, 2.6])
     assert plan.status == "singular"
     assert np.linalg.norm(plan.events[0].position) < 0.05  # just before the base
-    unchecked = cartesian.follow(
-        planar_2r, line, duration=1.0, q_seed=[-1.3, 2.6], singular_threshold=0.0,
-        velocity_scale=1e9,
-    )  # fmt: skip
-    assert unchecked.status == "jump" and unchecked.events[0].joint == "joint1"
-    assert plan.fraction < unchecked.fraction < 0.5 < unchecked.events[0].s + 1e-9
+    unchecked = dict(duration=1.0, q_seed=[-1.3, 2.6], singular_threshold=0.0, velocity_scale=1e9)
+    # exactly through the base the Jacobian is numerically singular, whatever the threshold
+    at_base = cartesian.follow(planar_2r, line, **unchecked)
+    assert at_base.status == "singular" and at_base.events[0].s == 0.5
+    assert at_base.events[0].value < 1e-10
+    # 1 mm beside it θ1 turns by about π between two samples: a branch flip
+    beside = cartesian.Line([0.5, 0.001, 0.0], [-0.5, 0.001, 0.0])
+    flip = cartesian.follow(planar_2r, beside, **unchecked)
+    assert flip.status == "jump" and flip.events[0].joint == "joint1"
+    assert plan.fraction < flip.fraction < 0.5 < flip.events[0].s + 1e-9
 
 
 def test_weld_seam_function_path_at_constant_speed(ur5):

@@ -84,7 +84,28 @@ def test_ik_quaternion_and_planar_position_only(capsys):
 def test_ik_unreachable_fails_with_one_line(capsys):
     code, _, err = run(capsys, "ik", "planar_2r", "--xyz", "3", "0", "0")
     assert code == 1
-    assert_one_line_error(err, "no IK solution", "closest found is 1.0000 m")
+    assert_one_line_error(
+        err, "no IK solution", "it is 3.0000 m from the arm's first joint, which reaches 2.0000 m"
+    )
+
+
+def test_ik_beyond_the_reach_says_the_distance_and_the_reach(capsys, ur5):
+    """Issue 12: the target is 1.5 m away and the UR5 reaches about 0.95 m: say that, not "no
+    IK solution within the joint limits"."""
+    code, _, err = run(capsys, "ik", "ur5", "--xyz", "1.5", "0", "0.3", "--rpy-deg", "180", "0", "90")
+    assert code == 1
+    assert_one_line_error(err, "no IK solution for the pose at [1.500, 0.000, 0.300] m")
+    distance = float(err.split("it is ")[1].split(" m from the arm's first joint")[0])
+    reach = float(err.split("which reaches ")[1].split(" m")[0])
+    assert distance == pytest.approx(np.hypot(1.5, 0.3 - 0.089159), abs=1e-4)
+    assert reach == pytest.approx(ur5.reach(), abs=1e-4) and 0.85 < reach < 1.0
+
+
+def test_ik_within_reach_but_not_the_limits(capsys):
+    # 1 cm above the base: within the reach sphere, but no configuration puts the tool there
+    code, _, err = run(capsys, "ik", "ur5", "--xyz", "0", "0", "0.1", "--rpy-deg", "180", "0", "90")
+    assert code == 1
+    assert_one_line_error(err, "within the arm's reach", "within the joint limits is")
 
 
 @pytest.mark.parametrize(
@@ -180,7 +201,10 @@ def test_run_unreachable_program_fails_with_the_move_and_where(capsys, tmp_path)
     assert_one_line_error(err, "move 2 (lin to b, moves[1]): unreachable at s = 0.2", ") m: ")
     assert "unreachable" in out and "FAILED" in out
     assert html.is_file() and "not a valid motion" in out
-    assert not table.exists()  # nothing else is written for a failed program
+    # the other requested file holds the achieved part too (issue 12: say what was written)
+    assert f"wrote {table} (" in out and "up to the failure in move 2" in out
+    rows = list(csv.reader(table.open()))
+    assert rows[0][0] == "t" and len(rows) > 2
 
 
 def test_example_unreachable_weld_fails(capsys):
@@ -222,3 +246,121 @@ def test_console_script():
     )
     assert result.returncode == 1
     assert result.stderr.count("\n") == 1 and "unknown robot" in result.stderr
+
+
+# ----------------------------------------------------------------------------------------------
+# Issue 12: one line on stderr for every failure, and every requested file accounted for
+# ----------------------------------------------------------------------------------------------
+
+PLANAR_PROGRAM = (
+    "robot: planar_2r\nstart: {joints_deg: [30, 30]}\npoints:\n"
+    "  a: {xyz: [1.2, 0.8, 0.0]}\n  b: {xyz: [1.4, 0.6, 0.0]}\n"
+    "moves:\n  - {ptp: a, duration: 1.0}\n  - {lin: b, duration: 0.5}\n"
+)
+
+
+def test_program_that_is_not_utf8(capsys, tmp_path):
+    path = tmp_path / "latin1.yaml"
+    path.write_bytes("# Schwei\u00dfnaht\n".encode("latin-1") + PLANAR_PROGRAM.encode())
+    code, out, err = run(capsys, "run", str(path))
+    assert code == 1 and out == ""
+    assert_one_line_error(err, "program (line 1): the file is not UTF-8 text (byte 0xdf", "UTF-8")
+
+
+def test_plot_with_an_unknown_extension_is_refused_before_planning(capsys, tmp_path):
+    program = tmp_path / "p.yaml"
+    program.write_text(PLANAR_PROGRAM)
+    code, out, err = run(capsys, "run", str(program), "--plot", str(tmp_path / "out.xyz"))
+    assert code == 1
+    assert out == ""  # no plan table: refused before planning
+    assert_one_line_error(err, "Matplotlib cannot write .xyz images", ".png", ".pdf", ".svg")
+    assert not (tmp_path / "out.xyz").exists()
+
+
+def test_plot_without_extension_names_the_file_it_writes(capsys, tmp_path):
+    program = tmp_path / "p.yaml"
+    program.write_text(PLANAR_PROGRAM)
+    code, out, err = run(capsys, "run", str(program), "--plot", str(tmp_path / "out"))
+    assert code == 0, err
+    assert f"wrote {tmp_path / 'out.png'} (" in out and "had no extension, so PNG" in out
+    assert (tmp_path / "out.png").read_bytes()[:4] == b"\x89PNG"
+    assert not (tmp_path / "out").exists()
+
+
+def test_failed_program_writes_every_requested_file_with_the_achieved_part(capsys, tmp_path):
+    (tmp_path / "short.urdf").write_text(planar_arm_urdf([1.0, 0.25], name="short_forearm"))
+    program = tmp_path / "across.yaml"
+    program.write_text(
+        "robot: short.urdf\nstart: {joints_deg: [20, 60]}\npoints:\n"
+        "  a: {xyz: [0.8, 0.6, 0.0]}\n  b: {xyz: [-0.8, 0.6, 0.0]}\n"
+        "moves:\n  - {ptp: a}\n  - {lin: b, speed: 0.1}\n"
+    )
+    files = {flag: tmp_path / f"partial.{ext}" for flag, ext in
+             (("--csv", "csv"), ("--plot", "png"), ("--html", "html"))}  # fmt: skip
+    argv = ["run", str(program)] + [str(x) for pair in files.items() for x in pair]
+    code, out, err = run(capsys, *argv)
+    assert code == 1
+    assert_one_line_error(err, "move 2 (lin to b, moves[1]): unreachable")
+    for path in files.values():
+        assert path.is_file() and path.stat().st_size > 0, path
+        assert f"wrote {path} (" in out
+    assert out.count("up to the failure in move 2") == 3
+    assert out.count("(for inspection, not a valid motion)") == 3
+
+
+def test_program_failing_before_any_motion_says_why_nothing_is_written(capsys, tmp_path):
+    program = tmp_path / "collinear.yaml"
+    program.write_text(  # the arc's start, via and end are on one line: move 1 is invalid
+        "robot: planar_2r\nstart: {joints_deg: [30, 30]}\npoints:\n"
+        "  a: {xyz: [1.0, 1.0, 0.0]}\n  b: {xyz: [1.2, 1.2, 0.0]}\n"
+        "moves:\n  - {circ: a, via: b}\n"
+    )
+    files = [tmp_path / "x.csv", tmp_path / "x.png", tmp_path / "x.html"]
+    argv = ["run", str(program), "--csv", str(files[0]), "--plot", str(files[1])]
+    code, out, err = run(capsys, *argv, "--html", str(files[2]))
+    assert code == 1
+    assert_one_line_error(err, "move 1 (circ to a via b, moves[0]): invalid")
+    for flag, path in zip(("--csv", "--plot", "--html"), files):
+        assert f"not written: {flag} {path}: move 1 failed before any motion" in out
+        assert not path.exists()
+
+
+def test_unwritable_output_of_an_ok_plan_is_one_line(capsys, tmp_path):
+    program = tmp_path / "p.yaml"
+    program.write_text(PLANAR_PROGRAM)
+    (tmp_path / "folder.csv").mkdir()
+    code, _, err = run(capsys, "run", str(program), "--csv", str(tmp_path / "folder.csv"))
+    assert code == 1
+    assert_one_line_error(err, f"--csv {tmp_path / 'folder.csv'}: cannot write")
+
+
+def test_malformed_urdf_keeps_the_parser_chatter_off_the_terminal(capfd, tmp_path):
+    bad = tmp_path / "bad.urdf"
+    bad.write_text(
+        '<?xml version="1.0"?>\n<robot name="bad"><link name="base"/><link name="a"/>'
+        '<joint name="ja" type="revolute"><parent link="base"/><child link="a"/>'
+        '<axis xyz="0 0 1"/><origin xyz="1 0 zz"/>'
+        '<limit lower="-1" upper="1" velocity="1" effort="1"/></joint></robot>\n'
+    )
+    code = main(["info", str(bad)])
+    out, err = capfd.readouterr()  # file descriptors 1 and 2: C++ output included
+    assert code == 1 and out == ""
+    assert_one_line_error(err, "Pinocchio could not read", "Unable to parse component [zz]")
+    assert "pose.cpp" not in err
+
+
+@pytest.mark.parametrize(
+    ("argv", "fragments"),
+    [
+        (["fk", "ur5", "--q", "nan", "0", "0", "0", "0", "0"], ["q must be finite"]),
+        (["ik", "ur5", "--xyz", "inf", "0", "0"], ["target must be finite"]),
+        (["ik", "ur5", "--xyz", "0.4", "0", "0.3", "--quat-xyzw", "0", "0", "0", "0"],
+         ["--quat-xyzw must be a non-zero quaternion"]),
+        (["info", "ur5", "--tip", ""], ["tip (a frame or link name) must be a non-empty string"]),
+        (["info", "nosuch.urdf"], ["does not exist"]),
+    ],
+)  # fmt: skip
+def test_bad_numbers_and_names_are_one_line(capsys, argv, fragments):
+    code, _, err = run(capsys, *argv)
+    assert code == 1
+    assert_one_line_error(err, *fragments)

@@ -521,3 +521,77 @@ def test_example_programs(name):
         assert " at s = " in plan.reason
     else:
         assert plan.ok, plan.reason
+
+
+# ----------------------------------------------------------------------------------------------
+# Tool speeds of Cartesian moves, and where a path may start
+# ----------------------------------------------------------------------------------------------
+
+SPEED_PROGRAM = """\
+robot: ur5
+start: {{joints_deg: [0, -90, 90, -90, -90, 0]}}
+points:
+  a: {{xyz: [0.45, -0.10, 0.20], rpy_deg: [180, 0, 90]}}
+  b: {{xyz: [0.45, 0.10, 0.20], rpy_deg: [180, 0, 90]}}
+moves:
+  - {{ptp: a, duration: 2.0}}
+  - {move}
+"""
+
+
+def lin_tool_speed(tmp_path: Path, move: str) -> tuple[np.ndarray, np.ndarray, ProgramPlan]:
+    """Times [s] and tool speeds [m/s] of the second move (a 0.2 m lin from a to b), the speed
+    from the FK of the planned joint positions (central differences), not from the plan's own
+    rates."""
+    text = SPEED_PROGRAM.format(move=move)
+    plan = plan_program(load_program(write(tmp_path, "speed.yaml", text)))
+    assert plan.ok, plan.reason
+    lin = plan.moves[1]
+    window = slice(lin.first, lin.last + 1)
+    t = plan.t[window]
+    tool = np.array([plan.robot.fk(q).translation for q in plan.q[window]])
+    np.testing.assert_allclose(tool[[0, -1], 1], [-0.10, 0.10], atol=1e-6)
+    speed = np.linalg.norm(np.gradient(tool, t, axis=0), axis=1)
+    return t - t[0], speed, plan
+
+
+def test_default_lin_speed_is_5_cm_per_second(tmp_path):
+    """A lin move without speed or duration cruises at 0.05 m/s: the tool's own speed (FK)
+    holds 0.05 m/s over the cruise, and the move lasts L/v plus the 0.25 s ramp."""
+    t, speed, plan = lin_tool_speed(tmp_path, "{lin: b}")
+    assert t[-1] == pytest.approx(0.2 / 0.05 + 0.25, abs=1e-9)
+    cruise = (t > 0.3) & (t < t[-1] - 0.3)
+    np.testing.assert_allclose(speed[cruise], 0.05, rtol=1e-4)
+    assert speed.max() <= 0.05 * (1 + 1e-4)
+
+
+@pytest.mark.parametrize(("profile", "peak_factor"), [("quintic", 1.875), ("cubic", 1.5)])
+def test_speed_of_a_polynomial_lin_is_its_peak_not_its_average(tmp_path, profile, peak_factor):
+    """``speed`` of a quintic or cubic lin is the tool's peak speed: the FK speed peaks at it
+    mid-move, and the move lasts k·L/v (1.875 for the quintic, 1.5 for the cubic), so the
+    average speed is v/k, below the requested speed."""
+    t, speed, _ = lin_tool_speed(tmp_path, f"{{lin: b, speed: 0.04, profile: {profile}}}")
+    assert t[-1] == pytest.approx(peak_factor * 0.2 / 0.04, rel=1e-3)
+    assert speed.max() == pytest.approx(0.04, rel=1e-3)
+    assert abs(t[np.argmax(speed)] - 0.5 * t[-1]) < 0.02
+    assert 0.2 / t[-1] == pytest.approx(0.04 / peak_factor, rel=1e-3)
+
+
+@pytest.mark.parametrize("gap", [1e-3, 3e-4])
+def test_a_path_starting_a_fraction_of_a_millimetre_away_is_refused(ur5, gap):
+    """A path must start at the tool (within 0.1 mm): 1 mm and 0.3 mm away it is refused with
+    the distance, before anything is planned; a path starting exactly there is followed."""
+    home = np.radians([0, -90, 90, -90, -90, 0])
+    here = ur5.fk(home)
+    offset = gap * np.array([0.6, 0.0, 0.8])
+    builder = MotionBuilder(ur5, home)
+    away = cartesian.Line(
+        pin.SE3(here.rotation, here.translation + offset),
+        pin.SE3(here.rotation, here.translation + [0.05, 0.0, 0.0]),
+    )
+    with pytest.raises(MoveError, match=rf"invalid: the path starts at .*{gap:.4f} m away"):
+        builder.follow(away)
+    assert builder.finish().moves[0].status == "invalid"
+    builder = MotionBuilder(ur5, home)
+    there = cartesian.Line(here, pin.SE3(here.rotation, here.translation + [0.05, 0.0, 0.0]))
+    assert builder.follow(there).ok

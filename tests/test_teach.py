@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 from pathlib import Path
 
 import numpy as np
@@ -99,12 +101,32 @@ def test_refusals_leave_the_arm_where_it_is(ur5, planar_2r):
     assert pendant.execute("r 1bad").text.startswith("error: point name '1bad'")
     planar = TeachPendant(planar_2r)
     assert planar.execute("yaw 5").text.startswith("refused: planar_2r has 2 joints")
-    assert planar.execute("z 0.1").text.startswith("refused: unreachable at ")
-    assert "off the arm's plane" in planar.execute("z 0.1").text
+    reply = planar.execute("z 0.1")  # out of the arm's plane: refused before any check
+    assert reply.text.startswith("refused: planar_2r is a planar arm and moves in its xy-plane")
+    assert reply.text.endswith("jog x, y or the joints") and not reply.moved
     reply = planar.execute("x 0.2")  # beyond the reach r = 2 m
     assert reply.text.startswith("refused: unreachable at ") and not reply.moved
     assert "exceeds the reach 2.0000 m" in reply.text
     assert HELP in pendant.execute("help").text
+
+
+def test_refusals_advise_only_what_the_pendant_can_do(ur5, planar_2r):
+    """Issue 12: `x 1.0` was refused with "use a smaller dt"; the pendant has no dt. Its advice
+    names pendant commands, never follow()'s arguments (dt, q_seed, retime, speed...)."""
+    api_words = re.compile(r"\b(dt|q_seed|retime|duration|speed|tolerance|velocity_scale)\b")
+    replies = []
+    for robot, commands in ((ur5, ("x 1.0", "x 3", "z -1", "y 0.5")), (planar_2r, ("x 1", "y 1"))):
+        pendant = TeachPendant(robot)
+        for command in commands:
+            reply = pendant.execute(command)
+            assert reply.text.startswith("refused: ") and not reply.moved, reply.text
+            assert not api_words.search(reply.text), reply.text
+            replies.append(reply.text)
+    # beyond the reach: says so, with the distance and the reach, whatever the first event is
+    assert "beyond the reach of ur5, 0.9" in replies[0] and "jog back toward the robot" in replies[0]
+    for bad in ("x nan", "x inf", "j 0 nan", "step inf", "astep nan"):
+        assert TeachPendant(ur5).execute(bad).text.startswith("error: "), bad
+    assert TeachPendant(ur5).execute(None).text.startswith("error: a command is a line of text")
 
 
 def test_planar_session_and_abort(planar_2r, tmp_path):

@@ -1,0 +1,241 @@
+"""Argument checks shared by kinplan's public functions.
+
+Each check returns the value in the form the library computes with (a float, an int, a float
+array) or raises :class:`~kinplan.errors.InputError` naming the argument, what it got and what
+to pass. Booleans are refused where a number is expected (``True`` is not a duration).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+from kinplan.errors import InputError
+
+
+def describe(value: object) -> str:
+    """A short description of a value for an error message: its repr, cut to 60 characters,
+    and its type."""
+    try:
+        text = repr(value)
+    except Exception:  # a __repr__ that fails: the type says enough
+        text = f"<{type(value).__name__} object>"
+    if len(text) > 60:
+        text = text[:57] + "..."
+    return f"{text} ({type(value).__name__})"
+
+
+def number(
+    value: object,
+    name: str,
+    *,
+    positive: bool = False,
+    minimum: float | None = None,
+    maximum: float | None = None,
+    unit: str = "",
+) -> float:
+    """A finite real number as a float.
+
+    Args:
+        value: What the caller passed.
+        name: The argument's name, for the message.
+        positive: Require value > 0.
+        minimum: Require value ≥ minimum.
+        maximum: Require value ≤ maximum.
+        unit: Unit shown in the message (e.g. "s", "m/s").
+
+    Raises:
+        InputError: not a real number (strings, None, booleans, arrays), NaN or inf, or out of
+            the required range.
+    """
+    unit_text = f" [{unit}]" if unit else ""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "fiu":
+            value = value.item()
+        else:
+            raise InputError(f"{name} must be a number{unit_text}, got {describe(value)}")
+    try:
+        value = float(value)
+    except OverflowError:  # an int beyond the float range
+        value = math.inf
+    if not math.isfinite(value):
+        raise InputError(f"{name} must be a finite number{unit_text}, got {value!r}")
+    if positive and not value > 0:
+        raise InputError(f"{name} must be > 0{unit_text}, got {value!r}")
+    if minimum is not None and value < minimum:
+        raise InputError(f"{name} must be ≥ {minimum:g}{unit_text}, got {value!r}")
+    if maximum is not None and value > maximum:
+        raise InputError(f"{name} must be ≤ {maximum:g}{unit_text}, got {value!r}")
+    return value
+
+
+def optional_number(value: object, name: str, **kwargs) -> float | None:
+    """``None``, or :func:`number` of the value."""
+    return None if value is None else number(value, name, **kwargs)
+
+
+def count(value: object, name: str, *, minimum: int = 1) -> int:
+    """An integer ≥ ``minimum`` (an int or an integral numpy integer; not a bool or a float).
+
+    Raises:
+        InputError: not an integer, or below the minimum.
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise InputError(f"{name} must be an integer ≥ {minimum}, got {describe(value)}")
+    if value < minimum:
+        raise InputError(f"{name} must be an integer ≥ {minimum}, got {value}")
+    return int(value)
+
+
+def flag(value: object, name: str) -> bool:
+    """A boolean (``True``/``False``, or a numpy bool)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{name} must be True or False, got {describe(value)}")
+    return bool(value)
+
+
+def choice(value: object, name: str, options: tuple[str, ...] | list[str]) -> str:
+    """One of the strings ``options``."""
+    if not isinstance(value, str) or value not in options:
+        raise InputError(
+            f"{name} must be one of {', '.join(map(repr, options))}, got {describe(value)}"
+        )
+    return value
+
+
+def vector(value: object, name: str, size: int | None = None, unit: str = "") -> np.ndarray:
+    """A finite 1-D float array (a copy), of length ``size`` when given.
+
+    Raises:
+        InputError: not numeric (strings, None, ragged lists), not 1-D, the wrong length, NaN
+            or inf.
+    """
+    unit_text = f" [{unit}]" if unit else ""
+    wanted = f"{size} numbers" if size is not None else "a list of numbers"
+    array = np.array(floats(value, name, f"{wanted}{unit_text}"))  # a copy
+    if array.ndim != 1 or (size is not None and array.shape[0] != size):
+        raise InputError(f"{name} must be {wanted}{unit_text}, got shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise InputError(f"{name} must be finite{unit_text}, got {array.tolist()}")
+    return array
+
+
+def text(value: object, name: str) -> str:
+    """A non-empty string (a name: a frame, a joint, a robot).
+
+    Raises:
+        InputError: not a ``str``, or empty.
+    """
+    if not isinstance(value, str) or not value:
+        raise InputError(f"{name} must be a non-empty string, got {describe(value)}")
+    return value
+
+
+def file_path(value: object, name: str) -> str:
+    """A file path (``str`` or ``os.PathLike``), as a ``str``.
+
+    Raises:
+        InputError: another type, an empty path, or a NUL character in it.
+    """
+    import os
+
+    if isinstance(value, os.PathLike):
+        try:
+            value = os.fsdecode(os.fspath(value))
+        except (TypeError, ValueError):
+            pass  # reported below
+    if not isinstance(value, str) or not value or "\0" in value:
+        raise InputError(
+            f"{name} must be a file path (a non-empty str or os.PathLike without NUL), got "
+            f"{describe(value)}"
+        )
+    return value
+
+
+def floats(value: object, name: str, wanted: str) -> np.ndarray:
+    """``value`` as a float array of any shape. Booleans, text, None, complex numbers, ragged
+    nesting and objects that are not numbers are refused (``wanted`` says what to pass)."""
+    if value is None or isinstance(value, (str, bytes)):
+        raise InputError(f"{name} must be {wanted}, got {describe(value)}")
+    try:
+        array = np.asarray(value)
+        if array.dtype.kind == "O":  # mixed Python numbers, or something that is not numbers
+            if any(isinstance(v, (bool, np.bool_, str, bytes)) for v in array.flat):
+                raise TypeError
+        elif array.dtype.kind not in "iuf":  # bool, text, complex, dates
+            raise TypeError
+        return np.asarray(array, dtype=float)
+    except Exception:  # ragged nesting, objects that are not numbers, overflow
+        raise InputError(f"{name} must be {wanted}, got {describe(value)}") from None
+
+
+def matrix(value: object, name: str, shape: tuple[int, int], unit: str = "") -> np.ndarray:
+    """A finite float array of exactly ``shape``.
+
+    Raises:
+        InputError: not numbers, another shape, NaN or inf.
+    """
+    unit_text = f" [{unit}]" if unit else ""
+    wanted = f"a {shape[0]}×{shape[1]} array of finite numbers{unit_text}"
+    array = floats(value, name, wanted)
+    if array.shape != shape:
+        raise InputError(f"{name} must be {wanted}, got shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise InputError(f"{name} must be {wanted}, got NaN or inf in {array.tolist()}")
+    return array
+
+
+def rows(value: object, name: str, columns: int, unit: str = "") -> np.ndarray:
+    """A finite float array of shape (N, ``columns``), N ≥ 1 (one row per sample).
+
+    Raises:
+        InputError: not numbers, another shape, NaN or inf.
+    """
+    unit_text = f" [{unit}]" if unit else ""
+    wanted = f"an array of shape (N, {columns}) of finite numbers{unit_text}"
+    array = floats(value, name, wanted)
+    if array.ndim != 2 or array.shape[1] != columns or array.shape[0] == 0:
+        raise InputError(f"{name} must be {wanted}, got shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise InputError(f"{name} must be {wanted}, got NaN or inf")
+    return array
+
+
+ROTATION_TOLERANCE = 1e-6
+"""Largest ‖RᵀR − I‖_F accepted for a rotation matrix [-]."""
+ROTATION_ADVICE = (
+    "pass an orthonormal 3×3 matrix with determinant +1, e.g. pin.rpy.rpyToMatrix(r, p, y) or "
+    "pin.Quaternion(w, x, y, z).normalized().toRotationMatrix()"
+)
+"""What to pass instead of a matrix that is not a rotation."""
+
+
+def rotation_problem(value: np.ndarray) -> str:
+    """Why a finite 3×3 matrix is not a rotation, or "" when it is one (orthonormal within
+    :data:`ROTATION_TOLERANCE`, det +1)."""
+    gram = value.T @ value - np.eye(3)
+    defect = float(np.sqrt(np.sum(gram * gram)))
+    if defect > ROTATION_TOLERANCE:
+        return f"it is not orthonormal (‖RᵀR − I‖ = {defect:.3g})"
+    if np.linalg.det(value) < 0:
+        return "it is a reflection (det = −1)"
+    return ""
+
+
+def rotation(value: object, name: str) -> np.ndarray:
+    """A 3×3 rotation matrix (orthonormal, det +1); a ``pinocchio.SE3`` gives its rotation.
+
+    Raises:
+        InputError: another shape, NaN or inf, not orthonormal, or a reflection.
+    """
+    import pinocchio as pin
+
+    if isinstance(value, pin.SE3):
+        value = value.rotation
+    array = matrix(value, name, (3, 3))
+    problem = rotation_problem(array)
+    if problem:
+        raise InputError(f"{name} is not a rotation matrix: {problem}; {ROTATION_ADVICE}")
+    return array
