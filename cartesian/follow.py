@@ -191,8 +191,10 @@ class _Tracker:
         self.speed_limit = robot.velocity_limit * velocity_scale
         self.jump_tolerance = jump_tolerance
         self.units = joint_units(robot)
-        # below this manipulability no joint rates can be computed, whatever the threshold
-        self.rank_floor = 1e-10 * reference_manipulability(robot, position_only)
+        # below this manipulability no joint rates can be computed, whatever the threshold:
+        # the rates would be a million times the arm's usual ones, and the √det of a Gram
+        # matrix JJᵀ carries a rounding noise of √ε‖J‖² (1e-7 for a 3 m arm at full stretch)
+        self.rank_floor = 1e-6 * reference_manipulability(robot, position_only)
 
     def solve(self, guess, position, rotation, evaluated: bool = False, iterations: int = 12):
         """Newton steps from ``guess``, ignoring the joint limits (the caller checks them: a
@@ -766,10 +768,12 @@ def check_reachability(
 ) -> Reachability:
     """Fast pre-check: does the path stay in the workspace, continuously, away from singularities?
 
-    Planar arms use their analytic workspace (the annulus r_min ≤ r ≤ r_max about the first
-    joint, in its plane); other arms solve warm-started IK at points every ``resolution`` metres
-    (at least 50 points), reporting unreachable points, joint limits, branch jumps and
-    singularities. No timing, so no velocity check.
+    Warm-started IK at points every ``resolution`` metres (at least 50 points, bisected where a
+    joint moves more than 0.1 rad), reporting unreachable points, joint limits, branch jumps and
+    singularities with the thresholds :func:`follow` uses, so the two agree. Planar arms first
+    check their analytic workspace (the annulus r_min ≤ r ≤ r_max about the first joint, in its
+    plane), which names the exact reason of an unreachable point. No timing, so no velocity
+    check.
 
     Args:
         robot: The arm.
@@ -784,7 +788,9 @@ def check_reachability(
     s = np.linspace(0.0, 1.0, count)
     reach = robot.planar_reach()
     if reach is not None and position_only:
-        return _planar_check(robot, path, s, reach)
+        annulus = _planar_check(robot, path, s, reach)
+        if not annulus.ok:  # the analytic answer, with its exact reason
+            return annulus
     seed = robot.neutral() if q_seed is None else robot.check_q(q_seed, "q_seed")
     if singular_threshold is None:
         singular_threshold = SINGULAR_FRACTION * reference_manipulability(robot, position_only)
@@ -881,7 +887,17 @@ def trace_geometry(tracker: _Tracker, path: Path, s: np.ndarray, seed: np.ndarra
                 pending += _points(tracker, path, np.array([0.5 * (sk + solved_s[-1])]))
                 continue
         if not ok:
-            events.append(tracker.diagnose(k, 0.0, sk, guess, q_prev, position, rotation))
+            found = tracker.rescue(k, 0.0, sk, guess, q_prev, position, rotation)
+            if isinstance(found, Event):
+                events.append(found)
+                break
+            q = found
+            tracker.accepts(
+                q, position.tolist(), None if rotation is None else rotation.reshape(9).tolist()
+            )
+        j = tracker.beyond_limit(q)
+        if j is not None:
+            events.append(tracker.limit_event(k, 0.0, sk, q, j, position))
             break
         m = tracker.factor(tracker.jacobian())
         event = tracker.singular_event(k, 0.0, sk, m, position)

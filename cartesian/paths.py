@@ -231,10 +231,9 @@ class CircularArc(Path):
         self.e2 = checks.vector(e2, "e2", 3)
         self.sweep = checks.number(sweep, "sweep", positive=True, unit="rad")
         for name, vector in (("e1", self.e1), ("e2", self.e2)):
-            if abs(float(np.linalg.norm(vector)) - 1.0) > 1e-9:
-                raise InputError(
-                    f"{name} must be a unit vector, got {vector} of norm {np.linalg.norm(vector):.6g}"
-                )
+            norm = float(np.linalg.norm(vector))
+            if abs(norm - 1.0) > 1e-9:
+                raise InputError(f"{name} must be a unit vector, got {vector} of norm {norm:.6g}")
         if abs(float(self.e1 @ self.e2)) > 1e-9:
             raise InputError(
                 f"e1 and e2 must be perpendicular unit vectors (e1·e2 = 0), got e1·e2 = "

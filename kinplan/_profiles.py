@@ -226,16 +226,14 @@ def constant_acceleration_pieces(
     moved = v_start[:, :-1] * spans + 0.5 * accelerations * spans**2
     q_start = np.hstack([q0[:, None], q0[:, None] + np.cumsum(moved, axis=1)])
     knots = merged_knots(breaks)
-    joints = np.arange(q0.size)
-    coefficients = []
-    for lo, hi in zip(knots[:-1], knots[1:], strict=True):
-        phase = np.sum(breaks[:, 1:-1] <= 0.5 * (lo + hi), axis=1)
-        acc = accelerations[joints, phase]
-        s = lo - breaks[joints, phase]
-        v = v_start[joints, phase] + acc * s
-        q = q_start[joints, phase] + v_start[joints, phase] * s + 0.5 * acc * s**2
-        coefficients.append(np.stack([q, v, 0.5 * acc], axis=1))
-    return knots, coefficients
+    joints = np.arange(q0.size)[None, :]
+    middles = 0.5 * (knots[:-1] + knots[1:])
+    phase = np.sum(breaks[None, :, 1:-1] <= middles[:, None, None], axis=2)  # (S, n)
+    acc = accelerations[joints, phase]
+    s = knots[:-1, None] - breaks[joints, phase]
+    v = v_start[joints, phase] + acc * s
+    q = q_start[joints, phase] + v_start[joints, phase] * s + 0.5 * acc * s**2
+    return knots, list(np.stack([q, v, 0.5 * acc], axis=2))
 
 
 def lspb_blend_time(distance: np.ndarray, duration: float, acceleration: np.ndarray) -> np.ndarray:

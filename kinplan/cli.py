@@ -297,7 +297,9 @@ def _write_outputs(plan, args: argparse.Namespace, plot: Path | None) -> list[st
         return [f"{flag} {value}: {why}" for flag, value in requests]
     partial = "" if plan.ok else f" up to the failure in move {failed.number}"
     note = "" if plan.ok else " (for inspection, not a valid motion)"
-    title = f"{args.program}: {robot.name}" + (f", failed at move {failed.number}" if failed else "")
+    title = f"{args.program}: {robot.name}" + (
+        f", failed at move {failed.number}" if failed else ""
+    )
     problems = []
     for flag, value in requests:
         try:

@@ -306,7 +306,8 @@ def load_program(path: str | os.PathLike[str]) -> Program:
         raw = file.read_bytes()
     except OSError as exc:
         reason = exc.strerror or str(exc)
-        raise ProgramError(str(file), [Issue("program", f"cannot read the file: {reason}")]) from exc
+        issue = Issue("program", f"cannot read the file: {reason}")
+        raise ProgramError(str(file), [issue]) from exc
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
@@ -761,11 +762,18 @@ def resolve_robot_source(source: str, base_dir: Path) -> str:
     """A robot name as is; a file path, relative to the program's folder, made absolute."""
     if source in bundled_robots() or source in known_names():
         return source
-    path = Path(source).expanduser()
+    try:
+        path = Path(source).expanduser()
+    except RuntimeError:  # ~user of an unknown user: load_robot says the file does not exist
+        path = Path(source)
     if not path.is_absolute():
         path = base_dir / path
     looks_like_a_path = "/" in source or "\\" in source or path.suffix.lower() in (".urdf", ".xml")
-    return str(path) if looks_like_a_path or path.is_file() else source
+    try:
+        is_file = path.is_file()
+    except (OSError, ValueError):  # a name too long for the file system, a NUL character
+        is_file = False
+    return str(path) if looks_like_a_path or is_file else source
 
 
 _ROBOT_CACHE: dict[tuple[str, str | None], Robot] = {}

@@ -23,7 +23,7 @@ import numpy as np
 import pinocchio as pin
 
 from kinplan import checks
-from kinplan.errors import FrameError, InputError, URDFError
+from kinplan.errors import FrameError, InputError, RobotNotFoundError, URDFError
 from kinplan.ik import IKResult, IKSolver
 from kinplan.planar import planar_arm_urdf, write_planar_arm
 from kinplan.sources import RobotSpec, known_names, resolve_source
@@ -670,7 +670,16 @@ def load_robot(source: str | os.PathLike[str], tip: str | None = None) -> Robot:
         )
     if tip is not None:
         tip = checks.text(tip, "tip (a frame or link name)")
-    return Robot(resolve_source(source), tip=tip)
+    try:
+        spec = resolve_source(source)
+    except (OSError, RuntimeError, ValueError) as exc:  # a name too long, ~nobody/, ...
+        shown = source if len(source) <= 80 else source[:77] + "..."
+        reason = (getattr(exc, "strerror", None) or str(exc)).rstrip(".")
+        raise RobotNotFoundError(
+            f"cannot use {shown!r} as a robot ({reason}); give a robot name "
+            f"({', '.join(known_names())}) or the path of a URDF file"
+        ) from exc
+    return Robot(spec, tip=tip)
 
 
 def planar_arm(

@@ -92,7 +92,9 @@ def test_ik_unreachable_fails_with_one_line(capsys):
 def test_ik_beyond_the_reach_says_the_distance_and_the_reach(capsys, ur5):
     """Issue 12: the target is 1.5 m away and the UR5 reaches about 0.95 m: say that, not "no
     IK solution within the joint limits"."""
-    code, _, err = run(capsys, "ik", "ur5", "--xyz", "1.5", "0", "0.3", "--rpy-deg", "180", "0", "90")
+    code, _, err = run(
+        capsys, "ik", "ur5", "--xyz", "1.5", "0", "0.3", "--rpy-deg", "180", "0", "90"
+    )
     assert code == 1
     assert_one_line_error(err, "no IK solution for the pose at [1.500, 0.000, 0.300] m")
     distance = float(err.split("it is ")[1].split(" m from the arm's first joint")[0])

@@ -169,3 +169,33 @@ def test_retime_is_offered_only_when_it_passes(ur5):
         offered += says_retime
         refused += not says_retime
     assert offered > 0 and refused > 0, (offered, refused)
+
+
+def test_check_reachability_agrees_with_follow(planar_2r):
+    """On lines through the base, to full stretch and at random, the geometric pre-check and
+    the follower (speed limits lifted) agree on whether the path can be followed, and the
+    pre-check names the singularity that follow meets (these used to differ: the analytic
+    annulus check said ok through the base and at full stretch)."""
+    rng = np.random.default_rng(7)
+    verdicts: dict[tuple[str, str], int] = {}
+    for i in range(240):
+        a = rng.uniform(-2.0, 2.0, 3)
+        a[2] = 0.0
+        a *= min(1.0, 1.99 / np.linalg.norm(a))
+        if i % 3 == 0:
+            b = -a * rng.uniform(0.2, 1.0)  # through the base
+        elif i % 3 == 1:
+            b = 2.0 * a / np.linalg.norm(a)  # to full stretch
+        else:
+            b = np.append(rng.uniform(-2.0, 2.0, 2), 0.0)
+        seed = planar_2r.ik(a, q_seed=rng.uniform(-3.0, 3.0, 2)).q
+        line = cartesian.Line(a, b)
+        check = cartesian.check_reachability(planar_2r, line, q_seed=seed)
+        plan = cartesian.follow(
+            planar_2r, line, duration=1.0, dt=0.001, q_seed=seed, velocity_scale=1e9
+        )
+        assert check.ok == plan.ok, (i, check, plan)
+        if plan.status == "singular":  # the rim or the base, or a point beyond the rim
+            assert check.status in ("singular", "unreachable"), (i, check, plan)
+        verdicts[check.status, plan.status] = verdicts.get((check.status, plan.status), 0) + 1
+    assert verdicts.get(("singular", "singular"), 0) > 50 and verdicts.get(("ok", "ok"), 0) > 20

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import re
-
 from pathlib import Path
 
 import numpy as np
@@ -123,7 +122,9 @@ def test_refusals_advise_only_what_the_pendant_can_do(ur5, planar_2r):
             assert not api_words.search(reply.text), reply.text
             replies.append(reply.text)
     # beyond the reach: says so, with the distance and the reach, whatever the first event is
-    assert "beyond the reach of ur5, 0.9" in replies[0] and "jog back toward the robot" in replies[0]
+    assert (
+        "beyond the reach of ur5, 0.9" in replies[0] and "jog back toward the robot" in replies[0]
+    )
     for bad in ("x nan", "x inf", "j 0 nan", "step inf", "astep nan"):
         assert TeachPendant(ur5).execute(bad).text.startswith("error: "), bad
     assert TeachPendant(ur5).execute(None).text.startswith("error: a command is a line of text")

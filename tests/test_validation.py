@@ -318,8 +318,11 @@ def _calls(robots) -> list[tuple[str, object, list]]:
         ("Robot.check_q", ur5.check_q, [np.zeros(6)]),
         ("Robot.tool_positions", ur5.tool_positions, [np.zeros((1, 6))]),
         ("Robot.task_rows", ur5.task_rows, [True]),
-        ("Robot.ik", lambda *a: planar.ik(*a[:3], max_restarts=a[3]), [[1.0, 1.0, 0.0], None,
-                                                                        False, 2]),
+        (
+            "Robot.ik",
+            lambda *a: planar.ik(*a[:3], max_restarts=a[3]),
+            [[1.0, 1.0, 0.0], None, False, 2],
+        ),
         ("halton", halton, [1, 2]),
         ("Line", cartesian.Line, [P0, P1]),
         ("Arc", cartesian.Arc, [P0, P2, P1]),

@@ -1,0 +1,301 @@
+"""Fuzzing the YAML program reader and ``kinplan run`` (issue 12).
+
+Programs are the examples of ``examples/programs/`` mutated (keys deleted, renamed or added,
+values replaced by other types or extreme numbers, moves duplicated or dropped, bytes of the file
+changed, including bytes that are not UTF-8) or random YAML documents. Whatever the file:
+
+* :func:`kinplan.program.load_program` and :func:`kinplan.program.run_program` return or raise a
+  :class:`kinplan.KinplanError`, never another exception;
+* ``kinplan run FILE`` succeeds, or fails with exactly one ``kinplan: error: ...`` line on stderr
+  (other lines only ``kinplan: warning: ...``), never a traceback or an internal error.
+
+The examples are deterministic (``derandomize=True``), so a failure reproduces. The quick tests
+run in ``make test``; ``test_soak_*`` (marked ``slow``) try many more programs.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import math
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+
+hypothesis = pytest.importorskip("hypothesis")
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from kinplan.cli import main  # noqa: E402
+from kinplan.errors import KinplanError  # noqa: E402
+from kinplan.program import load_program, run_program  # noqa: E402
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "programs"
+SEEDS = {path.name: path.read_text(encoding="utf-8") for path in sorted(EXAMPLES.glob("*.yaml"))}
+#: Sampling period of the fuzzed plans [s]: coarse, so that a plan takes milliseconds.
+FUZZ_DT = 0.1
+
+#: Keys a program may hold (and a few it may not), for renames and insertions.
+KEYS = [
+    "robot", "tip", "start", "points", "moves", "description", "joints", "joints_deg", "xyz",
+    "rpy_deg", "quat_xyzw", "ptp", "lin", "circ", "via", "duration", "speed", "profile", "name",
+    "bogus", "", "1", "moves ",
+]  # fmt: skip
+
+#: Numbers that break naive code: zero, negative, tiny, huge, non-finite, integer-valued.
+NASTY_NUMBERS = [
+    0, -1, 1, 2, 1e-300, 1e-9, 1e-3, 0.05, 0.5, 0.999, 1.5, 10, 1e9, 1e300, -1e300,
+    math.nan, math.inf, -math.inf, 10**30,
+]  # fmt: skip
+
+#: Texts: robot, point, frame and profile names (valid or not), and odd ones.
+TEXTS = [
+    "", "ur5", "planar_2r", "panda", "a", "home", "pick", "final", "top", "cubic", "quintic",
+    "trapezoid", "jerky", "~", "null", "1e9", "nosuch.urdf", "../x.urdf", "tool0", "seam_start",
+    "ünïcödé", "a" * 300,
+]  # fmt: skip
+
+SCALARS = st.one_of(
+    st.none(),
+    st.booleans(),
+    st.sampled_from(NASTY_NUMBERS),
+    st.floats(min_value=-10.0, max_value=10.0, allow_nan=False),
+    st.integers(min_value=-5, max_value=400),
+    st.sampled_from(TEXTS),
+)
+VALUES = st.recursive(
+    SCALARS,
+    lambda children: st.one_of(
+        st.lists(children, max_size=8),
+        st.dictionaries(st.sampled_from(KEYS), children, max_size=5),
+    ),
+    max_leaves=12,
+)
+
+
+# ----------------------------------------------------------------------------------------------
+# Mutations
+# ----------------------------------------------------------------------------------------------
+
+
+def _locations(data: object, path: tuple = ()) -> list[tuple]:
+    """Key paths of every node of a parsed program (containers and leaves)."""
+    found = [path]
+    if isinstance(data, dict):
+        for key, value in data.items():
+            found += _locations(value, path + (key,))
+    elif isinstance(data, list):
+        for index, value in enumerate(data):
+            found += _locations(value, path + (index,))
+    return found
+
+
+def _parent(data: object, path: tuple) -> object:
+    for part in path[:-1]:
+        data = data[part]
+    return data
+
+
+def _leaves(data: object, path: tuple = ()) -> list[tuple]:
+    """Key paths of the scalar values of a parsed program."""
+    if isinstance(data, dict):
+        return [p for key, value in data.items() for p in _leaves(value, path + (key,))]
+    if isinstance(data, list):
+        return [p for index, value in enumerate(data) for p in _leaves(value, path + (index,))]
+    return [path]
+
+
+@st.composite
+def tweak(draw, value: object) -> object:
+    """A value near ``value`` (a scaled number, another point name), or a nasty number."""
+    if isinstance(value, bool) or value is None:
+        return draw(SCALARS)
+    if isinstance(value, (int, float)):
+        factor = draw(st.sampled_from([0.0, 0.5, 0.9, 0.99, 1.01, 1.1, 2.0, 10.0, -1.0]))
+        return draw(st.one_of(st.just(value * factor), st.sampled_from(NASTY_NUMBERS)))
+    return draw(SCALARS)
+
+
+@st.composite
+def structural_mutants(draw, gentle: bool = False) -> str:
+    """An example program with mutations of its parsed structure, dumped back to YAML.
+
+    Args:
+        gentle: One or two values changed to nearby ones (the program often stays valid, so
+            its planning is exercised); otherwise 1-4 deletions, renames, insertions,
+            duplications and replacements by values of any type.
+    """
+    data = yaml.safe_load(SEEDS[draw(st.sampled_from(sorted(SEEDS)))])
+    if gentle:
+        for _ in range(draw(st.integers(min_value=1, max_value=2))):
+            path = draw(st.sampled_from(_leaves(data)))
+            parent = _parent(data, path)
+            parent[path[-1]] = draw(tweak(parent[path[-1]]))
+        return yaml.safe_dump(data, allow_unicode=True, sort_keys=False)
+    for _ in range(draw(st.integers(min_value=1, max_value=4))):
+        paths = [p for p in _locations(data) if p]
+        if not paths:
+            break
+        path = draw(st.sampled_from(paths))
+        parent, key = _parent(data, path), path[-1]
+        action = draw(st.sampled_from(["replace", "tweak", "delete", "rename", "add", "dup"]))
+        if action == "tweak":
+            parent[key] = draw(tweak(parent[key]))
+        elif action == "delete":
+            del parent[key]
+        elif action == "rename" and isinstance(parent, dict):
+            parent[draw(st.sampled_from(KEYS))] = parent.pop(key)
+        elif action == "add" and isinstance(parent, dict):
+            parent[draw(st.sampled_from(KEYS))] = draw(VALUES)
+        elif action == "dup" and isinstance(parent, list):
+            parent.insert(key, parent[key])
+        else:
+            parent[key] = draw(VALUES)
+    return yaml.safe_dump(data, allow_unicode=True, sort_keys=False)
+
+
+@st.composite
+def byte_mutants(draw) -> bytes:
+    """An example program's bytes with 1-6 bytes replaced, inserted or deleted (YAML syntax,
+    digits, signs and bytes that are not UTF-8 are favoured)."""
+    text = bytearray(SEEDS[draw(st.sampled_from(sorted(SEEDS)))].encode("utf-8"))
+    special = list(b"{}[]:,-#'\"&*!|>%@`\t\n 0123456789.eE+") + [0x00, 0xFF]
+    for _ in range(draw(st.integers(min_value=1, max_value=6))):
+        index = draw(st.integers(min_value=0, max_value=max(len(text) - 1, 0)))
+        byte = draw(st.one_of(st.sampled_from(special), st.integers(0, 255)))
+        action = draw(st.sampled_from(["replace", "insert", "delete"]))
+        if action == "replace" and text:
+            text[index] = byte
+        elif action == "insert":
+            text.insert(index, byte)
+        elif text:
+            del text[index]
+    return bytes(text)
+
+
+RANDOM_DOCUMENTS = st.one_of(
+    VALUES.map(lambda value: yaml.safe_dump(value, allow_unicode=True)),
+    st.text(max_size=200),
+)
+
+PROGRAMS = st.one_of(
+    structural_mutants().map(lambda text: text.encode("utf-8")),
+    structural_mutants(gentle=True).map(lambda text: text.encode("utf-8")),
+    byte_mutants(),
+    RANDOM_DOCUMENTS.map(lambda text: text.encode("utf-8", errors="surrogatepass")),
+)
+
+
+# ----------------------------------------------------------------------------------------------
+# Checks
+# ----------------------------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def workdir(tmp_path_factory) -> Path:
+    return tmp_path_factory.mktemp("fuzz")
+
+
+def _write(workdir: Path, content: bytes) -> Path:
+    path = workdir / "program.yaml"
+    path.write_bytes(content)
+    return path
+
+
+def _read_and_plan(path: Path, plan: bool) -> None:
+    """load_program (and run_program): a result or a KinplanError, nothing else."""
+    try:
+        program = load_program(path)
+    except KinplanError as exc:
+        assert str(exc).strip(), "an error without a message"
+        return
+    assert program.moves, "a valid program has moves"
+    if plan:
+        try:
+            result = run_program(path, dt=FUZZ_DT)
+        except KinplanError:
+            return
+        assert result.ok or result.reason
+
+
+def _run_cli(path: Path) -> None:
+    """``kinplan run FILE``: 0, or exactly one `kinplan: error:` line (warnings aside)."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(["run", str(path), "--dt", str(FUZZ_DT)])
+    lines = err.getvalue().splitlines()
+    errors = [line for line in lines if line.startswith("kinplan: error: ")]
+    others = [
+        line for line in lines if not line.startswith(("kinplan: error: ", "kinplan: warning: "))
+    ]
+    assert not others, err.getvalue()
+    assert "Traceback" not in err.getvalue() + out.getvalue()
+    if code == 0:
+        assert not errors, err.getvalue()
+    else:
+        assert code == 1 and len(errors) == 1, (code, err.getvalue())
+        assert not errors[0].startswith("kinplan: error: internal error"), errors[0]
+
+
+FAST = settings(
+    derandomize=True,
+    deadline=None,
+    database=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+)
+
+
+@settings(FAST, max_examples=300)
+@given(content=PROGRAMS)
+def test_program_reader_raises_only_kinplan_errors(workdir, content):
+    _read_and_plan(_write(workdir, content), plan=False)
+
+
+@settings(FAST, max_examples=100)
+@given(content=structural_mutants(gentle=True).map(lambda text: text.encode("utf-8")))
+def test_planning_mutated_programs_raises_only_kinplan_errors(workdir, content):
+    _read_and_plan(_write(workdir, content), plan=True)
+
+
+@settings(FAST, max_examples=200)
+@given(content=PROGRAMS)
+def test_cli_run_prints_one_error_line_or_succeeds(workdir, content):
+    _run_cli(_write(workdir, content))
+
+
+@pytest.mark.parametrize("name", sorted(SEEDS))
+def test_seeds_run(workdir, name):
+    """The unmutated examples go through the same checks (and mostly succeed)."""
+    _run_cli(_write(workdir, SEEDS[name].encode("utf-8")))
+
+
+# ----------------------------------------------------------------------------------------------
+# Soak: many more programs (marked slow; run in CI)
+# ----------------------------------------------------------------------------------------------
+
+SOAK = settings(
+    derandomize=False,
+    deadline=None,
+    database=None,
+    suppress_health_check=list(HealthCheck),
+)
+
+
+@pytest.mark.slow
+@settings(SOAK, max_examples=3000)
+@given(content=PROGRAMS)
+def test_soak_program_reader(workdir, content):
+    _read_and_plan(_write(workdir, content), plan=True)
+
+
+@pytest.mark.slow
+@settings(SOAK, max_examples=1000)
+@given(content=PROGRAMS)
+def test_soak_cli_run(workdir, content):
+    _run_cli(_write(workdir, content))
+
+
+if __name__ == "__main__":  # a quick manual run: python tests/test_fuzz_cli.py
+    sys.exit(pytest.main([__file__, "-q"]))
