@@ -5,7 +5,7 @@ BIN     = $(VENV)/bin
 STAMP   = $(VENV)/.kinplan-installed
 OUT    ?= out
 
-.PHONY: install demo test lint bench chromium clean
+.PHONY: install demo test lint bench chromium clean mutation
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -40,6 +40,15 @@ test: install chromium lint
 bench: install
 	$(BIN)/python -m pip install --quiet -e ".[bench]" || echo "peers not installed: their rows say so"
 	$(BIN)/python tests/bench/run_all.py
+
+# Mutation score of the core modules with mutmut (long: about an hour on 2 cores; not part of
+# `make test`). Writes tests/bench/MUTATION.md. MUTATION_ARGS="--modules kinplan/ik.py" runs some
+# modules only, "--sample 300" a seeded sample of each module's mutants.
+MUTMUT_VERSION = 3.8.1
+MUTATION_ARGS ?=
+mutation: install
+	$(BIN)/python -m pip install --quiet "mutmut==$(MUTMUT_VERSION)"
+	nice -n 19 $(BIN)/python tools/mutation.py $(MUTATION_ARGS)
 
 clean:
 	rm -rf $(VENV) build dist *.egg-info .pytest_cache .ruff_cache $(OUT)

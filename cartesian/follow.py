@@ -304,6 +304,57 @@ class _Tracker:
         z = _matvec(J_dot.transpose(0, 2, 1), _matvec(pinv.transpose(0, 2, 1), qd))
         return z + _matvec(pinv, b - _matvec(J, z))
 
+    def check_sample(
+        self, k, t, s, q, q_prev, qd_prev, h, xd, position, corrections: int
+    ) -> tuple[Event | None, np.ndarray | None, float, np.ndarray | None]:
+        """Check a solved sample k at ``q`` (kinematics at q in the solver's data): joint
+        limits, singularity and, when Newton ``corrections`` moved it off its prediction, a
+        jump relative to the previous sample.
+
+        Args:
+            q_prev, qd_prev: Previous sample's configuration and rates (None at k = 0).
+            h: Time step from the previous sample [s].
+            xd: Task velocity of the sample.
+
+        Returns:
+            (event or None, Jacobian (6, nq), manipulability, rates q̇); the last three are
+            None / nan where the check stopped before computing them.
+        """
+        j = self.beyond_limit(q)
+        if j is not None:
+            return self.limit_event(k, t, s, q, j, position), None, math.nan, None
+        J = self.jacobian()
+        m = self.factor(J)
+        if self.is_singular(m):
+            return self.singular_event(k, t, s, m, position), J, m, None
+        qd = self.rates(xd)
+        event = None
+        if corrections:  # an uncorrected prediction (q = guess) cannot jump
+            event = self.jump_event(k, t, s, q, q_prev, qd, qd_prev, h, position)
+        return event, J, m, qd
+
+    def coarse_step_event(
+        self, k, t, s, q, q_prev, qd, qd_prev, h, position, qs, qds
+    ) -> Event | None:
+        """The event of sample k whose step its rates do not explain although the path is
+        continuous there (a finer trace reached q): the motion is too fast for a joint (a
+        "velocity_limit" at the step's mean speed) or, with the speed limits lifted, too fast
+        for the sampling (a "jump" that says so, with a smaller dt as its remedy).
+
+        Args:
+            t: All sample times [s] (sample k's is t[k]).
+            q, q_prev, qd, qd_prev: The sample's and the previous sample's configurations and
+                rates.
+            h: Time step between them [s].
+            qs, qds: Configurations and rates of the samples achieved before.
+        """
+        ratios = np.abs(q - q_prev) / h / self.speed_limit
+        if ratios.max() > 1.0:
+            before = joint_speeds(np.array(qs), np.array(qds), t[: len(qs)]) / self.speed_limit
+            peak = max(float(ratios.max()), float(before.max(initial=0.0)))
+            return self.speed_event(k, t[k], s, ratios, peak, position)
+        return self.jump_event(k, t[k], s, q, q_prev, qd, qd_prev, h, position, continuous=True)
+
     def is_singular(self, m: float) -> bool:
         """Whether manipulability ``m`` is under the threshold, or so small (numerically zero)
         that no joint rates can be computed, whatever the threshold."""
@@ -322,8 +373,12 @@ class _Tracker:
             "with aligned joint axes",
         )  # fmt: skip
 
-    def jump_event(self, k, t, s, q, q_prev, rate, rate_prev, h, position) -> Event | None:
-        """A "jump" event when q moved more than its rates explain over the step h."""
+    def jump_event(
+        self, k, t, s, q, q_prev, rate, rate_prev, h, position, continuous: bool = False
+    ) -> Event | None:
+        """A "jump" event when q moved more than its rates explain over the step h: a branch
+        flip or, when a finer trace showed the path ``continuous`` there, a sampling too coarse
+        for the motion."""
         if q_prev is None:
             return None
         step = abs(q - q_prev - 0.5 * (rate + rate_prev) * h)
@@ -331,13 +386,17 @@ class _Tracker:
             return None
         j = int(np.argmax(step))
         name, unit = self.robot.joint_names[j], self.units[j]
+        if continuous:
+            why = "the path is continuous there, but the sampling is too coarse for the motion"
+            remedy = f"sample more finely (a dt well below {h:.3g} s)"
+        else:
+            why = "a branch flip"
+            remedy = "start from another configuration (q_seed) or split the path there"
         return Event(
             "jump", float(t), float(s), k,
             f"joint {name} moves {q[j] - q_prev[j]:.4f} {unit} in {h:.3g} s at "
-            f"{_where(position)}, {step[j]:.4f} {unit} more than its rates explain (a branch "
-            "flip)",
-            position, name, float(q[j] - q_prev[j]), self.jump_tolerance,
-            remedy="start from another configuration (q_seed) or split the path there",
+            f"{_where(position)}, {step[j]:.4f} {unit} more than its rates explain: {why}",
+            position, name, float(q[j] - q_prev[j]), self.jump_tolerance, remedy=remedy,
         )  # fmt: skip
 
     def speed_event(self, k, t, s, ratios: np.ndarray, peak: float, position) -> Event:
@@ -687,25 +746,30 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
                     break
                 q, corrections = found, 1
                 tracker.accepts(q, position_floats[k], rotation_floats[k])  # kinematics at q
-        j = tracker.beyond_limit(q)
-        if j is not None:
-            events.append(tracker.limit_event(k, t[k], s[k], q, j, positions[k]))
+        event, J, m, qd = tracker.check_sample(
+            k, t[k], s[k], q, q_prev, qd_prev, steps[k], xd[k], positions[k], corrections
+        )
+        if event is not None and k > 0 and event.kind in ("joint_limit", "jump"):
+            # a limit or a branch flip, or only a step too coarse for a fast motion?
+            found = _trace_between(tracker, path, s[k - 1], s[k], q_prev)
+            if isinstance(found, Event):
+                found.t, found.index = float(t[k]), k
+                event = found
+            elif found is not None:  # the continuous solution
+                q = found
+                tracker.accepts(q, position_floats[k], rotation_floats[k])  # kinematics at q
+                event, J, m, qd = tracker.check_sample(
+                    k, t[k], s[k], q, q_prev, qd_prev, steps[k], xd[k], positions[k], 1
+                )
+                if event is not None and event.kind == "jump":
+                    event = tracker.coarse_step_event(
+                        k, t, s[k], q, q_prev, qd, qd_prev, steps[k], positions[k], qs, qds
+                    )
+        if event is not None:
+            events.append(event)
             break
-        J = tracker.jacobian()
-        m = tracker.factor(J)
-        if tracker.is_singular(m):
-            events.append(tracker.singular_event(k, t[k], s[k], m, positions[k]))
-            break
-        qd = tracker.rates(xd[k])
         if k == 0 and not qd.any():
             qdd_first = tracker.rates(xdd[0])
-        if corrections:  # an uncorrected prediction (q = guess) cannot jump
-            event = tracker.jump_event(
-                k, t[k], s[k], q, q_prev, qd, qd_prev, steps[k], positions[k]
-            )
-            if event is not None:
-                events.append(event)
-                break
         qs.append(q)
         qds.append(qd)
         jacobians.append(J)
@@ -754,6 +818,30 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
         tool_positions=tool,
         manipulability=manip,
     )
+
+
+#: Points of the finer trace that checks a jump between two samples.
+JUMP_CHECK_POINTS = 17
+
+
+def _trace_between(
+    tracker: _Tracker, path: Path, s0: float, s1: float, q0: np.ndarray
+) -> np.ndarray | Event | None:
+    """Follow the path geometrically from ``q0`` at fraction ``s0`` to ``s1`` on a finer grid
+    (bisected where a joint moves fast): what a sample that seems to jump really is.
+
+    Returns:
+        The configuration at s1 reached continuously (the sample's step was only too coarse
+        for the motion: its speed is then checked like any other), the event that the finer
+        trace meets on the way (a singularity, a joint limit, a branch flip), or None when it
+        cannot be started from q0.
+    """
+    geometry = trace_geometry(tracker, path, np.linspace(s0, s1, JUMP_CHECK_POINTS), q0)
+    if geometry.events:
+        return geometry.events[0]
+    if len(geometry.q) == 0 or np.max(np.abs(geometry.q[0] - q0)) > tracker.jump_tolerance:
+        return None
+    return geometry.q[-1]
 
 
 # ------------------------------------------------------------------------------------------

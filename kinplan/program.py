@@ -474,12 +474,15 @@ class _Validator:
         q = np.radians(values) if in_degrees else values
         if robot is not None:
             scale = np.degrees if in_degrees else (lambda x: x)
-            for j in np.flatnonzero((q < robot.lower - 1e-9) | (q > robot.upper + 1e-9)):
+            beyond = np.flatnonzero((q < robot.lower - 1e-9) | (q > robot.upper + 1e-9))
+            for j in beyond:
                 self.error(
                     path + (key,),
                     f"joint {j} ({robot.joint_names[j]}) = {values[j]:g} {unit} is beyond its "
                     f"limits [{scale(robot.lower[j]):.6g}, {scale(robot.upper[j]):.6g}] {unit}",
                 )
+            if beyond.size:
+                return None  # reported; not used as an IK seed either
         return q
 
     # -- sections ------------------------------------------------------------------------------

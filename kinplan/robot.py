@@ -32,6 +32,7 @@ logger = logging.getLogger(__name__)
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 _ONES3 = np.ones(3)
+_TAU = 2.0 * math.pi
 _ONE_DOF_JOINTS = {
     "JointModelRX",
     "JointModelRY",
@@ -496,7 +497,10 @@ class Robot:
         position, rotation = parse_target(target, "target")
         if rotation is None or checks.flag(position_only, "position_only"):
             rotation = None
-        seed = self.neutral() if q_seed is None else self.check_q(q_seed, "q_seed")
+        if q_seed is None:
+            seed = self.neutral()
+        else:  # a seed far beyond the limits (1e300 rad) only needs to say which side it is on
+            seed = np.clip(self.check_q(q_seed, "q_seed"), self.lower - _TAU, self.upper + _TAU)
         position_tolerance = checks.number(
             position_tolerance, "position_tolerance", positive=True, unit="m"
         )

@@ -901,6 +901,8 @@ def _finite_array(value: object, name: str) -> np.ndarray:
 
 
 def _scalar(value: object, name: str) -> float:
+    if type(value) is float and math.isfinite(value):
+        return value
     array = _finite_array(value, name)
     if array.ndim != 0:
         raise InputError(f"{name} must be a scalar, got shape {array.shape}")
@@ -972,7 +974,8 @@ def _joint_vectors(n: int | None = None, **values: object) -> list[np.ndarray]:
             "(a scalar applies to every joint)"
         )
     size = lengths.pop() if lengths else (n or 1)
-    return [np.broadcast_to(a, (size,)).copy() for a in arrays.values()]
+    # Every array is a new one (_finite_array copies), so it can be returned as it is.
+    return [a if a.size == size else np.full(size, a[0]) for a in arrays.values()]
 
 
 def _magnitudes(value: object, name: str, n: int) -> np.ndarray:
@@ -1099,26 +1102,28 @@ def _check_segments(segments: tuple[Segment, ...]) -> None:
             raise InputError(
                 f"segment {k} has {segment.coefficients.shape[0]} joints, segment 0 has {n}"
             )
-    ends, terms = [], []
-    for segment in segments:
-        powers = segment.duration ** np.arange(segment.degree + 1)
-        ends.append(segment.coefficients @ powers)
-        terms.append(np.abs(segment.coefficients) @ powers)
+    t0 = np.array([s.t0 for s in segments])
+    t1 = np.array([s.t1 for s in segments])
+    for k in np.flatnonzero(np.abs(t0[1:] - t1[:-1]) > 1e-12 * np.maximum(1.0, np.abs(t1[:-1]))):
+        raise InputError(
+            f"segment {k + 1} starts at {t0[k + 1]} s but segment {k} ends at {t1[k]} s; "
+            "segments must be contiguous"
+        )
+    degree = max(s.degree for s in segments)
+    padded = np.zeros((len(segments), n, degree + 1))
+    for k, segment in enumerate(segments):
+        padded[k, :, : segment.degree + 1] = segment.coefficients
+    powers = (t1 - t0)[:, None] ** np.arange(degree + 1)  # (S, degree + 1)
+    ends = np.einsum("skd,sd->sk", padded, powers)
     # Positions accumulate rounding in proportion to the largest terms anywhere in the motion
     # (its extent), not to the position at the junction.
-    scale = 1.0 + np.max(terms, axis=0)
-    for k, (before, after) in enumerate(zip(segments[:-1], segments[1:], strict=True)):
-        if abs(after.t0 - before.t1) > 1e-12 * max(1.0, abs(before.t1)):
-            raise InputError(
-                f"segment {k + 1} starts at {after.t0} s but segment {k} ends at {before.t1} s; "
-                "segments must be contiguous"
-            )
-        gap = np.abs(ends[k] - after.coefficients[:, 0])
-        for j in np.flatnonzero(gap > CONTINUITY_TOLERANCE * scale):
-            raise InputError(
-                f"joint {j} jumps by {gap[j]:.3g} rad between segments {k} and {k + 1} "
-                f"(at t = {after.t0:.6g} s); segments must join in position"
-            )
+    scale = 1.0 + np.max(np.einsum("skd,sd->sk", np.abs(padded), powers), axis=0)
+    gaps = np.abs(ends[:-1] - padded[1:, :, 0])
+    for k, j in zip(*np.nonzero(gaps > CONTINUITY_TOLERANCE * scale), strict=True):
+        raise InputError(
+            f"joint {j} jumps by {gaps[k, j]:.3g} rad between segments {k} and {k + 1} "
+            f"(at t = {t0[k + 1]:.6g} s); segments must join in position"
+        )
 
 
 def _check_junction(k: int, before: Trajectory, after: Trajectory, tolerance: float) -> None:

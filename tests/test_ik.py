@@ -9,7 +9,9 @@ import pinocchio as pin
 import pytest
 from conftest import cached_robot
 
-from kinplan.ik import IKSolver
+import kinplan
+from kinplan.errors import InputError
+from kinplan.ik import IKSolver, frobenius_tolerance, halton
 
 #: Targets per statistical test: the success counts below are exact for these seeds (the solver
 #: is deterministic); the thresholds leave room for harmless numerical changes only.
@@ -147,3 +149,242 @@ def test_robot_ik_reports_the_closed_form_and_the_numerical_solver(ur5):
     res = ur5.ik(target.translation, q_seed=q + 0.05)
     assert res.success and res.method == "numerical" and res.iterations > 0
     assert np.linalg.norm(ur5.fk(res.q).translation - target.translation) <= 1e-6
+
+
+def test_closed_form_answer_off_in_rotation_only_is_polished_too(ur5):
+    """Turning the last joint leaves the UR tool's position unchanged: a closed-form answer off
+    only there has its position right and its rotation 2e-4 rad off. The rotation error alone
+    calls for the polish, which fixes it."""
+    solver = numerical_solver(ur5)
+    q = np.array([0.4, -1.2, 1.3, -0.9, 1.1, 0.2])
+    target = ur5.fk(q)
+    off = q + np.array([0.0, 0.0, 0.0, 0.0, 0.0, 2e-4])
+    assert np.linalg.norm(ur5.fk(off).translation - target.translation) < 1e-9
+    res = solver.solve(
+        target.translation, target.rotation, q + 0.3, closed_form=StubClosedForm(off)
+    )
+    assert res.success and res.method == "analytic" and 1 <= res.iterations <= 3, res
+    assert max(true_errors(ur5, res.q, target)) <= 1e-6
+
+
+def radical_inverse(index: int, base: int) -> float:
+    """The digits of ``index`` in ``base`` mirrored about the radix point (van der Corput)."""
+    value, scale = 0.0, 1.0 / base
+    while index:
+        index, digit = divmod(index, base)
+        value += digit * scale
+        scale /= base
+    return value
+
+
+def test_halton_points_are_radical_inverses_in_prime_bases():
+    """Point i of the Halton sequence has coordinate k = the radical inverse of i in the k-th
+    prime (1/2, 1/4, 3/4, 1/8, ... in base 2); the bases cycle after the 20th prime."""
+    primes = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61, 67, 71]
+    for index in (1, 2, 3, 4, 5, 7, 8, 63, 64, 100, 1023, 1024, 12345):
+        expected = [radical_inverse(index, primes[k % 20]) for k in range(23)]
+        np.testing.assert_allclose(halton(index, 23), expected, rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(halton(1, 1), [0.5])
+    assert halton(5, 1000).shape == (1000,)
+    for index, dim, name in ((0, 3, "index"), (1, 0, "dim"), (1, 1001, "dim"), (1.0, 3, "index")):
+        with pytest.raises(InputError, match=name):
+            halton(index, dim)
+
+
+def test_restarts_are_halton_points_spread_over_the_joint_limits(panda):
+    """Restart k starts at lower + (upper − lower) · halton(k): the same points whatever the order
+    they are asked in (beyond the first 64 too)."""
+    solver = numerical_solver(panda)
+    span = panda.upper - panda.lower
+    for attempt in (1, 2, 63, 64, 65, 150, 3):
+        expected = panda.lower + span * halton(attempt, panda.nq)
+        np.testing.assert_allclose(solver.restart_configuration(attempt), expected, atol=1e-15)
+
+
+def test_rotation_tolerance_is_an_angle_in_radians():
+    """frobenius_tolerance(θ) is ‖R(θ) − I‖_F² of a rotation by θ (capped at a half turn)."""
+    for angle in (0.0, 1e-7, 0.1, 1.0, 3.0, np.pi):
+        rotation = pin.exp3(np.array([0.6, 0.0, 0.8]) * angle)
+        expected = np.sum((rotation - np.eye(3)) ** 2)
+        assert frobenius_tolerance(angle) == pytest.approx(expected, rel=1e-12, abs=1e-30)
+    assert frobenius_tolerance(5.0) == pytest.approx(8.0, rel=1e-15)
+    assert frobenius_tolerance(1) == frobenius_tolerance(1.0)
+    for bad in (-1e-3, -1.0, np.inf, np.nan, "0.1", None):
+        with pytest.raises(InputError, match=r"rotation_tolerance.*\[rad\]"):
+            frobenius_tolerance(bad)
+
+
+def test_rotation_error_of_a_half_turn_is_pi(panda):
+    """The angle from ‖R* − R‖_F² = 8 sin²(θ/2) at θ = π, where rounding can push the ratio
+    past 1: exactly π, never a math domain error."""
+    solver = numerical_solver(panda)
+    q = np.array([0.5, 0.3, -0.2, -1.8, 0.4, 2.0, 0.1])
+    pose = panda.fk(q)
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        axis = rng.normal(size=3)
+        rotation = pose.rotation @ pin.exp3(np.pi * axis / np.linalg.norm(axis))
+        position_error, rotation_error = solver.errors(q, pose.translation, rotation)
+        assert position_error == 0.0
+        assert rotation_error == pytest.approx(np.pi, abs=1e-7)  # √ε near π
+
+
+@pytest.mark.parametrize(
+    ("arguments", "name"),
+    [
+        ({"model": None}, "model"),
+        ({"frame_id": -1}, "frame_id"),
+        ({"frame_id": 10_000}, "frame_id"),
+        ({"frame_id": 1.0}, "frame_id"),
+        ({"lower": np.zeros(3)}, r"lower.*\[rad or m\]"),
+        ({"upper": [0.0] * 6 + [np.nan]}, r"upper.*\[rad or m\]"),
+        ({"lower": np.full(7, 0.5), "upper": np.full(7, 0.4)}, "lower limit"),
+    ],
+)
+def test_solver_construction_is_validated(panda, arguments, name):
+    given = {
+        "model": panda.model, "frame_id": panda.tip_id,
+        "lower": panda.lower, "upper": panda.upper,
+    }  # fmt: skip
+    given.update(arguments)
+    with pytest.raises(InputError, match=name):
+        IKSolver(**given)
+
+
+def test_solver_accepts_a_joint_with_equal_limits(panda):
+    """A joint whose lower and upper limits coincide (held still) is a valid range."""
+    lower, upper = panda.lower.copy(), panda.upper.copy()
+    lower[6] = upper[6] = 0.5
+    solver = IKSolver(panda.model, panda.tip_id, lower, upper)
+    q = np.array([0.1, 0.3, -0.2, -1.8, 0.4, 2.0, 0.5])
+    target = panda.fk(q)
+    res = solver.solve(target.translation, target.rotation, q + 0.02, max_restarts=0)
+    assert res.success and res.q[6] == 0.5
+
+
+@pytest.mark.parametrize(
+    ("options", "name"),
+    [
+        ({"position_tolerance": 0.0}, r"position_tolerance.*\[m\]"),
+        ({"position_tolerance": -1.0}, r"position_tolerance.*\[m\]"),
+        ({"rotation_tolerance": 0.0}, r"rotation_tolerance.*\[rad\]"),
+        ({"rotation_tolerance": np.nan}, r"rotation_tolerance.*\[rad\]"),
+        ({"max_iterations": 0}, "max_iterations"),
+        ({"max_iterations": 2.5}, "max_iterations"),
+        ({"max_restarts": -1}, "max_restarts"),
+    ],
+)
+def test_solve_options_are_validated(ur5, options, name):
+    solver = numerical_solver(ur5)
+    target = ur5.fk(np.zeros(6))
+    with pytest.raises(InputError, match=name):
+        solver.solve(target.translation, target.rotation, np.zeros(6), **options)
+
+
+def test_failure_returns_the_best_attempt_and_counts_every_iteration(ur5):
+    """A target 2 m away (the UR5 reaches 0.95 m): no attempt succeeds; the result is the
+    attempt with the smallest error sum (each attempt re-run here on its own), its errors, and
+    the iterations and attempts of all of them."""
+    solver = numerical_solver(ur5)
+    position, rotation = np.array([2.0, 0.3, 0.4]), ur5.fk(np.zeros(6)).rotation
+    seed = np.array([0.3, -1.0, 1.0, -1.0, 1.0, 0.0])
+    res = solver.solve(position, rotation, seed, max_iterations=15, max_restarts=3)
+    assert not res.success and res.attempts == 4 and res.method == "numerical"
+    starts = [seed] + [solver.restart_configuration(a) for a in (1, 2, 3)]
+    attempts = [solver.descend(start, position, rotation, 1e-6, 1e-6, 15) for start in starts]
+    assert res.iterations == sum(a[4] for a in attempts)
+    best = min(attempts, key=lambda a: a[2] + a[3])
+    assert len({round(a[2] + a[3], 9) for a in attempts}) > 1  # the attempts differ
+    np.testing.assert_array_equal(res.q, best[0])
+    assert (res.position_error, res.rotation_error) == (best[2], best[3])
+    position_error, rotation_error = true_errors(ur5, res.q, pin.SE3(rotation, position))
+    assert res.position_error == pytest.approx(position_error, rel=1e-9)
+    assert res.rotation_error == pytest.approx(rotation_error, abs=1e-9)
+
+
+def test_success_after_restarts_counts_the_iterations_of_every_attempt(panda):
+    """When the seed's attempt fails and a restart succeeds, the result reports that attempt's
+    number and the iterations of all attempts so far."""
+    solver = numerical_solver(panda)
+    rng = np.random.default_rng(8)
+    found = 0
+    for _ in range(30):
+        target = panda.fk(panda.random_configuration(rng))
+        seed = panda.random_configuration(rng)
+        res = solver.solve(target.translation, target.rotation, seed, max_restarts=5)
+        if not res.success or res.attempts == 1:
+            continue
+        found += 1
+        starts = [seed] + [solver.restart_configuration(a) for a in range(1, res.attempts)]
+        runs = [
+            solver.descend(s, target.translation, target.rotation, 1e-6, 1e-6, 40) for s in starts
+        ]
+        assert [r[1] for r in runs] == [False] * (res.attempts - 1) + [True]
+        assert res.iterations == sum(r[4] for r in runs)
+        np.testing.assert_array_equal(res.q, runs[-1][0])
+    assert found >= 3
+
+
+def test_an_attempt_is_abandoned_after_five_iterations_without_progress(ur5):
+    """The stall rule: an attempt stops at the fifth iteration in a row whose error ½(‖Δp‖² +
+    ‖Δθ‖²) is not 0.1 % below the best so far. The error of iterate k is read off an attempt
+    limited to k iterations (the iterates do not depend on the limit)."""
+    solver = numerical_solver(ur5)
+    position, rotation = np.array([2.0, 0.3, 0.4]), ur5.fk(np.zeros(6)).rotation
+    seed = np.array([0.3, -1.0, 1.0, -1.0, 1.0, 0.0])
+    *_, stopped = solver.descend(seed, position, rotation, 1e-6, 1e-6, 200)
+    assert stopped < 60
+    costs = []
+    for k in range(stopped + 1):
+        _, converged, perr, rerr, its = solver.descend(seed, position, rotation, 1e-6, 1e-6, k or 1)
+        assert not converged and its == (k or 1)
+        costs.append(0.5 * (perr**2 + rerr**2))
+    costs[0] = 0.5 * sum(e**2 for e in solver.errors(seed, position, rotation))
+    best, stalled, expected = np.inf, 0, None
+    for k, cost in enumerate(costs):
+        if cost < 0.999 * best:
+            best, stalled = cost, 0
+        else:
+            stalled += 1
+            if stalled >= 5:
+                expected = k
+                break
+    assert expected == stopped
+
+
+def test_an_attempt_takes_no_more_iterations_than_allowed(ur5):
+    """A reachable target from a far seed, cut at 3 iterations: not converged, 3 iterations."""
+    solver = numerical_solver(ur5)
+    target = ur5.fk(np.array([0.4, -1.2, 1.3, -0.9, 1.1, 0.2]))
+    res = solver.solve(
+        target.translation, target.rotation, np.zeros(6), max_iterations=3, max_restarts=0
+    )
+    assert not res.success and res.iterations == 3 and res.attempts == 1
+
+
+def test_unclamped_descent_reaches_a_target_beyond_the_joint_limits():
+    """descend(clamp=False) ignores the limits (to tell a limit problem from an unreachable
+    target): a 2R target whose both solutions need joint1 beyond ±1 rad is reached unclamped
+    and missed clamped, where the result stays within the limits."""
+    arm = kinplan.planar_arm([1.0, 1.0], lower=-1.0, upper=1.0)
+    solver = numerical_solver(arm)
+    target = arm.fk([1.4, 0.5]).translation
+    seed = np.array([0.9, 0.5])
+    q, converged, perr, _, _ = solver.descend(seed, target, None, 1e-9, 1e-9, 60, clamp=False)
+    assert converged and perr <= 1e-9
+    np.testing.assert_allclose(q, [1.4, 0.5], atol=1e-6)
+    np.testing.assert_allclose(arm.fk(q).translation, target, atol=1e-9)
+    q, converged, perr, _, _ = solver.descend(seed, target, None, 1e-9, 1e-9, 60)
+    assert not converged and perr > 0.01 and arm.within_limits(q, tolerance=0.0)
+
+
+def test_converged_position_is_the_tool_position_at_the_solution(panda):
+    """After a converged descent the solver holds the tool position there (for the follower)."""
+    solver = numerical_solver(panda)
+    q = np.array([0.5, 0.3, -0.2, -1.8, 0.4, 2.0, 0.1])
+    target = panda.fk(q)
+    res = solver.solve(target.translation, target.rotation, q + 0.05, max_restarts=0)
+    assert res.success
+    np.testing.assert_allclose(
+        solver.converged_position, panda.fk(res.q).translation, rtol=0, atol=1e-15
+    )
