@@ -414,14 +414,11 @@ def peak_rates(knots: np.ndarray, coefficients: Sequence[np.ndarray]) -> tuple[n
     Returns:
         Peak speeds and peak acceleration magnitudes, each of shape (n,) [rad/s, rad/s²].
     """
-    speed = np.zeros(coefficients[0].shape[0])
-    acceleration = np.zeros_like(speed)
-    for lo, hi, c in zip(knots[:-1], knots[1:], coefficients, strict=True):
-        doubled = 2.0 * c[:, 2]
-        speed = np.maximum(speed, np.abs(c[:, 1]))
-        speed = np.maximum(speed, np.abs(doubled * (hi - lo) + c[:, 1]))
-        acceleration = np.maximum(acceleration, np.abs(doubled))
-    return speed, acceleration
+    c = np.stack(coefficients)  # (S, n, 3)
+    doubled = 2.0 * c[:, :, 2]
+    at_end = doubled * np.diff(knots)[:, None] + c[:, :, 1]
+    speed = np.maximum(np.abs(c[:, :, 1]), np.abs(at_end)).max(axis=0)
+    return speed, np.abs(doubled).max(axis=0)
 
 
 def synchronised_lspb(

@@ -20,6 +20,7 @@ import logging
 import math
 import os
 import sys
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -494,6 +495,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         return int(exc.code or 0) if not isinstance(exc.code, str) else 2
     if args.verbose:
         logging.basicConfig(level=logging.INFO, format="%(name)s: %(message)s")
+        logging.captureWarnings(True)  # Python warnings become log lines
+    with warnings.catch_warnings():
+        if not args.verbose:  # stderr holds kinplan's own lines only (one line on failure)
+            warnings.simplefilter("ignore")
+        return _dispatch(args)
+
+
+def _dispatch(args: argparse.Namespace) -> int:
+    """Run the command's handler; every failure becomes one ``kinplan: error:`` line."""
     try:
         return args.handler(args)
     except BrokenPipeError:  # the reader stopped early (e.g. `kinplan info ur5 | head`)

@@ -99,6 +99,9 @@ DEFAULT_TOOL_SPEED = 0.05
 """Tool cruise speed of ``lin``/``circ`` moves without ``speed``/``duration`` [m/s]."""
 JOIN_TOLERANCE = 1e-6
 """Largest joint gap accepted where a Cartesian move starts from the previous end [rad]."""
+MAX_COORDINATE = 1e6
+"""Largest |x|, |y|, |z| of a taught tool position [m]: anything beyond is a typo in a program
+(and out of reach of any arm)."""
 
 _TOP_KEYS = ("robot", "tip", "start", "points", "moves", "description")
 _POINT_KEYS = ("joints", "joints_deg", "xyz", "rpy_deg", "quat_xyzw")
@@ -410,6 +413,14 @@ _REPR = reprlib.Repr()
 _REPR.maxlevel, _REPR.maxlist, _REPR.maxdict, _REPR.maxstring, _REPR.maxother = 3, 6, 4, 40, 40
 
 
+def _to_float(value: float) -> float:
+    """A YAML number as a float (an integer beyond the float range is inf)."""
+    try:
+        return float(value)
+    except OverflowError:
+        return math.inf
+
+
 def _describe(value: object) -> str:
     """A short repr (bounded in depth and length: a value may be a huge aliased structure)."""
     text = " ".join(_REPR.repr(value).split())
@@ -439,8 +450,16 @@ class _Validator:
         self.warnings.append(f"{_format_path(path)}: {message}")
 
     # -- values --------------------------------------------------------------------------------
-    def numbers(self, value: object, path: KeyPath, count: int | None, what: str) -> np.ndarray:
-        """A list of ``count`` finite numbers, or None (after reporting) if it is not one."""
+    def numbers(
+        self,
+        value: object,
+        path: KeyPath,
+        count: int | None,
+        what: str,
+        bound: float = math.inf,
+    ) -> np.ndarray:
+        """A list of ``count`` finite numbers (each within ±``bound``), or None (after
+        reporting) if it is not one."""
         expected = f"a list of {count} numbers" if count else "a list of numbers"
         if not isinstance(value, list) or not all(_is_number(v) for v in value):
             self.error(path, f"expected {expected} ({what}), got {_describe(value)}")
@@ -448,17 +467,23 @@ class _Validator:
         if count is not None and len(value) != count:
             self.error(path, f"expected {count} numbers ({what}), got {len(value)}")
             return None
-        array = np.array(value, dtype=float)
+        try:
+            array = np.array(value, dtype=float)
+        except OverflowError:  # an integer beyond the float range
+            array = np.full(len(value), math.inf)
         if not np.all(np.isfinite(array)):
             self.error(path, f"expected finite numbers ({what}), got {_describe(value)}")
+            return None
+        if np.any(np.abs(array) > bound):
+            self.error(path, f"expected numbers within ±{bound:g} ({what}), got {_describe(value)}")
             return None
         return array
 
     def positive(self, value: object, path: KeyPath, what: str) -> float | None:
-        if not _is_number(value) or not math.isfinite(value) or value <= 0:
+        if not _is_number(value) or not math.isfinite(_to_float(value)) or value <= 0:
             self.error(path, f"expected a number > 0 ({what}), got {_describe(value)}")
             return None
-        return float(value)
+        return _to_float(value)
 
     def joints(self, spec: Mapping, path: KeyPath) -> np.ndarray | None:
         """Joint values [rad] from ``joints`` or ``joints_deg``, checked against the limits."""
@@ -609,7 +634,9 @@ class _Validator:
     def cartesian_point(
         self, name: str, spec: dict, path: KeyPath, start: np.ndarray | None
     ) -> Point | None:
-        position = self.numbers(spec["xyz"], path + ("xyz",), 3, "tool position [m]")
+        position = self.numbers(
+            spec["xyz"], path + ("xyz",), 3, "tool position [m]", bound=MAX_COORDINATE
+        )
         rotation = None
         if "rpy_deg" in spec and "quat_xyzw" in spec:
             self.error(path, "give rpy_deg or quat_xyzw, not both")
@@ -1001,13 +1028,13 @@ def _program_remedy(plan: cartesian.CartesianPlan) -> str:
     if event.kind == "velocity_limit":
         factor = plan.peak_speed_ratio
         return (
-            f"slow this move down by a factor of at least {factor:.3g} (a lower speed: or a "
-            "longer duration:)"
+            f"slow this move down by a factor of at least {factor:.3g} (a lower speed or a longer "
+            "duration on the move)"
         )
     if event.kind in ("joint_limit", "jump"):
         return (
-            "reach the move's start in another configuration (a ptp with joints: before it), or "
-            "move its points"
+            "reach the move's start in another configuration (a ptp to joint values before it), "
+            "or move its points"
         )
     if event.kind == "unreachable":
         return "move the points closer to the robot"
@@ -1253,7 +1280,7 @@ class MotionBuilder:
         except KinplanError as exc:
             self._record(kind, label, key, status="invalid", why=f"invalid: {exc}")
         self.paths.append(path)
-        ratio = _peak_speed_ratio(self.robot, plan.t, plan.q, plan.qd)
+        ratio = plan.peak_speed_ratio
         samples = (plan.t, plan.q, plan.qd, plan.qdd) if len(plan.t) else None
         if samples and np.max(np.abs(plan.q[0] - self.q)) > JOIN_TOLERANCE:
             why = (
@@ -1264,7 +1291,7 @@ class MotionBuilder:
         if not plan.ok:
             event = plan.events[0]
             why = (
-                f"{event.kind} at s = {event.s:.2f}, {_where(event.position)}: {event.message}; "
+                f"{event.kind} at s = {event.s:.2f}: {event.message}; "
                 f"{_program_remedy(plan)}"
             )
             self._record(

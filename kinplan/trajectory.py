@@ -941,6 +941,8 @@ def _blend(value: object, duration: float) -> float:
 def _check_magnitudes(array: np.ndarray, name: str) -> None:
     """InputError when a value exceeds MAX_MAGNITUDE in absolute value."""
     flat = array.reshape(-1)
+    if not (np.abs(flat) > MAX_MAGNITUDE).any():
+        return
     for k in np.flatnonzero(np.abs(flat) > MAX_MAGNITUDE):
         where = name if array.ndim == 0 else f"{name} (element {k})"
         raise InputError(

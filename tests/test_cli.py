@@ -366,3 +366,17 @@ def test_bad_numbers_and_names_are_one_line(capsys, argv, fragments):
     code, _, err = run(capsys, *argv)
     assert code == 1
     assert_one_line_error(err, *fragments)
+
+
+def test_numeric_warnings_stay_off_the_terminal(capfd, tmp_path):
+    """A target 1e200 m away overflows numpy inside the IK: the warning is not printed."""
+    code = main(["ik", "ur5", "--xyz", "1e200", "0", "0"])
+    _, err = capfd.readouterr()
+    assert code == 1
+    assert_one_line_error(err, "no IK solution")
+    program = tmp_path / "far.yaml"
+    program.write_text(PLANAR_PROGRAM.replace("[1.4, 0.6, 0.0]", "[1.0e300, 0.6, 0.0]"))
+    code = main(["run", str(program)])
+    _, err = capfd.readouterr()
+    assert code == 1
+    assert_one_line_error(err, "points.b.xyz (line 5): expected numbers within ±1e+06")

@@ -19,6 +19,7 @@ import contextlib
 import io
 import math
 import sys
+import warnings
 from pathlib import Path
 
 import pytest
@@ -47,7 +48,7 @@ KEYS = [
 #: Numbers that break naive code: zero, negative, tiny, huge, non-finite, integer-valued.
 NASTY_NUMBERS = [
     0, -1, 1, 2, 1e-300, 1e-9, 1e-3, 0.05, 0.5, 0.999, 1.5, 10, 1e9, 1e300, -1e300,
-    math.nan, math.inf, -math.inf, 10**30,
+    math.nan, math.inf, -math.inf, 10**30, 10**400, -(10**400),
 ]  # fmt: skip
 
 #: Texts: robot, point, frame and profile names (valid or not), and odd ones.
@@ -223,8 +224,11 @@ def _read_and_plan(path: Path, plan: bool) -> None:
 def _run_cli(path: Path) -> None:
     """``kinplan run FILE``: 0, or exactly one `kinplan: error:` line (warnings aside)."""
     out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        code = main(["run", str(path), "--dt", str(FUZZ_DT)])
+    with warnings.catch_warnings(record=True) as escaped:
+        warnings.simplefilter("always")
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            code = main(["run", str(path), "--dt", str(FUZZ_DT)])
+    assert not escaped, [str(w.message) for w in escaped]  # they would print on stderr
     lines = err.getvalue().splitlines()
     errors = [line for line in lines if line.startswith("kinplan: error: ")]
     others = [
