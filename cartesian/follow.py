@@ -913,8 +913,9 @@ def _planar_check(robot: Robot, path: Path, s: np.ndarray, reach) -> Reachabilit
     else:
         why = f"its distance to the first joint, {r[k]:.4f} m, exceeds the reach {r_max:.4f} m"
     event = Event(
-        "unreachable", 0.0, float(s[k]), k, f"{_where(position)} is out of reach: {why}", position
-    )
+        "unreachable", 0.0, float(s[k]), k, f"{_where(position)} is out of reach: {why}", position,
+        remedy="shorten or move the path, or move the robot's base",
+    )  # fmt: skip
     fraction = float(s[k - 1]) if k else 0.0
     return Reachability(False, "unreachable", fraction, [event], s[:k], np.empty((0, robot.nq)))
 

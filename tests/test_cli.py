@@ -200,7 +200,9 @@ def test_run_unreachable_program_fails_with_the_move_and_where(capsys, tmp_path)
     table = tmp_path / "x.csv"
     code, out, err = run(capsys, "run", str(program), "--html", str(html), "--csv", str(table))
     assert code == 1
-    assert_one_line_error(err, "move 2 (lin to b, moves[1]): unreachable at s = 0.2", ") m: ")
+    assert_one_line_error(
+        err, "move 2 (lin to b, moves[1]): unreachable at s = 0.2", ") m is out of reach"
+    )
     assert "unreachable" in out and "FAILED" in out
     assert html.is_file() and "not a valid motion" in out
     # the other requested file holds the achieved part too (issue 12: say what was written)

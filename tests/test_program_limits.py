@@ -45,3 +45,47 @@ def test_a_lin_shorter_than_a_sample_is_refused_and_an_ok_one_is_executable():
     assert len(slow.t) > MIN_INTERVALS
     speeds = joint_speeds(slow.q, slow.qd, slow.t)
     assert np.all(speeds <= slow.robot.velocity_limit)
+
+
+def test_random_programs_that_plan_ok_are_executable(ur5):
+    """Seeded random UR5 programs (ptp to random joints with random durations and profiles, lin
+    to nearby points at random speeds): every `ok` program plan keeps its joints within their
+    limits and every joint speed — rates and mean speeds between samples — within its limit,
+    and every refused one gives a one-line reason."""
+    rng = np.random.default_rng(21)
+    outcomes = {True: 0, False: 0}
+    for _ in range(60):
+        start = np.degrees(rng.uniform(0.8 * ur5.lower, 0.8 * ur5.upper))
+        points, moves = {}, []
+        tool = ur5.fk(np.radians(start)).translation
+        for k in range(3):
+            if rng.random() < 0.5:
+                joints = np.degrees(rng.uniform(0.8 * ur5.lower, 0.8 * ur5.upper))
+                points[f"p{k}"] = "{joints_deg: [" + ", ".join(f"{v:.3f}" for v in joints) + "]}"
+                timing = f", duration: {rng.uniform(0.01, 3.0):.4f}" if rng.random() < 0.7 else ""
+                profile = rng.choice(["trapezoid", "quintic", "cubic"])
+                moves.append(f"{{ptp: p{k}{timing}, profile: {profile}}}")
+            else:
+                target = tool + rng.normal(scale=0.05, size=3)
+                points[f"p{k}"] = "{xyz: [" + ", ".join(f"{v:.4f}" for v in target) + "]}"
+                moves.append(f"{{lin: p{k}, speed: {rng.uniform(0.01, 2.0):.4f}}}")
+        text = (
+            "robot: ur5\nstart: {joints_deg: [" + ", ".join(f"{v:.3f}" for v in start) + "]}\n"
+            "points:\n" + "".join(f"  {name}: {spec}\n" for name, spec in points.items())
+            + "moves: [" + ", ".join(moves) + "]\n"
+        )  # fmt: skip
+        try:
+            plan = plan_program(parse_program(text))
+        except Exception as exc:  # a KinplanError for an invalid program is fine, nothing else
+            from kinplan.errors import KinplanError
+
+            assert isinstance(exc, KinplanError), (text, exc)
+            continue
+        outcomes[plan.ok] += 1
+        if plan.ok:
+            assert np.all(plan.q >= ur5.lower) and np.all(plan.q <= ur5.upper)
+            speeds = joint_speeds(plan.q, plan.qd, plan.t)
+            assert np.all(speeds <= ur5.velocity_limit), text
+        else:
+            assert plan.reason and "\n" not in plan.reason
+    assert outcomes[True] > 5 and outcomes[False] > 5, outcomes
