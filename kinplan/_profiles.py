@@ -27,7 +27,7 @@ Pieces = tuple[np.ndarray, list[np.ndarray]]
 """Knot times, shape (S + 1,) starting at 0 [s], and S coefficient arrays of shape (n, d + 1)."""
 
 RELATIVE_TOLERANCE = 1e-12
-"""Relative slack for feasibility tests and for merging knots, against rounding [-]."""
+"""Relative slack for feasibility tests, against rounding [-]."""
 
 KNOT_MERGE_TOLERANCE = 64.0 * np.finfo(float).eps
 """Phase boundaries of different joints closer than this fraction of the duration are merged
@@ -383,7 +383,9 @@ def synchronised_blend_times(
     lo = lspb_blend_time(distance, duration, max_acceleration)
     hi = np.minimum(0.5 * duration, duration - distance / max_velocity)
     r = reference_joint
-    own = lspb_minimum_times(distance[r : r + 1], max_velocity[r : r + 1], max_acceleration[r : r + 1])
+    own = lspb_minimum_times(
+        distance[r : r + 1], max_velocity[r : r + 1], max_acceleration[r : r + 1]
+    )
     if duration <= own[0]:
         target = min(
             max_velocity[r] / max_acceleration[r], math.sqrt(distance[r] / max_acceleration[r])

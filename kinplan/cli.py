@@ -489,6 +489,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         Exit status: 0 success, 1 failure (one-line reason on stderr), 2 command-line error.
     """
     parser = build_parser()
+    if argv is not None and not isinstance(argv, (str, bytes)) and hasattr(argv, "__iter__"):
+        argv = list(argv)  # a generator is read once
+    if argv is not None and (
+        not isinstance(argv, list) or not all(isinstance(arg, str) for arg in argv)
+    ):
+        print(
+            f"kinplan: error: main() takes a list of argument strings, got {argv!r:.80}",
+            file=sys.stderr,
+        )
+        return 2
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help, --version, or a usage error (already printed)

@@ -789,7 +789,13 @@ class _Validator:
 
 
 def resolve_robot_source(source: str, base_dir: Path) -> str:
-    """A robot name as is; a file path, relative to the program's folder, made absolute."""
+    """A robot name as is; a file path, relative to the program's folder, made absolute.
+
+    Raises:
+        InputError: ``source`` is not a string or ``base_dir`` not a folder path.
+    """
+    source = checks.text(source, "source (a robot name or URDF path)")
+    base_dir = Path(checks.file_path(base_dir, "base_dir (the program's folder)"))
     if source in bundled_robots() or source in known_names():
         return source
     try:
@@ -1037,7 +1043,7 @@ def _program_remedy(plan: cartesian.CartesianPlan) -> str:
             "or move its points"
         )
     if event.kind == "unreachable":
-        return "move the points closer to the robot"
+        return "move the move's points into the arm's workspace"
     return event.remedy
 
 
@@ -1290,10 +1296,7 @@ class MotionBuilder:
             self._record(kind, label, key, status="jump", why=why, ratio=ratio, plan=plan)
         if not plan.ok:
             event = plan.events[0]
-            why = (
-                f"{event.kind} at s = {event.s:.2f}: {event.message}; "
-                f"{_program_remedy(plan)}"
-            )
+            why = f"{event.kind} at s = {event.s:.2f}: {event.message}; {_program_remedy(plan)}"
             self._record(
                 kind, label, key, samples, status=plan.status, why=why, ratio=ratio,
                 fraction=plan.fraction, plan=plan,

@@ -73,7 +73,12 @@ _JOG = re.compile(r"^(?P<axis>[a-z]+)(?P<sign>[+-])$")
 
 def home_configuration(robot: Robot) -> np.ndarray:
     """A comfortable start for teaching [rad]: the UR "up" pose with the tool down, the panda's
-    ready pose, 30° per joint for planar arms, else the neutral configuration."""
+    ready pose, 30° per joint for planar arms, else the neutral configuration.
+
+    Raises:
+        InputError: ``robot`` is not a :class:`kinplan.Robot`.
+    """
+    _check_robot(robot)
     for prefix, degrees in _HOME_DEG.items():
         if robot.name.startswith(prefix) and len(degrees) == robot.nq:
             return np.clip(np.radians(degrees), robot.lower, robot.upper)
@@ -122,11 +127,7 @@ class TeachPendant:
         linear_step: float = DEFAULT_LINEAR_STEP,
         angular_step_deg: float = DEFAULT_ANGULAR_STEP_DEG,
     ):
-        if not isinstance(robot, Robot):
-            raise InputError(
-                f"robot must be a kinplan.Robot (from kinplan.load_robot), got "
-                f"{checks.describe(robot)}"
-            )
+        _check_robot(robot)
         self.robot = robot
         start = home_configuration(robot) if q_start is None else robot.check_q(q_start, "q_start")
         if not robot.within_limits(start):
@@ -391,7 +392,13 @@ class TeachPendant:
         Args:
             output: Where the program will be written; a URDF robot source is written relative
                 to its folder.
+
+        Raises:
+            KinplanError: no point recorded yet.
+            InputError: ``output`` is not a file path.
         """
+        if output is not None:
+            output = checks.file_path(output, "output (the program file)")
         if not self.points:
             raise KinplanError("no point recorded; record one with r [name] before writing")
         stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
@@ -421,8 +428,13 @@ class TeachPendant:
             return str(path.resolve())
 
     def save(self, output: str | os.PathLike[str]) -> Path:
-        """Write :meth:`program_text` to ``output`` (its folder is created)."""
-        target = Path(output)
+        """Write :meth:`program_text` to ``output`` (its folder is created).
+
+        Raises:
+            KinplanError: no point recorded yet, or the file cannot be written.
+            InputError: ``output`` is not a file path.
+        """
+        target = Path(checks.file_path(output, "output (the program file)"))
         text = self.program_text(target)
         try:
             target.parent.mkdir(parents=True, exist_ok=True)
@@ -444,6 +456,13 @@ _PENDANT_ADVICE = {
 }
 """What the operator can do about a refused tool jog, by event kind: pendant commands only (an
 event's own ``remedy`` names arguments of :func:`cartesian.follow` the pendant does not have)."""
+
+
+def _check_robot(robot: object) -> None:
+    if not isinstance(robot, Robot):
+        raise InputError(
+            f"robot must be a kinplan.Robot (from kinplan.load_robot), got {checks.describe(robot)}"
+        )
 
 
 def _finite(text: str, what: str) -> float:
@@ -496,9 +515,27 @@ def run_session(
 
     Returns:
         True when the program should be written (``q`` or end of input), False on ``abort``.
+
+    Raises:
+        InputError: ``pendant`` is not a :class:`TeachPendant`, ``lines`` not iterable,
+            ``output`` or ``on_move`` not callable.
     """
+    if not isinstance(pendant, TeachPendant):
+        raise InputError(f"pendant must be a TeachPendant, got {checks.describe(pendant)}")
+    try:
+        if isinstance(lines, (str, bytes)):
+            raise TypeError
+        lines = iter(lines)
+    except TypeError:
+        raise InputError(
+            f"lines must be an iterable of command lines (a list or a file), got "
+            f"{checks.describe(lines)}"
+        ) from None
+    if not callable(output) or (on_move is not None and not callable(on_move)):
+        raise InputError("output and on_move must be functions (on_move may be None)")
+    echo = checks.flag(echo, "echo")
     for line in lines:
-        if echo and line.strip():
+        if echo and isinstance(line, str) and line.strip():
             output(f"teach> {line.rstrip()}")
         reply = pendant.execute(line)
         if reply.text:

@@ -18,6 +18,12 @@ a vector is expected). Units are rad, rad/s, rad/s² and s; a 1-D profile of any
 (for example a path length in m for Cartesian time scaling) works the same way. Joints are
 numbered from 0 in messages, as in the arrays. Trajectory time starts at 0.
 
+Every argument is checked at the door: anything that is not a finite real number (or an array of
+them) of the right shape, durations outside [:data:`MIN_DURATION`, :data:`MAX_DURATION`] and
+values beyond :data:`MAX_MAGNITUDE` raise :class:`~kinplan.errors.InputError` naming the argument
+and what to pass; limits that cannot be met raise :class:`~kinplan.errors.InfeasibleError` with
+the value that would work (rounded up, so that it does). No other exception escapes.
+
 Example:
     >>> from kinplan import trajectory
     >>> traj = trajectory.cubic([0.0, 1.0], [1.0, 0.0], duration=2.0)
@@ -429,7 +435,9 @@ def cubic(
         A one-segment trajectory of degree 3.
 
     Raises:
-        InputError: mismatched lengths, NaN or inf, or a non-positive duration.
+        InputError: not numbers, mismatched lengths, NaN or inf, values beyond
+            :data:`MAX_MAGNITUDE`, or a duration outside [:data:`MIN_DURATION`,
+            :data:`MAX_DURATION`].
     """
     q0, qf, v0, vf = _joint_vectors(q0=q0, qf=qf, v0=v0, vf=vf)
     duration = _duration(duration, "duration")
@@ -461,7 +469,9 @@ def quintic(
         A one-segment trajectory of degree 5.
 
     Raises:
-        InputError: mismatched lengths, NaN or inf, or a non-positive duration.
+        InputError: not numbers, mismatched lengths, NaN or inf, values beyond
+            :data:`MAX_MAGNITUDE`, or a duration outside [:data:`MIN_DURATION`,
+            :data:`MAX_DURATION`].
     """
     q0, qf, v0, vf, a0, af = _joint_vectors(q0=q0, qf=qf, v0=v0, vf=vf, a0=a0, af=af)
     duration = _duration(duration, "duration")
@@ -492,13 +502,15 @@ def cubic_via(
         via_velocities: ``None`` (continuous acceleration); ``"heuristic"`` (mean of the
             neighbouring chord slopes, 0 where the slope changes sign; velocity continuous,
             acceleration not); or the velocities at the m − 2 via points, shape (m − 2, n), or
-            (m − 2,) for one joint [rad/s].
+            (m − 2,) for one joint, or (n,) for one via point; ``[]`` when m = 2 [rad/s].
 
     Returns:
         A trajectory of m − 1 cubic segments, waypoints at the given points.
 
     Raises:
-        InputError: bad shapes, NaN or inf, or times that do not strictly increase.
+        InputError: not numbers, bad shapes, NaN or inf, values beyond :data:`MAX_MAGNITUDE`,
+            times that do not strictly increase, or steps between them outside
+            [:data:`MIN_DURATION`, :data:`MAX_DURATION`].
     """
     points = _points(points, "points")
     m, n = points.shape
@@ -549,22 +561,26 @@ def trapezoid(
       joints switch together, otherwise the nearest admissible one). With ``duration`` as well,
       the motion lasts ``duration``, which must be at least the minimum time.
 
-    Joints that do not move stay still; negative moves work.
+    Joints that do not move stay still; negative moves work. Moves smaller than 1e-150 rad
+    (``_profiles.NEGLIGIBLE_MOVE``) are planned as still and the motion still ends exactly at qf.
 
     Args:
         q0: Start position, shape (n,) or scalar [rad].
         qf: End position, shape (n,) or scalar [rad].
         duration: Motion time, > 0 [s].
         acceleration: Blend acceleration magnitude [rad/s²].
-        max_velocity: Velocity limit, > 0 [rad/s].
-        max_acceleration: Acceleration limit, > 0 [rad/s²].
+        max_velocity: Velocity limit, > 0 [rad/s]. The motion never exceeds it, not even by
+            rounding (it is planned a few units of rounding below it).
+        max_acceleration: Acceleration limit, > 0 [rad/s²]; never exceeded either.
         blend_time: Blend (acceleration) time [s].
 
     Returns:
         A trajectory of quadratic segments (one knot wherever any joint switches phase).
 
     Raises:
-        InputError: an unsupported combination of arguments, bad shapes or values.
+        InputError: an unsupported combination of arguments, bad shapes or values (as for
+            :func:`cubic`; limits and accelerations within [:data:`MIN_MAGNITUDE`,
+            :data:`MAX_MAGNITUDE`]).
         InfeasibleError: an acceleration below 4|Δ|/T² (the message states the minimum), or a
             duration shorter than the limits allow (the message states the minimum time).
     """
@@ -627,13 +643,14 @@ def trapezoid_via(
         points: Positions, shape (m, n), or (m,) for one joint, m ≥ 2 [rad].
         durations: Nominal time from point k to point k + 1, shape (m − 1,), each > 0 [s].
         acceleration: Blend acceleration magnitude, scalar or per joint, > 0 [rad/s²].
-        pass_through: Insert pseudo via points so the motion passes every via point.
+        pass_through: Insert pseudo via points so the motion passes every via point (a bool).
 
     Returns:
         A trajectory of quadratic segments; its waypoints are the points at their nominal times.
 
     Raises:
-        InputError: bad shapes, NaN or inf, non-positive durations or acceleration.
+        InputError: bad shapes or types, NaN or inf, durations out of range or so far apart
+            that one is lost in the rounding of their sum, accelerations out of range.
         InfeasibleError: a blend does not fit (the message names the via point and the joint,
             the time needed and available, and what to change).
     """
@@ -1086,7 +1103,9 @@ def _segment_tuple(segments: object) -> tuple[Segment, ...]:
     try:
         result = tuple(segments)  # type: ignore[arg-type]
     except TypeError as error:
-        raise InputError(f"segments must be a list of Segment, got {_describe(segments)}") from error
+        raise InputError(
+            f"segments must be a list of Segment, got {_describe(segments)}"
+        ) from error
     for k, segment in enumerate(result):
         if not isinstance(segment, Segment):
             raise InputError(f"segments must be Segment objects; item {k} is {_describe(segment)}")

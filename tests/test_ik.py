@@ -4,6 +4,8 @@ cap, and what a solve reports after the closed form's Newton polish."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -209,6 +211,7 @@ def test_rotation_tolerance_is_an_angle_in_radians():
         assert frobenius_tolerance(angle) == pytest.approx(expected, rel=1e-12, abs=1e-30)
     assert frobenius_tolerance(5.0) == pytest.approx(8.0, rel=1e-15)
     assert frobenius_tolerance(1) == frobenius_tolerance(1.0)
+    assert frobenius_tolerance(0) == 0.0  # an int zero: no tolerance, but a valid one
     for bad in (-1e-3, -1.0, np.inf, np.nan, "0.1", None):
         with pytest.raises(InputError, match=r"rotation_tolerance.*\[rad\]"):
             frobenius_tolerance(bad)
@@ -235,20 +238,30 @@ def test_rotation_error_of_a_half_turn_is_pi(panda):
         ({"model": None}, "model"),
         ({"frame_id": -1}, "frame_id"),
         ({"frame_id": 10_000}, "frame_id"),
+        ({"frame_id": "nframes"}, "frame_id"),
         ({"frame_id": 1.0}, "frame_id"),
         ({"lower": np.zeros(3)}, r"lower.*\[rad or m\]"),
+        ({"upper": np.zeros(3)}, r"upper.*\[rad or m\]"),
         ({"upper": [0.0] * 6 + [np.nan]}, r"upper.*\[rad or m\]"),
         ({"lower": np.full(7, 0.5), "upper": np.full(7, 0.4)}, "lower limit"),
     ],
-)
+    ids=[
+        "model", "frame_id<0", "frame_id>n", "frame_id=n", "frame_id float", "lower size",
+        "upper size", "upper NaN", "lower>upper",
+    ],
+)  # fmt: skip
 def test_solver_construction_is_validated(panda, arguments, name):
     given = {
         "model": panda.model, "frame_id": panda.tip_id,
         "lower": panda.lower, "upper": panda.upper,
     }  # fmt: skip
+    if arguments.get("frame_id") == "nframes":  # one past the last frame
+        arguments = {"frame_id": panda.model.nframes}
     given.update(arguments)
     with pytest.raises(InputError, match=name):
         IKSolver(**given)
+    # the first frame (the universe) is a valid frame index
+    assert IKSolver(panda.model, 0, panda.lower, panda.upper).frame_id == 0
 
 
 def test_solver_accepts_a_joint_with_equal_limits(panda):
@@ -272,13 +285,19 @@ def test_solver_accepts_a_joint_with_equal_limits(panda):
         ({"max_iterations": 0}, "max_iterations"),
         ({"max_iterations": 2.5}, "max_iterations"),
         ({"max_restarts": -1}, "max_restarts"),
+        ({"position": [0.1, 0.2]}, r"position.*\[m\]"),
+        ({"rotation": np.eye(2)}, "rotation"),
+        ({"q_seed": np.zeros(5)}, r"q_seed.*\[rad or m\]"),
     ],
+    ids=lambda value: None if isinstance(value, dict) else re.sub(r"[^\w]+", "-", value),
 )
 def test_solve_options_are_validated(ur5, options, name):
     solver = numerical_solver(ur5)
     target = ur5.fk(np.zeros(6))
+    given = {"position": target.translation, "rotation": target.rotation, "q_seed": np.zeros(6)}
+    given.update(options)
     with pytest.raises(InputError, match=name):
-        solver.solve(target.translation, target.rotation, np.zeros(6), **options)
+        solver.solve(**given)
 
 
 def test_failure_returns_the_best_attempt_and_counts_every_iteration(ur5):
@@ -388,3 +407,57 @@ def test_converged_position_is_the_tool_position_at_the_solution(panda):
     np.testing.assert_allclose(
         solver.converged_position, panda.fk(res.q).translation, rtol=0, atol=1e-15
     )
+
+
+def test_a_closed_form_answer_the_polish_cannot_fix_falls_back_to_the_numerical_solve(ur5):
+    """A closed-form answer with the tool position right but the last joint 3.1 rad off, with a
+    loose position tolerance (1 cm) and a 1 mrad rotation tolerance: the polish (three steps of
+    at most 1 rad) leaves the rotation ~0.1 rad off, so the answer is the numerical solve's,
+    reported as such — never the half-fixed analytic one, although its position would pass."""
+    solver = numerical_solver(ur5)
+    q = np.array([0.4, -1.2, 1.3, -0.9, 1.1, 0.2])
+    target = ur5.fk(q)
+    off = q + np.array([0.0, 0.0, 0.0, 0.0, 0.0, 3.1])
+    assert np.linalg.norm(ur5.fk(off).translation - target.translation) < 1e-9
+    res = solver.solve(
+        target.translation, target.rotation, q + 0.1, closed_form=StubClosedForm(off),
+        position_tolerance=1e-2, rotation_tolerance=1e-3,
+    )  # fmt: skip
+    assert res.success and res.method == "numerical", res
+    position_error, rotation_error = true_errors(ur5, res.q, target)
+    assert position_error <= 1e-2 and rotation_error <= 1e-3
+
+
+def test_a_prediction_checked_by_the_caller_converges_in_one_newton_step(panda):
+    """descend(evaluated=True) after the caller's own accepts() (the follower's protocol): the
+    first iterate reuses that check, and the first Newton step from a guess 1e-5 rad off
+    converges: one iteration."""
+    solver = numerical_solver(panda)
+    q = np.array([0.5, 0.3, -0.2, -1.8, 0.4, 2.0, 0.1])
+    target = panda.fk(q)
+    guess = q + 1e-5 * np.array([1.0, -1.0, 0.5, 1.0, -0.5, 1.0, 1.0])
+    tolerances = (1e-12, frobenius_tolerance(1e-7))
+    args = (target.translation.tolist(), target.rotation.reshape(9).tolist(), *tolerances)
+    assert not solver.accepts(guess, *args)
+    q_new, converged, perr, rerr, its = solver.descend(
+        guess, target.translation, target.rotation, 1e-6, 1e-7, 12, evaluated=True
+    )
+    assert converged and its == 1 and perr <= 1e-6 and rerr <= 1e-7
+
+
+def test_a_small_position_only_correction_is_the_minimum_norm_joint_motion(ur5):
+    """Position only, the six UR joints are redundant: a 1 mm correction is made by the
+    minimum-norm joint motion J⁺Δp of the position rows (to second order in the step), with no
+    constraint on the tool's rotation."""
+    solver = numerical_solver(ur5)
+    q0 = np.array([0.4, -1.2, 1.3, -0.9, 1.1, 0.2])
+    J = ur5.jacobian(q0)[:3]
+    rng = np.random.default_rng(9)
+    for _ in range(10):
+        delta = rng.normal(size=3)
+        delta *= 1e-3 / np.linalg.norm(delta)
+        target = ur5.fk(q0).translation + delta
+        q, converged, *_ = solver.descend(q0, target, None, 1e-10, 1e-6, 20)
+        assert converged
+        step = np.linalg.pinv(J) @ delta
+        np.testing.assert_allclose(q - q0, step, atol=0.01 * np.linalg.norm(step))

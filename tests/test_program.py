@@ -274,7 +274,9 @@ def test_unreachable_lin_stops_with_a_one_line_reason(short_forearm_folder, monk
     assert not plan.ok and plan.status == "unreachable"
     assert "\n" not in plan.reason
     match = re.match(
-        r"move 2 \(lin to b, moves\[1\]\): unreachable at s = (0\.\d\d), \((.+)\) m: ", plan.reason
+        r"move 2 \(lin to b, moves\[1\]\): unreachable at s = (0\.\d\d): \((.+)\) m is out of "
+        "reach",
+        plan.reason,
     )
     assert match, plan.reason
     s = float(match.group(1))

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -696,3 +697,208 @@ def test_input_error_messages_name_the_problem():
         trajectory.cubic(0, 1, 0.0)
     with pytest.raises(InputError, match=r"finite"):
         trajectory.quintic(0, np.nan, 1.0)
+
+
+# ----------------------------------------------------------------------------------------------
+# Validation at the door (issue 12): every argument of every public function
+# ----------------------------------------------------------------------------------------------
+
+MORE_BAD_CALLS = {
+    # (call, a pattern the message must contain: the argument's name and what to pass)
+    "cubic text duration": (lambda: trajectory.cubic(0, 1, "1.0"), r"duration must be a number"),
+    "cubic None duration": (lambda: trajectory.cubic(0, 1, None), r"duration must hold numbers"),
+    "cubic None q0": (lambda: trajectory.cubic(None, 1, 1.0), r"q0 must hold numbers"),
+    "cubic ragged": (lambda: trajectory.cubic([[0, 1], [2]], 1, 1.0), r"q0 must be .*regular"),
+    "cubic nested": (lambda: trajectory.cubic([[0.0, 1.0]], [0.0, 1.0], 1.0), r"q0 must be a"),
+    "cubic bool": (lambda: trajectory.cubic(True, 1.0, 1.0), r"q0 must be real numbers"),
+    "cubic complex": (lambda: trajectory.cubic(0, 1j, 1.0), r"qf must be real numbers"),
+    "cubic dict": (lambda: trajectory.cubic(0, 1, {}), r"duration must be real numbers"),
+    "cubic huge int": (lambda: trajectory.cubic(0, 10**400, 1.0), r"qf must be real numbers"),
+    "cubic bytes": (lambda: trajectory.cubic(b"0", 1, 1.0), r"q0 must be a number"),
+    "cubic 1e300 s": (lambda: trajectory.cubic(0, 1, 1e300), r"duration = 1e\+300 s is outside"),
+    "cubic 1e-300 s": (lambda: trajectory.cubic(0, 1, 1e-300), r"duration = 1e-300 s is outside"),
+    "cubic 1e300 rad": (lambda: trajectory.cubic(0, 1e300, 1.0), r"qf = 1e\+300 is beyond"),
+    "cubic v0 1e20": (lambda: trajectory.cubic(0, 1, 1.0, v0=1e20), r"v0 = 1e\+20 is beyond"),
+    "quintic af -inf": (lambda: trajectory.quintic(0, 1, 1.0, af=-np.inf), r"af must be finite"),
+    "quintic a0 text": (lambda: trajectory.quintic(0, 1, 1.0, a0="x"), r"a0 must be a number"),
+    "cubic_via points text": (lambda: trajectory.cubic_via("abc", [0, 1, 2]), r"points must be"),
+    "cubic_via times None": (lambda: trajectory.cubic_via([0, 1], None), r"times must hold"),
+    "cubic_via times span": (
+        lambda: trajectory.cubic_via([0, 1], [0.0, 1e10]),
+        r"times\[1\] − times\[0\] = 1e\+10 s is outside",
+    ),
+    "cubic_via via list 2 points": (
+        lambda: trajectory.cubic_via([0, 1], [0, 1], via_velocities=[1.0]),
+        r"via_velocities must have shape \(0, 1\)",
+    ),
+    "cubic_via via ragged": (
+        lambda: trajectory.cubic_via([0, 1, 2, 3], [0, 1, 2, 3], via_velocities=[[1], [1, 2]]),
+        r"via_velocities must be .*regular",
+    ),
+    "cubic_via via wrong": (
+        lambda: trajectory.cubic_via([[0, 0], [1, 1], [2, 2]], [0, 1, 2], via_velocities=[1.0]),
+        r"via_velocities must have shape \(1, 2\)",
+    ),
+    "cubic_via via other text": (
+        lambda: trajectory.cubic_via([0, 1, 2], [0, 1, 2], via_velocities="mean"),
+        r"via_velocities must be None, 'heuristic'",
+    ),
+    "trapezoid text limit": (
+        lambda: trajectory.trapezoid(0, 1, max_velocity="fast", max_acceleration=1.0),
+        r"max_velocity must be a number",
+    ),
+    "trapezoid tiny limit": (
+        lambda: trajectory.trapezoid(0, 1, max_velocity=1.0, max_acceleration=5e-324),
+        r"max_acceleration = 4.94066e-324 for joint 0 is below the supported minimum",
+    ),
+    "trapezoid huge limit": (
+        lambda: trajectory.trapezoid(0, 1, max_velocity=1e300, max_acceleration=1.0),
+        r"max_velocity = 1e\+300 is beyond",
+    ),
+    "trapezoid blend None-like text": (
+        lambda: trajectory.trapezoid(0, 1, 1.0, blend_time="0.2"),
+        r"blend_time must be a number",
+    ),
+    "trapezoid tiny blend": (
+        lambda: trajectory.trapezoid(0, 1, 1.0, blend_time=1e-300),
+        r"blend_time = 1e-300 s is outside",
+    ),
+    "trapezoid_via pass_through text": (
+        lambda: trajectory.trapezoid_via([0, 1, 2], [1, 1], 50.0, pass_through="no"),
+        r"pass_through must be True or False",
+    ),
+    "trapezoid_via durations lost": (
+        lambda: trajectory.trapezoid_via([0, 1, 2], [1e8, 1e-9], 50.0),
+        r"durations\[1\] = 1e-09 s is lost in the rounding",
+    ),
+    "trapezoid_via durations nested": (
+        lambda: trajectory.trapezoid_via([0, 1, 2], [[1, 1]], 50.0),
+        r"durations must be a list of 2 durations",
+    ),
+    "434 durations apart": (
+        lambda: trajectory.four_three_four(0, 0.1, 0.9, 1, [1e-4, 1e4, 1e-4]),
+        r"durations \[.*\] s are too far apart",
+    ),
+    "434 None point": (lambda: trajectory.four_three_four(0, None, 1, 2, [1, 1, 1]), r"q_lift"),
+    "sample text": (lambda: trajectory.cubic(0, 1, 1.0).sample("0.5"), r"t must be a number"),
+    "sample None": (lambda: trajectory.cubic(0, 1, 1.0).sample(None), r"t must hold numbers"),
+    "sample ragged": (lambda: trajectory.cubic(0, 1, 1.0).sample([[0], [1, 2]]), r"t must be"),
+    "time_grid too fine": (lambda: time_grid(1e9, 1e-9), r"dt = 1e-09 s would need 1e\+18"),
+    "time_grid text": (lambda: time_grid(1.0, "0.01"), r"dt must be a number"),
+    "Segment text time": (lambda: Segment("a", 1.0, np.zeros((1, 2))), r"segment t0 must"),
+    "Segment None coefficients": (lambda: Segment(0.0, 1.0, None), r"segment coefficients"),
+    "Trajectory not segments": (lambda: Trajectory([1, 2]), r"segments must be Segment"),
+    "Trajectory None": (lambda: Trajectory(None), r"segments must be a list of Segment"),
+    "Trajectory bad waypoints": (
+        lambda: Trajectory([Segment(0.0, 1.0, np.zeros((1, 2)))], waypoints=[0, 1]),
+        r"waypoints must be a Waypoints",
+    ),
+    "Waypoints text": (lambda: trajectory.Waypoints("ab", [[0.0]]), r"waypoint times must be"),
+    "concatenate not trajectories": (
+        lambda: Trajectory.concatenate([trajectory.cubic(0, 1, 1.0), "x"]),
+        r"concatenate needs Trajectory objects; item 1",
+    ),
+    "concatenate None": (lambda: Trajectory.concatenate(None), r"concatenate needs a list"),
+    "concatenate negative tolerance": (
+        lambda: Trajectory.concatenate([trajectory.cubic(0, 1, 1.0)], tolerance=-1.0),
+        r"tolerance must be >= 0",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", sorted(MORE_BAD_CALLS))
+def test_every_bad_argument_is_an_input_error_naming_it(name):
+    call, pattern = MORE_BAD_CALLS[name]
+    with pytest.raises(InputError, match=pattern):
+        call()
+
+
+def test_absurd_magnitudes_raise_input_error_not_overflow():
+    """Issue 12: cubic(0, 1, 1e300) raised OverflowError; now the duration's range is stated."""
+    with pytest.raises(InputError) as info:
+        trajectory.cubic(0, 1, 1e300)
+    assert "[1e-09, 1e+09] s" in str(info.value)
+    # At the bounds, nothing overflows: the polynomial meets its end to the rounding of its
+    # largest term (v0 T = 1e21 rad at T = 1e9 s: the motion goes that far).
+    for duration in (trajectory.MIN_DURATION, trajectory.MAX_DURATION):
+        traj = trajectory.quintic(-1e12, 1e12, duration, v0=1e12, af=-1e12)
+        c = traj.segments[0].coefficients[0]
+        assert np.all(np.isfinite(c))
+        terms = np.abs(c) * duration ** np.arange(6)
+        assert abs(P.polyval(duration, c) - 1e12) <= 1e-12 * terms.sum()
+
+
+def test_cubic_via_with_no_via_point_accepts_an_empty_list():
+    """Issue 12: two points and via_velocities=[] raised a raw ValueError. [] is the right shape
+    (no via point), so it is accepted: the motion is the cubic between the two points."""
+    traj = trajectory.cubic_via([0.0, 2.0], [1.0, 3.0], v0=0.5, vf=-1.0, via_velocities=[])
+    reference = trajectory.cubic(0.0, 2.0, 2.0, v0=0.5, vf=-1.0)
+    np.testing.assert_allclose(
+        traj.segments[0].coefficients, reference.segments[0].coefficients, rtol=1e-15
+    )
+
+
+def test_negligible_moves_plan_as_still_and_end_exactly():
+    """A move below 1e-150 rad would push the blend arithmetic into subnormal numbers; the
+    trapezoidal profiles plan it as still and still end exactly at the target."""
+    for traj in (
+        trajectory.trapezoid([0.0, 1.0], [1e-200, 2.0], max_velocity=1.0, max_acceleration=1.0),
+        trajectory.trapezoid([0.0, 1.0], [5e-324, 2.0], duration=3.0, acceleration=1e-12 + 1.0),
+        trajectory.trapezoid_via([[0.0], [1e-320], [0.0]], [1.0, 1.0], 1.0),
+    ):
+        assert np.all(np.isfinite(np.concatenate([s.coefficients for s in traj.segments])))
+        np.testing.assert_array_equal(traj.segments[0].coefficients[0, 1:], 0.0)
+    assert traj.sample(traj.duration)[0][0] == 0.0
+
+
+FUZZ_VALUES = [
+    "a", "1.5", b"1", None, [], [[]], [[1.0, 2.0], [3.0]], [1.0, None], [1.0, "2"], {}, set(),
+    object(), True, 1 + 2j, 10**400, np.nan, np.inf, -np.inf, 1e300, -1e300, 1e-300, 5e-324,
+    0.0, -0.0, -1.0, 0.5, 1.0, 2.0, 1e12, 1e-9, 1e9, np.float32(0.25), np.int64(3),
+    [0.0, 1.0], [1.0, 2.0, 3.0], [0.3, 0.3, 0.3], [[0.0, 1.0], [1.0, 2.0], [2.0, 0.0]],
+    np.zeros((2, 2, 2)), [1e-9, 1e9, 1e-9], [1e9, 1e-9], "heuristic",
+]  # fmt: skip
+
+
+def test_fuzzed_arguments_raise_only_kinplan_errors():
+    """3,000 seeded calls of every public function with arguments drawn from ordinary values and
+    (40 %) odd ones (text, None, ragged or nested lists, booleans, complex, huge integers, NaN,
+    inf, extreme and subnormal magnitudes): each returns a trajectory with finite samples or
+    raises a KinplanError; no other exception and no numpy warning (overflow, invalid value)."""
+    rng = np.random.default_rng(12)
+    plain = [0.5, 1.0, 2.0, 40.0, [0.0, 1.0], [1.0, 2.0], [0.2, 0.5, 0.3], [0.0, 1.0, 3.0]]
+
+    def pick() -> object:
+        if rng.uniform() < 0.6:  # mostly ordinary values, so that many calls succeed
+            return plain[rng.integers(len(plain))]
+        return FUZZ_VALUES[rng.integers(len(FUZZ_VALUES))]
+
+    calls = [
+        lambda: trajectory.cubic(pick(), pick(), pick(), pick(), pick()),
+        lambda: trajectory.quintic(pick(), pick(), pick(), pick(), pick(), pick(), pick()),
+        lambda: trajectory.cubic_via(pick(), pick(), pick(), pick(), pick()),
+        lambda: trajectory.trapezoid(pick(), pick(), pick(), pick()),
+        lambda: trajectory.trapezoid(pick(), pick(), max_velocity=pick(), max_acceleration=pick()),
+        lambda: trajectory.trapezoid(pick(), pick(), pick(), blend_time=pick()),
+        lambda: trajectory.trapezoid_via(pick(), pick(), pick(), rng.integers(2) == 1),
+        lambda: trajectory.four_three_four(pick(), pick(), pick(), pick(), pick()),
+        lambda: trajectory.cubic(0.0, 1.0, 1.0).sample(pick()),
+        lambda: time_grid(pick(), pick()),
+        lambda: Segment(pick(), pick(), pick()),
+        lambda: trajectory.Waypoints(pick(), pick()),
+        lambda: Trajectory(pick()),
+        lambda: Trajectory.concatenate(pick(), pick()),
+    ]
+    built = 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for k in range(3_000):
+            try:
+                result = calls[k % len(calls)]()
+            except KinplanError:
+                continue
+            if isinstance(result, Trajectory):
+                samples = result.sample(np.linspace(-0.1, 1.1, 5) * result.duration)
+                assert all(np.all(np.isfinite(x)) for x in samples)
+                built += 1
+    assert built >= 50  # the successful path is exercised too

@@ -45,7 +45,7 @@ def generator(name: str) -> np.random.Generator:
 
 
 def rate(coefficients: np.ndarray, tau: np.ndarray | float, order: int) -> np.ndarray:
-    """d^order/dτ^order of Σ_k c_k τ^k at ``tau``.
+    """d^order/dτ^order of Σ_k c_k τ^k at ``tau`` (Horner on the differentiated coefficients).
 
     Args:
         coefficients: Shape (..., degree + 1), lowest power first.
@@ -53,18 +53,18 @@ def rate(coefficients: np.ndarray, tau: np.ndarray | float, order: int) -> np.nd
         order: Derivative order (0 for the position).
 
     Returns:
-        Values of shape ``coefficients.shape[:-1]``.
+        Values of shape ``coefficients.shape[:-1]`` broadcast with ``tau``.
     """
-    degree = coefficients.shape[-1] - 1
-    powers = np.arange(degree + 1)
-    factor = np.ones(degree + 1)
-    for k in range(order):
-        factor = factor * (powers - k)
-    scaled = coefficients * factor
-    result = np.zeros(np.broadcast_shapes(coefficients.shape[:-1], np.shape(tau)))
-    for power in range(degree, order - 1, -1):
+    shape = np.broadcast_shapes(coefficients.shape[:-1], np.shape(tau))
+    powers = np.arange(order, coefficients.shape[-1])
+    if powers.size == 0:
+        return np.zeros(shape)
+    factor = np.prod([powers - k for k in range(order)], axis=0) if order else 1.0
+    scaled = coefficients[..., order:] * factor  # k!/(k - order)! c_k, for τ^(k - order)
+    result = np.broadcast_to(scaled[..., -1], shape)
+    for power in range(scaled.shape[-1] - 2, -1, -1):
         result = result * tau + scaled[..., power]
-    return result
+    return np.array(result)
 
 
 def pieces(traj: Trajectory) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -554,52 +554,60 @@ def test_minimum_time_trapezoid_never_exceeds_its_limits():
     ``sample`` at every knot and just before it. The duration is the slowest joint's own minimum
     time (computed here) to 1e-13; all moving joints start and stop together (each accelerates in
     the first segment and decelerates in the last); still joints stay still; q and qd are
-    continuous and the raw last segment stops at qf."""
+    continuous and the raw last segment stops at qf.
+
+    The trajectories are padded to 8 segments × 3 joints for checking them together: after the
+    last segment, zero-length segments at rest at qf (so "the raw end reaches qf at rest" is the
+    continuity into them); missing joints are still at 0 with infinite limits.
+    """
     rng = generator("minimum time")
-    count = 10_000
-    speeds, speed_limits, accelerations, acceleration_limits = [], [], [], []
-    duration_error, together, cases, errors = [], [], 0, Errors()
-    for q0, qf, v, a in minimum_time_cases(rng, count):
-        traj = trajectory.trapezoid(q0, qf, max_velocity=v, max_acceleration=a)
-        cases += traj.n
-        distance = np.abs(qf - q0)
-        _, h, c = pieces(traj)
-        end_speed = np.abs(2.0 * c[:, :, 2] * h[:, None] + c[:, :, 1])  # as sample evaluates
+    count, most_segments, most_joints = 10_000, 8, 3
+    c = np.zeros((count, most_segments, most_joints, 3))
+    h = np.zeros((count, most_segments))
+    q0, qf = np.zeros((2, count, most_joints))
+    v, a = np.full((2, count, most_joints), np.inf)
+    sampled_speed, sampled_acceleration = np.zeros((2, count, most_joints))
+    duration_error, last = np.zeros(count), np.zeros(count, dtype=int)
+    for i, (start, end, v_max, a_max) in enumerate(minimum_time_cases(rng, count)):
+        traj = trajectory.trapezoid(start, end, max_velocity=v_max, max_acceleration=a_max)
+        n, segments = traj.n, len(traj.segments)
+        assert segments < most_segments
+        _, h[i, :segments], c[i, :segments, :n] = pieces(traj)
+        c[i, segments:, :n, 0] = end  # at rest at qf after the end
+        q0[i, :n], qf[i, :n], v[i, :n], a[i, :n], last[i] = start, end, v_max, a_max, segments - 1
         knots = traj.knots
         _, qd, qdd = traj.sample(np.concatenate([knots, np.nextafter(knots, -np.inf)[1:]]))
-        for values, limit, out, out_limit in (
-            (np.vstack([np.abs(c[:, :, 1]), end_speed, np.abs(qd)]), v, speeds, speed_limits),
-            (
-                np.vstack([np.abs(2.0 * c[:, :, 2]), np.abs(qdd)]),
-                a,
-                accelerations,
-                acceleration_limits,
-            ),
-        ):
-            out.append(values.ravel())
-            out_limit.append(np.broadcast_to(limit, values.shape).ravel())
-        slowest = own_minimum_time(distance, v, a).max()
-        duration_error.append(traj.duration / slowest - 1.0 if slowest > 0 else traj.duration)
-        moving = distance > 0.0
-        toward = np.sign(qf - q0)[moving]
-        together.append(
-            np.all(c[0, moving, 2] * toward > 0)
-            and np.all(c[-1, moving, 2] * toward < 0)
-            and np.all(c[:, ~moving, 1:] == 0.0)
-        )
-        scale = 1.0 + np.abs(q0) + np.abs(qf)
-        parts = (None, h, c)
-        speed = speed_scale(traj, scale, parts)
-        raw_end_errors(errors, traj, q0, qf, scale, parts, speed)
-        continuity_errors(errors, parts, (scale, speed), orders=1)
-    assert cases >= 10_000
-    errors.check()
-    assert_not_above(np.concatenate(speeds), np.concatenate(speed_limits), "speed")
-    assert_not_above(
-        np.concatenate(accelerations), np.concatenate(acceleration_limits), "acceleration"
-    )
-    np.testing.assert_allclose(np.array(duration_error), 0.0, atol=1e-13, err_msg="duration")
-    assert all(together), "moving joints start and stop together"
+        sampled_speed[i, :n] = np.abs(qd).max(axis=0)
+        sampled_acceleration[i, :n] = np.abs(qdd).max(axis=0)
+        slowest = own_minimum_time(np.abs(end - start), v_max, a_max).max()
+        duration_error[i] = traj.duration / slowest - 1.0 if slowest > 0 else traj.duration
+    assert np.count_nonzero(np.isfinite(v)) >= 10_000
+    # Limits: analytic (raw coefficients, evaluated as sample does) and sampled, exactly.
+    end_speed = np.abs(2.0 * c[..., 2] * h[..., None] + c[..., 1])
+    analytic_speed = np.maximum(np.abs(c[..., 1]), end_speed).max(axis=1)
+    analytic_acceleration = np.abs(2.0 * c[..., 2]).max(axis=1)
+    assert_not_above(analytic_speed, v, "analytic speed above max_velocity")
+    assert_not_above(sampled_speed, v, "sampled speed above max_velocity")
+    assert_not_above(analytic_acceleration, a, "analytic |qdd| above max_acceleration")
+    assert_not_above(sampled_acceleration, a, "sampled |qdd| above max_acceleration")
+    np.testing.assert_allclose(duration_error, 0.0, atol=1e-13, err_msg="duration")
+    # Start and stop together: every moving joint accelerates toward qf in the first segment and
+    # decelerates in the last; still joints never move.
+    toward = np.sign(qf - q0)
+    moving = toward != 0.0
+    first = c[:, 0, :, 2] * toward
+    final = np.take_along_axis(c[..., 2], last[:, None, None], axis=1)[:, 0] * toward
+    assert np.all(first[moving] > 0.0), "a moving joint does not accelerate from the start"
+    assert np.all(final[moving] < 0.0), "a moving joint does not decelerate to the end"
+    np.testing.assert_array_equal(c[..., 1:][np.broadcast_to(~moving[:, None], c.shape[:3])], 0.0)
+    # At rest at q0; q and qd continuous at every knot, into the rest at qf after the end.
+    scale = 1.0 + np.abs(q0) + np.abs(qf)
+    speed = np.where(np.isfinite(v), v, 0.0) + scale / np.maximum(h.sum(axis=1), 1e-3)[:, None]
+    speed += np.where(np.isfinite(a), a, 0.0) * h.sum(axis=1)[:, None]
+    assert_small(c[:, 0, :, 0] - q0, scale, TOL, "q(0) = q0")
+    assert_small(c[:, 0, :, 1], speed, TOL, "qd(0) = 0")
+    assert_small(knot_gaps(c, h, 0), scale[:, None], TOL, "q continuous, raw end at qf")
+    assert_small(knot_gaps(c, h, 1), speed[:, None], TOL, "qd continuous, raw end at rest")
 
 
 # ----------------------------------------------------------------------------------------------
@@ -766,32 +774,51 @@ def check_craig_trajectory(
 @pytest.mark.parametrize("pass_through", [False, True], ids=["blends", "pass_through"])
 def test_trapezoid_via_rejects_exactly_what_does_not_fit(pass_through):
     """2,000 single-joint calls per variant around the smallest feasible acceleration raise
-    InfeasibleError exactly when the independent model finds a blend that does not fit (an end
-    blend, two overlapping blends, or a blend reaching over its via point), with the duration to
-    lengthen; cases within 1e-9 of the boundary are skipped."""
+    InfeasibleError exactly when the independent model finds a blend that does not fit, and the
+    message gives the model's first reason in the order the method meets them: an end blend
+    longer than its segment (stating a minimum acceleration of at least 2|Δ|/h² and at most
+    1e-5 above it), two overlapping blends, or (pass_through) a blend reaching over its via
+    point; always with the duration to lengthen. Cases within 1e-9 of a boundary are skipped."""
     rng = generator(f"trapezoid_via decisions {pass_through}")
     outcomes, errors = {"accepted": 0, "rejected": 0}, Errors()
+    stated, needed = [], []
     for _ in range(2_000):
         points, durations = via_blend_points(rng, int(rng.integers(3, 7)), 1)
         times = np.concatenate([[0.0], np.cumsum(durations)])
         acceleration = chord_acceleration(points, durations) * 10.0 ** rng.uniform(-0.2, 1.5, 1)
-        *_, model = via_model(points, times, acceleration, pass_through)
-        if np.min(np.abs(model["margins"])) < 1e-9:
+        corners, corner_times, model = via_model(points, times, acceleration, pass_through)
+        margins = model["margins"][:, 0]
+        if np.min(np.abs(margins)) < 1e-9:
             continue
-        feasible = bool(np.all(model["margins"] >= 0.0))
         try:
             traj = trajectory.trapezoid_via(points, durations, acceleration, pass_through)
         except InfeasibleError as error:
-            assert not feasible, f"rejected a feasible case: {error}"
-            assert re.search(r"raise the acceleration or lengthen durations\[\d\]", str(error))
+            message = str(error)
+            assert np.any(margins < 0.0), f"rejected a feasible case: {message}"
+            assert re.search(r"raise the acceleration or lengthen durations\[\d\]", message)
+            lines = len(corners) - 1
+            leave, stop = margins[lines : lines + 2]
+            if leave < 0.0 or stop < 0.0:
+                where = "leave point 0" if leave < 0.0 else f"stop at point {len(points) - 1}"
+                assert f"too low to {where} (" in message, message
+                ends = [0, 1] if leave < 0.0 else [-2, -1]  # the corners of that end segment
+                rise = abs(corners[ends[1], 0] - corners[ends[0], 0])
+                needed.append(2.0 * rise / (corner_times[ends[1]] - corner_times[ends[0]]) ** 2)
+                stated.append(float(re.search(r"at least ([0-9.e+-]+) rad/s²", message)[1]))
+            elif np.any(margins[:lines] < 0.0):
+                assert re.search(r"the blends at .* need [0-9.e+-]+ s but only", message), message
+            else:
+                assert "would miss point" in message, message
             outcomes["rejected"] += 1
             continue
-        assert feasible, f"accepted an infeasible case (margins {model['margins'].ravel()})"
+        assert np.all(margins >= 0.0), f"accepted an infeasible case (margins {margins})"
         scale = 1.0 + np.max(np.abs(points), axis=0)
         raw_end_errors(errors, traj, points[0], points[-1], scale, pieces(traj))
         outcomes["accepted"] += 1
     errors.check()
-    assert min(outcomes.values()) >= 400, outcomes
+    assert min(outcomes.values()) >= 400 and len(stated) >= 100, (outcomes, len(stated))
+    assert_not_above(np.array(needed), np.array(stated), "stated minimum below 2|Δ|/h²")
+    np.testing.assert_allclose(stated, needed, rtol=1e-5, err_msg="stated minimum")
 
 
 def test_trapezoid_via_rejects_overlapping_end_blends():

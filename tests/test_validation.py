@@ -16,10 +16,11 @@ import pytest
 
 import cartesian
 import kinplan
+from kinplan.cli import main
 from kinplan.errors import InputError, KinplanError, RobotNotFoundError
 from kinplan.ik import IKSolver, frobenius_tolerance, halton
-from kinplan.program import load_program, parse_program
-from kinplan.teach import TeachPendant
+from kinplan.program import load_program, parse_program, resolve_robot_source
+from kinplan.teach import TeachPendant, home_configuration, run_session
 
 NAN, INF = math.nan, math.inf
 P0, P1, P2 = [0.4, 0.0, 0.3], [0.5, 0.0, 0.3], [0.45, 0.05, 0.3]
@@ -264,6 +265,16 @@ CASES += [
      InputError, ["linear_step", "> 0"]),
     ("TeachPendant(angular_step_deg=nan)",
      lambda r: TeachPendant(r["ur5"], angular_step_deg=NAN), InputError, ["angular_step_deg"]),
+    ("home_configuration('ur5')", lambda r: home_configuration("ur5"), InputError, ["robot"]),
+    ("run_session(pendant=None)", lambda r: run_session(None, [], print), InputError,
+     ["pendant"]),
+    ("run_session(lines=5)", lambda r: run_session(TeachPendant(r["ur5"]), 5, print),
+     InputError, ["lines"]),
+    ("run_session(output=None)", lambda r: run_session(TeachPendant(r["ur5"]), [], None),
+     InputError, ["output"]),
+    ("TeachPendant.save(None)", lambda r: TeachPendant(r["ur5"]).save(None), InputError,
+     ["output"]),
+    ("resolve_robot_source(5)", lambda r: resolve_robot_source(5, "."), InputError, ["source"]),
     ("TeachPendant(robot_source=5)", lambda r: TeachPendant(r["ur5"], robot_source=5),
      InputError, ["robot_source"]),
 ]  # fmt: skip
@@ -277,6 +288,14 @@ def test_bad_argument_is_refused_with_a_clear_message(robots, label, call, error
     message = str(caught.value)
     for fragment in fragments:
         assert fragment in message, (label, fragment, message)
+
+
+@pytest.mark.parametrize("argv", [5, "run", [1], [None], b"run"])
+def test_cli_main_refuses_arguments_that_are_not_strings(capsys, argv):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("kinplan: error: main() takes a list of argument strings")
+    assert err.count("\n") == 1
 
 
 def test_input_errors_are_value_errors_too():
@@ -336,6 +355,9 @@ def _calls(robots) -> list[tuple[str, object, list]]:
         ("load_program", load_program, ["/nonexistent/program.yaml"]),
         ("TeachPendant", TeachPendant, [planar, None, None, 0.01, 5.0]),
         ("TeachPendant.execute", TeachPendant(planar).execute, ["show"]),
+        ("home_configuration", home_configuration, [planar]),
+        ("run_session", run_session, [TeachPendant(planar), ["show"], str, None, False]),
+        ("resolve_robot_source", resolve_robot_source, ["planar_2r", "."]),
         ("IKSolver.solve", ur5._ik.solve, [np.array(P0), None, np.zeros(6)]),
         ("Robot.ik (pose)", lambda t: ur5.ik(t, max_restarts=1), [pose]),
     ]

@@ -153,7 +153,16 @@ def write_config(copy: Path, module: str, tests: list[str]) -> None:
     lines = ["[mutmut]", "source_paths =", "    kinplan", "    cartesian", "only_mutate ="]
     lines += [f"    {module}", "pytest_add_cli_args_test_selection ="]
     lines += [f"    {t}" for t in tests]
-    lines += ["pytest_add_cli_args =", "    -p", "    no:cacheprovider", ""]
+    # mutmut hands node ids back to pytest: ids with non-ASCII characters must not be escaped
+    unescaped = "disable_test_id_escaping_and_forfeit_all_rights_to_community_support=True"
+    lines += [
+        "pytest_add_cli_args =",
+        "    -p",
+        "    no:cacheprovider",
+        "    -o",
+        f"    {unescaped}",
+    ]
+    lines += [""]
     (copy / "setup.cfg").write_text("\n".join(lines))
 
 

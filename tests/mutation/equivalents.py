@@ -9,4 +9,126 @@ survives line moves and mutmut's renumbering.
 
 from __future__ import annotations
 
-EQUIVALENTS: list[dict[str, str]] = []
+_FAST_PATH = (
+    "the condition only picks the fast path for a float already in range; otherwise "
+    "checks.number validates it and returns the same float"
+)
+_NEVER_EQUAL = (
+    "differs only when two computed floats are exactly equal (an error exactly at its "
+    "tolerance, a step exactly at the cap, two attempts with the same error sum)"
+)
+_OVERWRITTEN = "an initial value that is always overwritten before it is read"
+_CACHE = (
+    "the size of the cache of Halton restarts; a cache too small is refilled, and its points "
+    "depend on their index only"
+)
+
+
+def _ik(original: str, mutant: str, reason: str) -> dict[str, str]:
+    return {"module": "kinplan/ik.py", "original": original, "mutant": mutant, "reason": reason}
+
+
+_FROB = "if type(rotation_tolerance) is not float or not 0.0 <= rotation_tolerance < math.inf:"
+_CONVERGED = "self.converged_position: tuple[float, float, float] = (math.nan,) * 3"
+_DIFFERENCES = "self.differences: tuple[float, float, float, float] = (math.nan,) * 4"
+_BLOCKED = "blocked = ((q <= lower) & (dq < 0)) | ((q >= upper) & (dq > 0))"
+_HALTON_CACHE = "unit = np.array([halton(i, self.nq) for i in range(1, count + 1)])"
+_POLISH = "if perr > position_tolerance or rerr > rotation_tolerance:"
+_POLISHED = "if perr <= position_tolerance and rerr <= rotation_tolerance:"
+
+EQUIVALENTS: list[dict[str, str]] = [
+    _ik(_FROB, _FROB.replace("type(rotation_tolerance)", "type(None)"), _FAST_PATH),
+    _ik(_FROB, _FROB.replace("0.0 <=", "1.0 <="), _FAST_PATH),
+    _ik(_FROB, _FROB.replace("0.0 <=", "0.0 <"), _FAST_PATH),
+    _ik(
+        'index = checks.count(index, "index", minimum=1)',
+        'index = checks.count(index, "index", )',
+        "minimum=1 is checks.count's default",
+    ),
+    _ik(
+        'dim = checks.count(dim, "dim", minimum=1)',
+        'dim = checks.count(dim, "dim", )',
+        "minimum=1 is checks.count's default",
+    ),
+    _ik(_CONVERGED, _CONVERGED.replace("(math.nan,) * 3", "None"), _OVERWRITTEN),
+    _ik(_CONVERGED, _CONVERGED.replace("* 3", "* 4"), _OVERWRITTEN),
+    _ik(_DIFFERENCES, _DIFFERENCES.replace("(math.nan,) * 4", "None"), _OVERWRITTEN),
+    _ik(_DIFFERENCES, _DIFFERENCES.replace("* 4", "* 5"), _OVERWRITTEN),
+    _ik(
+        "dx * dx + dy * dy + dz * dz <= position_tolerance2",
+        "dx * dx + dy * dy + dz * dz < position_tolerance2",
+        _NEVER_EQUAL,
+    ),
+    _ik(
+        "and frobenius2 <= frobenius_tolerance2",
+        "and frobenius2 < frobenius_tolerance2",
+        _NEVER_EQUAL,
+    ),
+    _ik(
+        "J = pin.getFrameJacobian(model, data, fid, _LWA).reshape(6, -1)[:rows]",
+        "J = pin.getFrameJacobian(model, data, fid, _LWA).reshape(6, -2)[:rows]",
+        "numpy's reshape takes any negative size as 'the rest'",
+    ),
+    _ik(
+        _BLOCKED,
+        _BLOCKED.replace("(dq < 0)", "(dq <= 0)"),
+        "a zero step component is not "
+        "blocked or blocked alike: either way that joint does not move",
+    ),
+    _ik(
+        _BLOCKED,
+        _BLOCKED.replace("(dq > 0)", "(dq >= 0)"),
+        "a zero step component is not "
+        "blocked or blocked alike: either way that joint does not move",
+    ),
+    _ik(
+        "free = (~blocked).astype(float)",
+        "free = (~blocked).astype(None)",
+        "astype(None) is astype(float64)",
+    ),
+    _ik(
+        "if step > MAX_STEP:",
+        "if step >= MAX_STEP:",
+        "scaling a step of exactly MAX_STEP by MAX_STEP / step = 1 leaves it unchanged",
+    ),
+    _ik(
+        "rows = 3 if rotation is None else 6",
+        "rows = 3 if rotation is None else 7",
+        "[:7] of the Jacobian's 6 rows and of the 6-vector error is all of them",
+    ),
+    _ik(
+        "stalled = 0",
+        "stalled = None",
+        "the first iterate always improves on best_cost = inf, which resets stalled",
+    ),
+    _ik(
+        "stalled = 0",
+        "stalled = 1",
+        "the first iterate always improves on best_cost = inf, which resets stalled",
+    ),
+    _ik("perr2 = rerr2 = np.inf", "perr2 = rerr2 = None", _OVERWRITTEN),
+    _ik(
+        "for it in range(max_iterations + 1):",
+        "for it in range(max_iterations + 2):",
+        "the loop leaves at it == max_iterations before the extra turn",
+    ),
+    _ik(
+        "converged = (it > 0 or not evaluated) and self.accepts(",
+        "converged = (it >= 0 or not evaluated) and self.accepts(",
+        "the caller's accepts() is repeated at the same q: the same answer, one more "
+        "kinematics pass",
+    ),
+    _ik("if cost < 0.999 * best_cost:", "if cost <= 0.999 * best_cost:", _NEVER_EQUAL),
+    _ik("if attempt > len(self._restarts):", "if attempt >= len(self._restarts):", _CACHE),
+    _ik(_HALTON_CACHE, _HALTON_CACHE.replace("count + 1", "count - 1"), _CACHE),
+    _ik(_HALTON_CACHE, _HALTON_CACHE.replace("count + 1", "count + 2"), _CACHE),
+    _ik("count = max(2 * attempt, 64)", "count = max(3 * attempt, 64)", _CACHE),
+    _ik("count = max(2 * attempt, 64)", "count = max(2 * attempt, 65)", _CACHE),
+    _ik(_POLISH, _POLISH.replace("perr >", "perr >="), _NEVER_EQUAL),
+    _ik(_POLISH, _POLISH.replace("rerr >", "rerr >="), _NEVER_EQUAL),
+    _ik(_POLISHED, _POLISHED.replace("perr <=", "perr <"), _NEVER_EQUAL),
+    _ik(_POLISHED, _POLISHED.replace("rerr <=", "rerr <"), _NEVER_EQUAL),
+    _ik(
+        "if best is None or score < best[0]:", "if best is None or score <= best[0]:", _NEVER_EQUAL
+    ),
+]
