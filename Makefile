@@ -5,7 +5,7 @@ BIN     = $(VENV)/bin
 STAMP   = $(VENV)/.kinplan-installed
 OUT    ?= out
 
-.PHONY: install demo test lint bench chromium clean mutation
+.PHONY: install demo test soak lint bench chromium clean mutation
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -35,6 +35,10 @@ lint: install
 
 test: install chromium lint
 	$(BIN)/python -m pytest -q
+
+# The long soaks and property runs (marked `slow`, left out of `make test`); CI runs them too.
+soak: install
+	$(BIN)/python -m pytest -q -m slow
 
 # Benchmarks print tables (never timed unit tests); the peers come from the `bench` extra.
 bench: install

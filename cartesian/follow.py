@@ -24,8 +24,8 @@ from cartesian.timing import PathTiming, time_path
 from kinplan import checks
 from kinplan._profiles import PROFILES
 from kinplan.errors import InputError
-from kinplan.ik import frobenius_tolerance
-from kinplan.robot import Robot, jacobian_time_variation, manipulability_of
+from kinplan.ik import finite_bounds, frobenius_tolerance, halton
+from kinplan.robot import Robot, manipulability_of
 from kinplan.sampling import joint_speeds
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
@@ -277,23 +277,26 @@ class _Tracker:
             return lu.solve(b)
         return lu.solve(b).dot(J) if shape < 0 else lu.solve(b.dot(J))
 
-    def accelerations(self, jacobians: np.ndarray, qd: np.ndarray, xdd: np.ndarray) -> np.ndarray:
+    def accelerations(
+        self, q: np.ndarray, jacobians: np.ndarray, qd: np.ndarray, xdd: np.ndarray
+    ) -> np.ndarray:
         """q̈ = dq̇/dt [rad/s²] of the rates q̇ = J⁺ẋ, at many samples at once.
 
         q̈ = J⁺(ẍ − J̇q̇) + (I − J⁺J) J̇ᵀJ⁺ᵀq̇, computed as z + J⁺(ẍ − J̇q̇ − Jz) with
         z = J̇ᵀJ⁺ᵀq̇. The second term is the null-space part of the derivative of a redundant
         arm's minimum-norm rate; it vanishes (and is skipped) when J has full column rank
         (square or tall J).
-        J̇ comes from the Jacobians and the rates (:func:`~kinplan.robot.jacobian_time_variation`):
-        no kinematics pass.
+        J̇ comes from the Jacobians and the rates (:meth:`~kinplan.robot.Robot.
+        jacobian_time_variations`: no kinematics pass unless the arm has mimic joints).
 
         Args:
+            q: Joint positions (N, nq) of the samples.
             jacobians: Tool Jacobians (N, 6, nq) of the samples (:meth:`jacobian`).
             qd: Joint velocities (N, nq) [rad/s] there.
             xdd: Task accelerations (N, r): the tool origin's classical acceleration [m/s²] and
                 the angular acceleration [rad/s²], in the task rows.
         """
-        J_dot = jacobian_time_variation(jacobians, qd)
+        J_dot = self.robot.jacobian_time_variations(q, qd, jacobians)
         J = jacobians
         if not self._all_rows:
             J_dot, J = J_dot[:, self.rows], J[:, self.rows]
@@ -544,11 +547,9 @@ def reference_manipulability(robot: Robot, position_only: bool) -> float:
     """Median manipulability over a fixed low-discrepancy set of configurations (cached)."""
     cache = robot.__dict__.setdefault("_reference_manipulability", {})
     if position_only not in cache:
-        from kinplan.ik import halton
-
-        span = robot.upper - robot.lower
+        lower, upper = finite_bounds(robot.lower, robot.upper)
         values = [
-            robot.manipulability(robot.lower + span * halton(i, robot.nq), position_only)
+            robot.manipulability(lower + (upper - lower) * halton(i, robot.nq), position_only)
             for i in range(1, 257)
         ]
         cache[position_only] = float(np.median(values))
@@ -792,7 +793,7 @@ def _track(tracker: _Tracker, path: Path, timing: PathTiming, seed: np.ndarray) 
         done = k
     q_out, qd_out = q_out[:done], qd_out[:done]
     jacobian_stack = np.array(jacobians[:done]).reshape(done, 6, nq)
-    qdd_out = tracker.accelerations(jacobian_stack, qd_out, xdd[:done])
+    qdd_out = tracker.accelerations(q_out, jacobian_stack, qd_out, xdd[:done])
     tool = np.array(tools[:done]).reshape(done, 3)
     manip = np.array(manips[:done])
 

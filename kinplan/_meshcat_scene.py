@@ -19,7 +19,7 @@ import html
 import importlib.util
 import json
 import uuid
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
@@ -449,14 +449,15 @@ def static_html(
     """One self-contained HTML page: MeshCat's viewer, the scene and a playback bar.
 
     Args:
-        commands: Scene commands, applied in order when the page loads.
+        commands: Scene commands, applied in order when the page loads (typed arrays that
+            occur in several commands are stored once, see :func:`shared_scene`).
         config: Settings for the page script (``duration`` [s], ``camera_target`` in three.js
             coordinates [m], ``layers``: name -> scene path for the ``#hide=`` option).
         title: Page title.
         caption: Lines shown at the top left (the first in bold).
         legend: (CSS colour, label) pairs shown under the caption.
     """
-    scene = [base64.b64encode(pack(command)).decode("ascii") for command in commands]
+    scene, blobs = shared_scene(commands)
     legend_html = "".join(
         f'<span><i style="background:{html.escape(color)}"></i>{html.escape(label)}</span>'
         for color, label in legend
@@ -469,10 +470,84 @@ def static_html(
         legend=legend_html,
         meshcat=meshcat_javascript(),
         scene=_script_json(scene),
+        blobs=_script_json(blobs),
         config=_script_json(dict(config)),
         script=_PAGE_SCRIPT,
     )
     return page
+
+
+SHARED_MIN_BYTES = 256
+"""Typed arrays of at least this many bytes are stored once in a page however often they occur."""
+
+
+def shared_scene(commands: Sequence[Command]) -> tuple[list[Any], list[str]]:
+    """Commands as base64 msgpack, with typed arrays that occur more than once stored once.
+
+    A mesh file drawn by several links (left and right legs, fingers) and the key times every
+    animation track repeats make identical typed arrays. Each such array (of at least
+    :data:`SHARED_MIN_BYTES`) becomes a *blob*; a command that holds one is written as a list of
+    pieces: base64 text of its own bytes, and blob indices, which joined give its msgpack bytes.
+
+    Returns:
+        (scene, blobs): one entry per command, a base64 string or a list of base64 strings and
+        integers (indices into ``blobs``); and the blobs, base64.
+    """
+    packed = [pack(command) for command in commands]
+    payloads = [list(_large_payloads(command)) for command in commands]
+    counts: dict[bytes, int] = {}
+    for found in payloads:
+        for data in found:
+            counts[data] = counts.get(data, 0) + 1
+    index: dict[bytes, int] = {}
+    scene: list[Any] = []
+    for data_of_command, found in zip(packed, payloads):
+        pieces: list[Any] = []
+        cursor = 0
+        for data in found:
+            if counts[data] < 2:
+                continue
+            start = data_of_command.find(data, cursor)
+            if start < 0:  # not where packing put it: keep it inline
+                continue
+            pieces.append(base64.b64encode(data_of_command[cursor:start]).decode("ascii"))
+            pieces.append(index.setdefault(data, len(index)))
+            cursor = start + len(data)
+        if not pieces:
+            scene.append(base64.b64encode(data_of_command).decode("ascii"))
+            continue
+        pieces.append(base64.b64encode(data_of_command[cursor:]).decode("ascii"))
+        scene.append(pieces)
+    blobs = [base64.b64encode(data).decode("ascii") for data in index]
+    return scene, blobs
+
+
+def _large_payloads(value: Any) -> Iterator[bytes]:
+    """Typed-array bytes of at least :data:`SHARED_MIN_BYTES` in a command, in packing order."""
+    if isinstance(value, umsgpack.Ext):
+        if len(value.data) >= SHARED_MIN_BYTES:
+            yield value.data
+    elif isinstance(value, Mapping):
+        for key, item in value.items():
+            yield from _large_payloads(key)
+            yield from _large_payloads(item)
+    elif isinstance(value, (list, tuple)):
+        for item in value:
+            yield from _large_payloads(item)
+
+
+def scene_from_page(scene: Sequence[Any], blobs: Sequence[str]) -> list[bytes]:
+    """Inverse of :func:`shared_scene`: the msgpack bytes of every command (for tests)."""
+    decoded = [base64.b64decode(blob) for blob in blobs]
+    out = []
+    for entry in scene:
+        if isinstance(entry, str):
+            out.append(base64.b64decode(entry))
+        else:
+            out.append(
+                b"".join(decoded[p] if isinstance(p, int) else base64.b64decode(p) for p in entry)
+            )
+    return out
 
 
 def _script_json(value: Any) -> str:
@@ -516,6 +591,7 @@ body {{ margin: 0; overflow: hidden; font: 13px/1.4 system-ui, sans-serif;
 </div>
 <script>{meshcat}</script>
 <script id="kinplan-scene" type="application/json">{scene}</script>
+<script id="kinplan-blobs" type="application/json">{blobs}</script>
 <script id="kinplan-config" type="application/json">{config}</script>
 <script>{script}</script>
 </body>
@@ -534,8 +610,17 @@ _PAGE_SCRIPT = r"""
   const config = JSON.parse(document.getElementById("kinplan-config").textContent);
   const viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
   window.kinplanViewer = viewer;
+  // A command is base64 msgpack, or pieces: base64 text and indices of arrays stored once.
+  const blobs = JSON.parse(document.getElementById("kinplan-blobs").textContent).map(bytes);
+  function joined(pieces) {
+    const parts = pieces.map(p => (typeof p === "number" ? blobs[p] : bytes(p)));
+    const out = new Uint8Array(parts.reduce((n, p) => n + p.length, 0));
+    let offset = 0;
+    for (const p of parts) { out.set(p, offset); offset += p.length; }
+    return out;
+  }
   for (const command of JSON.parse(document.getElementById("kinplan-scene").textContent)) {
-    viewer.handle_command_bytearray(bytes(command));
+    viewer.handle_command_bytearray(typeof command === "string" ? bytes(command) : joined(command));
   }
   // MeshCat's commands place the camera; its orbit centre is set here (three.js frame).
   const target = config.camera_target;

@@ -1,26 +1,40 @@
 """A robot's visual geometry for the viewer (private to :mod:`kinplan.viewer`).
 
-The URDF's ``<visual>`` elements are read by Pinocchio (``buildGeomFromUrdf``) and reduced with the
-same locked joints, at the same reference configuration, as :attr:`kinplan.Robot.model`, so a
-joint vector of the robot places every visual. Mesh files (DAE, STL, OBJ) are read with trimesh,
-merged per visual, split at sharp edges for smooth shading and sent as compact binary arrays
-(float32 positions, int8 normals, uint8 colours, uint16 indices where they fit); boxes, spheres,
-cylinders and cones become three.js primitives.
+The URDF's ``<visual>`` elements are read from the file and placed on the link frames of
+:attr:`kinplan.Robot.model` (the same model, locked joints and base as the robot's own kinematics),
+so a joint vector of the robot places every visual.
+
+Mesh files are found as ROS does (:func:`resolve_mesh`): ``package://pkg/...`` through the
+robot's package folders, example-robot-data's and the URDF's own folder and its parents;
+``file://`` and absolute paths as they are; bare relative names next to the URDF. A mesh that is
+missing or unreadable is logged (one warning per file, naming the links) and drawn as a
+placeholder: the link's collision geometry when that loads, else a small box.
+
+Meshes (DAE, STL, OBJ) are read with trimesh, simplified with ``fast-simplification`` (quadric
+edge collapse) so the whole robot stays within a triangle budget (:func:`triangle_caps`), split at
+sharp edges for smooth shading and sent as compact binary arrays (float32 positions, int8
+normals, uint8 colours, uint16 indices where they fit). A mesh file's data do not depend on the
+visual that uses it (the URDF scale is the object's transform), so a file used twice is stored
+twice with identical bytes, which the HTML page keeps once. Boxes, spheres and cylinders become
+three.js primitives.
 """
 
 from __future__ import annotations
 
 import logging
+import math
+import xml.etree.ElementTree as ET
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 import pinocchio as pin
 
 from kinplan import _meshcat_scene as ms
-from kinplan.errors import URDFError
+from kinplan.errors import URDFError, ViewerError
 
 logger = logging.getLogger(__name__)
 
@@ -28,30 +42,85 @@ SMOOTHING_ANGLE = np.radians(30.0)
 """Faces meeting at a larger angle [rad] keep a sharp edge; smaller angles are shaded smooth."""
 
 DEFAULT_RGBA = (0.9, 0.9, 0.9, 1.0)
+"""Colour of a visual whose URDF and mesh file give none (Pinocchio's default)."""
+
+TRIANGLE_BUDGET = 150_000
+"""Triangles drawn for a whole robot by default; bigger meshes are simplified to fit."""
+
+MIN_TRIANGLES = 300
+"""No mesh is simplified below this many triangles, whatever the budget."""
+
+PLACEHOLDER_SIZE = 0.04
+"""Edge [m] of the box drawn for a missing mesh when the link has no collision geometry."""
+
+_ANCESTOR_LEVELS = 4  # URDF folder's parents searched for packages (pkg/urdf/x.urdf: 2 suffice)
 
 
 @dataclass(frozen=True)
 class VisualPart:
-    """One URDF visual as a MeshCat object.
+    """One URDF visual (or a placeholder for it) as a MeshCat object.
 
     Attributes:
         name: Scene node name (unique within the robot).
         obj: three.js object, the payload of a ``set_object`` command.
         bounds: Axis-aligned box of the geometry in the part's frame, shape (2, 3) [m].
+        triangles: Triangles drawn (0 for three.js primitives).
     """
 
     name: str
     obj: dict[str, Any]
     bounds: np.ndarray
+    triangles: int = 0
+
+
+@dataclass(frozen=True)
+class _Geometry:
+    """A URDF ``<geometry>``: a primitive, or a mesh file with its scale."""
+
+    kind: str  # "box", "cylinder", "sphere" or "mesh"
+    size: tuple[float, ...] = ()  # box (x, y, z); cylinder (radius, length); sphere (radius,) [m]
+    filename: str = ""  # the URDF's mesh file name, as written
+    scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
+
+
+@dataclass(frozen=True)
+class _Element:
+    """A URDF ``<visual>`` or ``<collision>`` of a link."""
+
+    link: str
+    name: str  # scene node name: link name and index among the link's visuals
+    origin: np.ndarray  # (4, 4) pose of the geometry in the link frame [m]
+    geometry: _Geometry | None  # None: a geometry kinplan does not draw
+    rgba: tuple[float, ...] | None  # the URDF material's colour, RGBA in [0, 1]
 
 
 @dataclass(frozen=True)
 class _MeshData:
-    vertices: np.ndarray  # (n, 3) float32 [m]
+    vertices: np.ndarray  # (n, 3) float32, in the file's units
     normals: np.ndarray  # (n, 3) float32
     faces: np.ndarray  # (m, 3) uint32
     colors: np.ndarray | None  # (n, 3) uint8, None when the file has a single colour
     rgba: tuple[float, ...] | None  # the single colour (None: file has none or several)
+
+
+@dataclass(frozen=True)
+class _ColourGroup:
+    """The triangles of one mesh file that share a colour, welded (in the file's units)."""
+
+    vertices: np.ndarray  # (n, 3) float64
+    faces: np.ndarray  # (m, 3) int64
+    rgba: tuple[float, ...] | None
+
+
+@dataclass(frozen=True)
+class _Item:
+    """What is drawn for one part: an element's geometry, with the file that holds it."""
+
+    name: str
+    element: _Element
+    geometry: _Geometry
+    rgba: tuple[float, ...] | None
+    mesh: Path | None = None  # resolved mesh file (geometry.kind == "mesh")
 
 
 class RobotVisuals:
@@ -59,47 +128,63 @@ class RobotVisuals:
 
     Attributes:
         parts: The visuals, in the order of :meth:`placements`.
-        model: Pinocchio model of the arm's chain (same joints as ``robot.model``).
+        model: Pinocchio model placing them: the robot's own ``model`` (shared, not modified).
+        triangles: Triangles drawn for the whole robot.
     """
 
-    def __init__(self, robot: Any):
-        full = pin.buildModelFromUrdf(str(robot.urdf_path))
-        try:
-            geometry = pin.buildGeomFromUrdf(
-                full,
-                str(robot.urdf_path),
-                pin.GeometryType.VISUAL,
-                package_dirs=[str(p) for p in robot.package_dirs],
-            )
-        except (RuntimeError, ValueError) as exc:
-            raise URDFError(
-                f"cannot read the visual geometry of {robot.urdf_path}: {exc}; check that its "
-                f"mesh files exist under the package folders {list(map(str, robot.package_dirs))}"
-            ) from exc
-        kept = set(robot.joint_names)
-        locked = [j for j in range(1, full.njoints) if full.names[j] not in kept]
-        if locked:
-            model, geometry = pin.buildReducedModel(full, geometry, locked, pin.neutral(full))
-        else:
-            model = full
-        names = [model.names[j] for j in range(1, model.njoints)]
-        if names != list(robot.joint_names):
-            raise URDFError(
-                f"the visual model of {robot.name} has joints {names}, "
-                f"the robot {robot.joint_names}"
+    def __init__(self, robot: Any, triangle_budget: int = TRIANGLE_BUDGET):
+        """Read the robot's URDF visuals and build their MeshCat objects.
+
+        Args:
+            robot: The robot (:func:`kinplan.load_robot`): its ``urdf_path``, ``package_dirs``,
+                ``model``, ``nq`` and ``tip_frame`` are used.
+            triangle_budget: Triangles to draw for the whole robot; meshes are simplified to fit
+                (none below :data:`MIN_TRIANGLES`).
+
+        Raises:
+            URDFError: the URDF cannot be read.
+            ViewerError: the robot's model does not take the robot's joint vectors.
+        """
+        model = robot.model
+        if model.nq != robot.nq:
+            raise ViewerError(
+                f"the model of {robot.name} takes {model.nq} joint values but the robot has "
+                f"{robot.nq} joints; the viewer places visuals with robot.model"
             )
         self.model = model
         self._data = model.createData()
-        self._geometry = geometry
-        self._geometry_data = pin.GeometryData(geometry)
-        self._tool_id = model.getFrameId(robot.tip_frame)
+        tool_id = getattr(robot, "tip_id", None)
+        self._tool_id = model.getFrameId(robot.tip_frame) if tool_id is None else tool_id
+        urdf_path = Path(robot.urdf_path)
+        visuals, collisions = read_urdf_elements(urdf_path)
+        folders = search_folders(urdf_path, getattr(robot, "package_dirs", ()))
+        items = _items(visuals, collisions, urdf_path, folders)
+        counts: dict[Path, list[int]] = {}
+        for item in items:
+            if item.mesh is not None:
+                counts.setdefault(item.mesh, [_triangle_count(item.mesh), 0])[1] += 1
+        caps = triangle_caps({path: (n, k) for path, (n, k) in counts.items()}, triangle_budget)
         self.parts: list[VisualPart] = []
-        self._indices: list[int] = []
-        for index, geometry_object in enumerate(geometry.geometryObjects):
-            part = _visual_part(geometry_object)
-            if part is not None:
-                self.parts.append(part)
-                self._indices.append(index)
+        frames: dict[str, int] = {}
+        part_frames, origins = [], []
+        for item in items:
+            link = item.element.link
+            if link not in frames:
+                frame_id = model.getFrameId(link, pin.FrameType.BODY)
+                if frame_id >= model.nframes:
+                    logger.warning("visual %s: link %s is not in the robot's model", item.name, link)
+                    continue
+                frames[link] = frame_id
+            part = _visual_part(item, caps.get(item.mesh, 0) if item.mesh else 0)
+            if part is None:
+                continue
+            self.parts.append(part)
+            part_frames.append(list(frames).index(link))
+            origins.append(item.element.origin)
+        self._frame_ids = list(frames.values())
+        self._part_frames = np.array(part_frames, dtype=int)
+        self._origins = np.array(origins, dtype=float).reshape(-1, 4, 4)
+        self.triangles = sum(p.triangles for p in self.parts)
 
     def placements(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Poses for one joint configuration (one forward-kinematics pass).
@@ -111,12 +196,11 @@ class RobotVisuals:
             (parts, tool): the 4×4 pose of every part, shape (P, 4, 4), and of the tool frame,
             shape (4, 4), in the base (world) frame.
         """
-        pin.forwardKinematics(self.model, self._data, q)
-        pin.updateGeometryPlacements(self.model, self._data, self._geometry, self._geometry_data)
-        tool = pin.updateFramePlacement(self.model, self._data, self._tool_id).homogeneous
-        oMg = self._geometry_data.oMg
-        parts = np.array([oMg[i].homogeneous for i in self._indices]).reshape(-1, 4, 4)
-        return parts, tool.copy()
+        pin.framesForwardKinematics(self.model, self._data, np.asarray(q, dtype=float))
+        oMf = self._data.oMf
+        links = np.array([oMf[f].homogeneous for f in self._frame_ids]).reshape(-1, 4, 4)
+        parts = links[self._part_frames] @ self._origins
+        return parts, oMf[self._tool_id].homogeneous.copy()
 
     def placements_over(self, qs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`placements` for every row of ``qs`` (F, nq): shapes (F, P, 4, 4), (F, 4, 4)."""
@@ -127,121 +211,277 @@ class RobotVisuals:
         return parts, tools
 
 
-def _node_name(name: str) -> str:
-    return name.replace("/", "_") or "visual"
+# ----------------------------------------------------------------------------------------------
+# The URDF's visual and collision elements
+# ----------------------------------------------------------------------------------------------
 
 
-def _visual_part(geometry_object: pin.GeometryObject) -> VisualPart | None:
-    """The MeshCat object of one Pinocchio visual, None (with a warning) if unsupported."""
-    name = _node_name(geometry_object.name)
-    rgba = tuple(float(c) for c in geometry_object.meshColor)
-    shape = geometry_object.geometry
-    kind = type(shape).__name__
-    mesh_path = geometry_object.meshPath
-    if kind.startswith("BVHModel") or (mesh_path and mesh_path.lower() not in _SHAPE_PATHS):
-        scale = tuple(float(s) for s in geometry_object.meshScale)
-        mesh = _load_mesh(mesh_path, scale)
-        if mesh is None:
-            return _mesh_file_part(name, mesh_path, scale, rgba, shape)
-        if geometry_object.overrideMaterial or mesh.colors is None:
-            rgba = rgba if geometry_object.overrideMaterial or mesh.rgba is None else mesh.rgba
-            colors = None
-        else:
-            colors = mesh.colors
-        geometry = ms.mesh_geometry(name, mesh.vertices, mesh.faces, mesh.normals, colors)
-        material = ms.phong_material(name, rgba[:3], rgba[3], vertex_colors=colors is not None)
-        bounds = np.array([mesh.vertices.min(axis=0), mesh.vertices.max(axis=0)], dtype=float)
-        return VisualPart(name, ms.scene_object(name, geometry, material), bounds)
-    primitive = _primitive(name, shape)
-    if primitive is None:
-        logger.warning("visual %s: %s geometry is not drawn", geometry_object.name, kind)
+def _floats(text: str | None, default: Sequence[float]) -> tuple[float, ...]:
+    if text is None:
+        return tuple(default)
+    return tuple(float(v) for v in text.split())
+
+
+def _origin(element: ET.Element) -> np.ndarray:
+    """The 4×4 pose of an ``<origin xyz rpy>`` child (identity when absent) [m, rad]."""
+    origin = element.find("origin")
+    matrix = np.eye(4)
+    if origin is not None:
+        roll, pitch, yaw = _floats(origin.get("rpy"), (0.0, 0.0, 0.0))
+        matrix[:3, :3] = pin.rpy.rpyToMatrix(roll, pitch, yaw)
+        matrix[:3, 3] = _floats(origin.get("xyz"), (0.0, 0.0, 0.0))
+    return matrix
+
+
+def _geometry(element: ET.Element) -> _Geometry | None:
+    """The geometry of a ``<visual>`` or ``<collision>``; None if none kinplan draws."""
+    geometry = element.find("geometry")
+    shape = None if geometry is None else next(iter(geometry), None)
+    if shape is None:
         return None
-    geometry, matrix, half_extent = primitive
-    material = ms.phong_material(name, rgba[:3], rgba[3])
-    bounds = np.array([-half_extent, half_extent])
-    return VisualPart(name, ms.scene_object(name, geometry, material, matrix), bounds)
-
-
-# Pinocchio's meshPath for URDF primitives names the shape instead of a file.
-_SHAPE_PATHS = {"box", "sphere", "cylinder", "cone", "capsule", "ellipsoid", "convex", ""}
-
-
-def _primitive(name: str, shape: Any) -> tuple[dict[str, Any], np.ndarray, np.ndarray] | None:
-    """(three.js geometry, geometry-to-part transform, half extents [m]) of a primitive shape."""
-    kind = type(shape).__name__
-    if kind == "Box":
-        half = np.asarray(shape.halfSide, dtype=float)
-        return ms.box_geometry(name, 2.0 * half), np.eye(4), half
-    if kind == "Sphere":
-        r = float(shape.radius)
-        return ms.sphere_geometry(name, r), np.eye(4), np.full(3, r)
-    if kind in ("Cylinder", "Cone"):
-        r, h = float(shape.radius), float(shape.halfLength)
-        top = 0.0 if kind == "Cone" else r  # coal's cone has its apex at +z
-        return ms.cylinder_geometry(name, r, top, 2.0 * h), ms.Y_TO_Z, np.array([r, r, h])
-    if kind == "Capsule":
-        import trimesh
-
-        r, h = float(shape.radius), float(shape.halfLength)
-        mesh = trimesh.creation.capsule(height=2.0 * h, radius=r, count=[24, 24])
-        geometry = ms.mesh_geometry(name, mesh.vertices, mesh.faces, mesh.vertex_normals)
-        return geometry, np.eye(4), np.array([r, r, h + r])
-    if kind == "Ellipsoid":
-        radii = np.asarray(shape.radii, dtype=float)
-        return ms.sphere_geometry(name, 1.0), np.diag([*radii, 1.0]), radii
+    if shape.tag == "box":
+        return _Geometry("box", _floats(shape.get("size"), (0.0, 0.0, 0.0)))
+    if shape.tag == "cylinder":
+        return _Geometry("cylinder", (float(shape.get("radius", 0)), float(shape.get("length", 0))))
+    if shape.tag == "sphere":
+        return _Geometry("sphere", (float(shape.get("radius", 0)),))
+    if shape.tag == "mesh" and shape.get("filename"):
+        scale = _floats(shape.get("scale"), (1.0, 1.0, 1.0))
+        scale = scale * 3 if len(scale) == 1 else scale
+        return _Geometry("mesh", filename=shape.get("filename", "").strip(), scale=scale[:3])
     return None
 
 
+def _material_colours(root: ET.Element) -> dict[str, tuple[float, ...]]:
+    """Colours of the URDF's top-level named materials."""
+    colours = {}
+    for material in root.findall("material"):
+        color = material.find("color")
+        if material.get("name") and color is not None and color.get("rgba"):
+            colours[material.get("name", "")] = _floats(color.get("rgba"), DEFAULT_RGBA)
+    return colours
+
+
+def _colour(element: ET.Element, named: Mapping[str, tuple[float, ...]]) -> tuple[float, ...] | None:
+    """A visual's material colour: its own ``<color>``, or the named material's; else None."""
+    material = element.find("material")
+    if material is None:
+        return None
+    color = material.find("color")
+    if color is not None and color.get("rgba"):
+        return _floats(color.get("rgba"), DEFAULT_RGBA)
+    return named.get(material.get("name", ""))
+
+
+def read_urdf_elements(
+    urdf_path: Path,
+) -> tuple[list[_Element], dict[str, list[_Element]]]:
+    """The visuals of a URDF, in file order, and the collision elements of each link.
+
+    A link's visuals are named ``<link>_<index>`` (as Pinocchio names them), with ``/`` made
+    ``_``.
+
+    Raises:
+        URDFError: the file cannot be read or is not XML.
+    """
+    try:
+        root = ET.parse(urdf_path).getroot()
+    except (OSError, ET.ParseError) as exc:
+        raise URDFError(f"cannot read the visuals of {urdf_path}: {exc}; fix the file") from exc
+    named = _material_colours(root)
+    visuals: list[_Element] = []
+    collisions: dict[str, list[_Element]] = {}
+    for link in root.findall("link"):
+        link_name = link.get("name", "")
+        for index, visual in enumerate(link.findall("visual")):
+            name = f"{link_name}_{index}".replace("/", "_")
+            geometry = _geometry(visual)
+            visuals.append(_Element(link_name, name, _origin(visual), geometry, _colour(visual, named)))
+        collisions[link_name] = [
+            _Element(link_name, f"{link_name}_collision{k}", _origin(c), _geometry(c), None)
+            for k, c in enumerate(link.findall("collision"))
+        ]
+    return visuals, collisions
+
+
+# ----------------------------------------------------------------------------------------------
+# Mesh files
+# ----------------------------------------------------------------------------------------------
+
+
+def search_folders(urdf_path: Path, package_dirs: Iterable[Any] = ()) -> list[Path]:
+    """Folders searched for ``package://`` meshes, in order.
+
+    The robot's package folders, example-robot-data's share folder, then the URDF's own folder
+    and its parents (a ROS package usually holds ``urdf/`` and ``meshes/`` side by side).
+    """
+    from kinplan.sources import example_robot_data_dir
+
+    folders = [Path(p) for p in package_dirs]
+    share = example_robot_data_dir()
+    if share is not None:
+        folders += [share, share / "example-robot-data" / "robots"]
+    folders += list(Path(urdf_path).resolve().parents)[:_ANCESTOR_LEVELS]
+    unique: list[Path] = []
+    for folder in folders:
+        if folder not in unique:
+            unique.append(folder)
+    return unique
+
+
+def resolve_mesh(
+    filename: str, urdf_path: Path, folders: Sequence[Path]
+) -> tuple[Path | None, list[Path]]:
+    """The mesh file a URDF names, and the places looked at.
+
+    * ``package://pkg/rest``: ``<folder>/pkg/rest`` for each of ``folders``
+      (:func:`search_folders`), or ``<folder>/rest`` when the folder is the package ``pkg``
+      itself; failing that, ``rest`` under one of the URDF's parent folders (a package checked
+      out under another folder name).
+    * ``file:///abs/path`` and absolute paths: the file itself.
+    * relative names (``meshes/arm.stl``): next to the URDF, then under each of ``folders``.
+
+    Returns:
+        (file or None when it is nowhere, the candidate paths tried).
+    """
+    urdf_dir = Path(urdf_path).resolve().parent
+    candidates: list[Path] = []
+    if filename.startswith("package://"):
+        package, _, rest = filename[len("package://") :].partition("/")
+        for folder in folders:
+            candidates.append(folder / package / rest)
+            if folder.name == package:
+                candidates.append(folder / rest)
+        candidates += [parent / rest for parent in list(urdf_dir.parents)[:_ANCESTOR_LEVELS]]
+    elif filename.startswith("file://"):
+        path = Path(filename[len("file://") :])
+        candidates.append(path if path.is_absolute() else urdf_dir / path)
+    elif Path(filename).is_absolute():
+        candidates.append(Path(filename))
+    else:
+        candidates += [urdf_dir / filename, *(folder / filename for folder in folders)]
+    for candidate in candidates:
+        if candidate.is_file():
+            return candidate, candidates
+    return None, candidates
+
+
 @lru_cache(maxsize=64)
-def _load_mesh(path: str, scale: tuple[float, float, float]) -> _MeshData | None:
-    """Read a mesh file with trimesh into one smooth-shaded mesh with its colours (cached)."""
+def _read_mesh(path: Path) -> tuple[_ColourGroup, ...] | None:
+    """A mesh file's triangles grouped by colour, welded (cached); None if trimesh fails."""
     import trimesh
 
     try:
-        scene = trimesh.load(path, force="scene")
+        scene = trimesh.load(str(path), force="scene")
     except Exception as exc:  # trimesh raises many types (and ImportError without pycollada)
         logger.warning("trimesh cannot read the mesh %s (%s)", path, exc)
         return None
-    pieces = []
+    pieces: dict[tuple[float, ...] | None, list[tuple[np.ndarray, np.ndarray]]] = {}
     for node in scene.graph.nodes_geometry:
         transform, geometry_name = scene.graph[node]
         source = scene.geometry[geometry_name]
-        if not isinstance(source, trimesh.Trimesh):
+        if not isinstance(source, trimesh.Trimesh) or len(source.faces) == 0:
             continue
-        vertices = trimesh.transform_points(source.vertices, transform) * np.asarray(scale)
-        shaded = _smooth_shaded(vertices, source.faces)
-        if shaded is not None:
-            pieces.append((shaded, _piece_rgba(source)))
-    return _merged(pieces)
+        vertices = trimesh.transform_points(source.vertices, transform)
+        rgba = _piece_rgba(source)
+        key = None if rgba is None else tuple(round(c, 3) for c in rgba)
+        pieces.setdefault(key, []).append((vertices, np.asarray(source.faces)))
+    groups = []
+    for rgba, parts in pieces.items():
+        offsets = np.cumsum([0] + [len(v) for v, _ in parts])
+        welded = trimesh.Trimesh(
+            np.vstack([v for v, _ in parts]),
+            np.vstack([f + o for (_, f), o in zip(parts, offsets)]),
+            process=True,
+        )
+        if len(welded.faces):
+            groups.append(
+                _ColourGroup(np.asarray(welded.vertices), np.asarray(welded.faces), rgba)
+            )
+    return tuple(groups)
 
 
-def _mesh_file_part(
-    name: str, path: str, scale: tuple[float, ...], rgba: tuple[float, ...], shape: Any
-) -> VisualPart | None:
-    """The mesh file itself, for MeshCat's browser-side loaders (when trimesh cannot read it).
+def clear_mesh_caches() -> None:
+    """Forget the mesh files read and simplified so far (they are read again when needed)."""
+    _read_mesh.cache_clear()
+    _shaded_mesh.cache_clear()
 
-    Bigger than :func:`_load_mesh`'s arrays and without the file's colours, but drawn.
+
+def _triangle_count(path: Path) -> int:
+    groups = _read_mesh(path)
+    return sum(len(g.faces) for g in groups) if groups else 0
+
+
+K = TypeVar("K")
+
+
+def triangle_caps(sizes: Mapping[K, tuple[int, int]], budget: int) -> dict[K, int]:
+    """Triangles to keep of each mesh so that every drawn copy adds up to ``budget``.
+
+    Water filling: one cap for all meshes, as high as the budget allows; meshes smaller than the
+    cap stay whole. No mesh is cut below :data:`MIN_TRIANGLES` (the budget may then be exceeded).
+
+    Args:
+        sizes: mesh -> (its triangles, how many times it is drawn).
+        budget: Triangles to draw in all.
+
+    Returns:
+        mesh -> triangles to keep (at most its own).
     """
-    suffix = Path(path).suffix.lower().lstrip(".")
-    if suffix not in ("dae", "obj", "stl") or not Path(path).is_file():
-        logger.warning("visual %s: mesh %s is not drawn", name, path)
+    remaining, copies = float(budget), sum(k for _, k in sizes.values())
+    cap = math.inf
+    for n, k in sorted(sizes.values()):
+        if n * copies <= remaining:
+            remaining -= n * k
+            copies -= k
+        else:
+            cap = remaining / copies
+            break
+    return {key: int(min(n, max(cap, MIN_TRIANGLES))) for key, (n, _) in sizes.items()}
+
+
+def simplified(vertices: np.ndarray, faces: np.ndarray, target: int) -> tuple[np.ndarray, np.ndarray]:
+    """A triangle mesh reduced to about ``target`` triangles by quadric edge collapse.
+
+    Uses ``fast-simplification`` (Fast-Quadric-Mesh-Simplification); a mesh already within the
+    target is returned as it is.
+
+    Args:
+        vertices: Vertex positions, shape (n, 3).
+        faces: Vertex indices of the triangles, shape (m, 3).
+        target: Triangles to keep (≥ 1).
+
+    Returns:
+        (vertices, faces) of the simplified mesh.
+    """
+    if len(faces) <= target:
+        return vertices, faces
+    import fast_simplification
+
+    points, triangles = fast_simplification.simplify(
+        np.ascontiguousarray(vertices, dtype=np.float64),
+        np.ascontiguousarray(faces, dtype=np.int64),
+        target_count=max(int(target), 1),
+    )
+    return points, triangles
+
+
+@lru_cache(maxsize=128)
+def _shaded_mesh(path: Path, max_triangles: int) -> _MeshData | None:
+    """A mesh file simplified to ``max_triangles``, split for smooth shading, colours merged."""
+    groups = _read_mesh(path)
+    if not groups:
         return None
-    raw = Path(path).read_bytes()
-    if suffix == "stl":
-        data: Any = ms.packed_array(np.frombuffer(raw, dtype=np.uint8))
-    else:
-        data = raw.decode("utf-8", errors="replace")
-    geometry = {
-        "uuid": ms.scene_uuid(name, "geometry"),
-        "type": "_meshfile_geometry",
-        "format": suffix,
-        "data": data,
-    }
-    material = ms.phong_material(name, rgba[:3], rgba[3])
-    shape.computeLocalAABB()  # Pinocchio read the file too: its box bounds the mesh
-    bounds = np.array([shape.aabb_local.min_, shape.aabb_local.max_], dtype=float)
-    matrix = np.diag([*scale, 1.0])
-    return VisualPart(name, ms.scene_object(name, geometry, material, matrix), bounds)
+    total = sum(len(g.faces) for g in groups)
+    pieces = []
+    for group in groups:
+        share = max_triangles * len(group.faces) / total
+        target = max(int(round(share)), min(len(group.faces), 12))
+        vertices, faces = simplified(group.vertices, group.faces, target)
+        shaded = _smooth_shaded(vertices, faces)
+        if shaded is not None:
+            pieces.append((shaded, group.rgba))
+    return _merged(pieces)
 
 
 def _smooth_shaded(vertices: np.ndarray, faces: np.ndarray) -> Any:
@@ -283,3 +523,183 @@ def _piece_rgba(mesh: Any) -> tuple[float, ...] | None:
     if color is None:
         return None
     return tuple(float(c) / 255.0 for c in np.asarray(color)[:4])
+
+
+# ----------------------------------------------------------------------------------------------
+# What to draw: visuals, and placeholders for missing meshes
+# ----------------------------------------------------------------------------------------------
+
+
+def _drawable(path: Path) -> bool:
+    """Whether a mesh file can be drawn: trimesh reads triangles, or MeshCat can parse it."""
+    groups = _read_mesh(path)
+    if groups is None:
+        return path.suffix.lower() in (".dae", ".obj", ".stl")
+    return len(groups) > 0
+
+
+def _items(
+    visuals: list[_Element],
+    collisions: Mapping[str, list[_Element]],
+    urdf_path: Path,
+    folders: Sequence[Path],
+) -> list[_Item]:
+    """Every part to draw: the visuals, a missing mesh replaced by a placeholder.
+
+    A placeholder is the link's collision geometry (each element whose primitive or mesh
+    loads), drawn once per link, else a :data:`PLACEHOLDER_SIZE` box at the visual's origin.
+    One warning per missing or unreadable file names it and its links.
+    """
+    items: list[_Item] = []
+    problems: dict[str, tuple[str, list[str], list[str]]] = {}  # file -> (why, links, drawn)
+    covered: set[str] = set()  # links whose collision geometry stands in already
+    for element in visuals:
+        geometry = element.geometry
+        if geometry is None:
+            logger.warning("visual %s: its geometry is not drawn (no box, cylinder, sphere or "
+                           "mesh)", element.name)
+            continue
+        if geometry.kind != "mesh":
+            items.append(_Item(element.name, element, geometry, element.rgba))
+            continue
+        path, tried = resolve_mesh(geometry.filename, urdf_path, folders)
+        if path is not None and _drawable(path):
+            items.append(_Item(element.name, element, geometry, element.rgba, path))
+            continue
+        if path is None:
+            shown = ", ".join(str(p) for p in dict.fromkeys(tried))
+            why = f"not found (looked for {shown})"
+        elif _read_mesh(path) is None:
+            why = f"{path} cannot be read"
+        else:
+            why = f"{path} has no triangles"
+        placeholder = [] if element.link in covered else _collision_items(
+            element, collisions.get(element.link, []), urdf_path, folders
+        )
+        if placeholder:
+            covered.add(element.link)
+            drawn = "its collision geometry"
+        elif element.link in covered:
+            drawn = "its collision geometry"
+        else:
+            box = _Geometry("box", (PLACEHOLDER_SIZE,) * 3)
+            placeholder = [_Item(element.name, element, box, element.rgba)]
+            drawn = f"a {100 * PLACEHOLDER_SIZE:g} cm box"
+        items += placeholder
+        entry = problems.setdefault(geometry.filename, (why, [], []))
+        entry[1].append(element.link)
+        entry[2].append(drawn)
+    for filename, (why, links, drawn) in problems.items():
+        logger.warning(
+            "mesh %s of link%s %s: %s; drawn as %s",
+            filename,
+            "s" if len(set(links)) > 1 else "",
+            ", ".join(dict.fromkeys(links)),
+            why,
+            " / ".join(dict.fromkeys(drawn)),
+        )
+    return items
+
+
+def _collision_items(
+    visual: _Element, elements: list[_Element], urdf_path: Path, folders: Sequence[Path]
+) -> list[_Item]:
+    """The link's collision elements that can be drawn, in the visual's colour."""
+    items = []
+    for k, element in enumerate(elements):
+        geometry = element.geometry
+        if geometry is None:
+            continue
+        name = visual.name if k == 0 else f"{visual.name}_collision{k}"
+        placed = _Element(element.link, name, element.origin, geometry, visual.rgba)
+        if geometry.kind != "mesh":
+            items.append(_Item(name, placed, geometry, visual.rgba))
+            continue
+        path, _ = resolve_mesh(geometry.filename, urdf_path, folders)
+        if path is not None and _read_mesh(path):
+            items.append(_Item(name, placed, geometry, visual.rgba, path))
+    return items
+
+
+# ----------------------------------------------------------------------------------------------
+# MeshCat objects
+# ----------------------------------------------------------------------------------------------
+
+
+def _visual_part(item: _Item, max_triangles: int) -> VisualPart | None:
+    """The MeshCat object of one part (a mesh within ``max_triangles``, or a primitive)."""
+    name, geometry = item.name, item.geometry
+    if geometry.kind != "mesh" or item.mesh is None:
+        return _primitive_part(name, geometry, item.rgba or DEFAULT_RGBA)
+    scale = np.asarray(geometry.scale, dtype=float)
+    mesh = _shaded_mesh(item.mesh, max_triangles)
+    if mesh is None:
+        return _mesh_file_part(name, item.mesh, scale, item.rgba or DEFAULT_RGBA)
+    if item.rgba is not None or mesh.colors is None:  # the URDF's colour wins over the file's
+        rgba = item.rgba or mesh.rgba or DEFAULT_RGBA
+        colors = None
+    else:
+        rgba, colors = DEFAULT_RGBA, mesh.colors
+    mesh_geometry = ms.mesh_geometry(name, mesh.vertices, mesh.faces, mesh.normals, colors)
+    material = ms.phong_material(name, rgba[:3], rgba[3], vertex_colors=colors is not None)
+    lo, hi = mesh.vertices.min(axis=0) * scale, mesh.vertices.max(axis=0) * scale
+    bounds = np.array([np.minimum(lo, hi), np.maximum(lo, hi)], dtype=float)
+    obj = ms.scene_object(name, mesh_geometry, material, np.diag([*scale, 1.0]))
+    return VisualPart(name, obj, bounds, len(mesh.faces))
+
+
+def _primitive_part(name: str, geometry: _Geometry, rgba: Sequence[float]) -> VisualPart:
+    """A box, cylinder or sphere as a three.js primitive."""
+    matrix = np.eye(4)
+    if geometry.kind == "box":
+        half = 0.5 * np.asarray(geometry.size, dtype=float)
+        shape = ms.box_geometry(name, 2.0 * half)
+    elif geometry.kind == "sphere":
+        r = float(geometry.size[0])
+        shape, half = ms.sphere_geometry(name, r), np.full(3, r)
+    else:  # cylinder along z; three.js cylinders run along y
+        r, length = (float(v) for v in geometry.size)
+        shape, matrix = ms.cylinder_geometry(name, r, r, length), ms.Y_TO_Z
+        half = np.array([r, r, 0.5 * length])
+    material = ms.phong_material(name, rgba[:3], rgba[3])
+    return VisualPart(name, ms.scene_object(name, shape, material, matrix), np.array([-half, half]))
+
+
+def _mesh_file_part(
+    name: str, path: Path, scale: np.ndarray, rgba: Sequence[float]
+) -> VisualPart | None:
+    """The mesh file itself, for MeshCat's browser-side loaders (when trimesh cannot read it).
+
+    Bigger than :func:`_shaded_mesh`'s arrays, neither simplified nor coloured, but drawn.
+    """
+    suffix = path.suffix.lower().lstrip(".")
+    raw = path.read_bytes()
+    if suffix == "stl":
+        data: Any = ms.packed_array(np.frombuffer(raw, dtype=np.uint8))
+    else:
+        data = raw.decode("utf-8", errors="replace")
+    geometry = {
+        "uuid": ms.scene_uuid(name, "geometry"),
+        "type": "_meshfile_geometry",
+        "format": suffix,
+        "data": data,
+    }
+    material = ms.phong_material(name, rgba[:3], rgba[3])
+    bounds = _file_bounds(path) * scale
+    bounds = np.array([bounds.min(axis=0), bounds.max(axis=0)])
+    return VisualPart(name, ms.scene_object(name, geometry, material, np.diag([*scale, 1.0])), bounds)
+
+
+def _file_bounds(path: Path) -> np.ndarray:
+    """Axis-aligned box of a mesh file read by Pinocchio's collision library (coal), (2, 3)."""
+    try:
+        import coal as collision
+    except ImportError:  # Pinocchio < 3.4 ships hpp-fcl
+        import hppfcl as collision
+    try:
+        mesh = collision.MeshLoader().load(str(path), np.ones(3))
+        mesh.computeLocalAABB()
+        return np.array([mesh.aabb_local.min_, mesh.aabb_local.max_], dtype=float)
+    except Exception as exc:  # assimp cannot read it either: frame the camera on the origin
+        logger.warning("cannot measure the mesh %s (%s)", path, exc)
+        return np.zeros((2, 3))

@@ -105,19 +105,22 @@ def choice(value: object, name: str, options: tuple[str, ...] | list[str]) -> st
     return value
 
 
-def vector(value: object, name: str, size: int | None = None, unit: str = "") -> np.ndarray:
-    """A finite 1-D float array (a copy), of length ``size`` when given.
+def vector(
+    value: object, name: str, size: int | None = None, unit: str = "", infinite: bool = False
+) -> np.ndarray:
+    """A finite 1-D float array (a copy), of length ``size`` when given (``infinite``: ±inf
+    allowed, as for the limits of an unbounded joint).
 
     Raises:
         InputError: not numeric (strings, None, ragged lists), not 1-D, the wrong length, NaN
-            or inf.
+            or (unless allowed) inf.
     """
     unit_text = f" [{unit}]" if unit else ""
     wanted = f"{size} numbers" if size is not None else "a list of numbers"
     array = np.array(floats(value, name, f"{wanted}{unit_text}"))  # a copy
     if array.ndim != 1 or (size is not None and array.shape[0] != size):
         raise InputError(f"{name} must be {wanted}{unit_text}, got shape {array.shape}")
-    if not np.all(np.isfinite(array)):
+    if np.any(np.isnan(array)) or not (infinite or np.all(np.isfinite(array))):
         raise InputError(f"{name} must be finite{unit_text}, got {array.tolist()}")
     return array
 

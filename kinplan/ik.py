@@ -104,6 +104,14 @@ def frobenius_tolerance(rotation_tolerance: float) -> float:
     return 8.0 * math.sin(0.5 * min(rotation_tolerance, math.pi)) ** 2
 
 
+def finite_bounds(lower: np.ndarray, upper: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Limits to sample configurations from [rad or m]: unbounded (continuous) joints span
+    [−π, π]."""
+    return np.where(np.isfinite(lower), lower, -math.pi), np.where(
+        np.isfinite(upper), upper, math.pi
+    )
+
+
 def halton(index: int, dim: int) -> np.ndarray:
     """Point ``index`` (≥ 1) of the Halton low-discrepancy sequence in [0, 1)^dim.
 
@@ -134,8 +142,8 @@ class IKSolver:
     Args:
         model: The (reduced, serial) Pinocchio model.
         frame_id: Tool frame index in ``model``.
-        lower: Lower joint limits [rad or m].
-        upper: Upper joint limits [rad or m].
+        lower: Lower joint limits [rad or m] (−inf for an unbounded joint).
+        upper: Upper joint limits [rad or m] (+inf for an unbounded joint).
     """
 
     def __init__(self, model: pin.Model, frame_id: int, lower: np.ndarray, upper: np.ndarray):
@@ -144,9 +152,9 @@ class IKSolver:
         frame_id = checks.count(frame_id, "frame_id", minimum=0)
         if frame_id >= model.nframes:
             raise InputError(f"frame_id must be a frame index < {model.nframes}, got {frame_id}")
-        lower = checks.vector(lower, "lower", model.nq, "rad or m")
-        upper = checks.vector(upper, "upper", model.nq, "rad or m")
-        if np.any(lower > upper):
+        lower = checks.vector(lower, "lower", model.nq, "rad or m", infinite=True)
+        upper = checks.vector(upper, "upper", model.nq, "rad or m", infinite=True)
+        if np.any(lower > upper) or np.any(lower == np.inf) or np.any(upper == -np.inf):
             raise InputError(f"every lower limit must be ≤ its upper limit: {lower} vs {upper}")
         self.model = model
         self.data = model.createData()
@@ -166,7 +174,8 @@ class IKSolver:
         if attempt > len(self._restarts):
             count = max(2 * attempt, 64)
             unit = np.array([halton(i, self.nq) for i in range(1, count + 1)])
-            self._restarts = self.lower + (self.upper - self.lower) * unit
+            low, high = finite_bounds(self.lower, self.upper)
+            self._restarts = low + (high - low) * unit
         return self._restarts[attempt - 1]
 
     def errors(

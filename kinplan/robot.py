@@ -8,168 +8,28 @@ one ``pin.Model`` (reduced to the chain from the URDF root to the tool frame) an
 
 from __future__ import annotations
 
-import contextlib
+import dataclasses
 import logging
 import math
 import os
-import re
-import sys
-import tempfile
-import xml.etree.ElementTree as ET
-from collections.abc import Iterator, Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 
 from kinplan import checks
-from kinplan.errors import FrameError, InputError, RobotNotFoundError, URDFError
-from kinplan.ik import IKResult, IKSolver
+from kinplan.errors import InputError, RobotNotFoundError
+from kinplan.ik import IKResult, IKSolver, finite_bounds
 from kinplan.planar import planar_arm_urdf, write_planar_arm
 from kinplan.sources import RobotSpec, known_names, resolve_source
+from kinplan.urdf_model import build_chain, frame_id
 
 logger = logging.getLogger(__name__)
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 _ONES3 = np.ones(3)
 _TAU = 2.0 * math.pi
-_ONE_DOF_JOINTS = {
-    "JointModelRX",
-    "JointModelRY",
-    "JointModelRZ",
-    "JointModelRevoluteUnaligned",
-    "JointModelPX",
-    "JointModelPY",
-    "JointModelPZ",
-    "JointModelPrismaticUnaligned",
-}
-
-
-def _root_link(urdf_path: Path) -> tuple[str, str]:
-    """Parse the URDF's XML; return (robot name, root link name)."""
-    try:
-        root = ET.parse(urdf_path).getroot()
-    except ET.ParseError as exc:
-        raise URDFError(f"{urdf_path} is not valid XML ({exc}); fix the file") from exc
-    except OSError as exc:
-        raise URDFError(f"cannot read the URDF file {urdf_path}: {exc}") from exc
-    if root.tag != "robot":
-        raise URDFError(f"{urdf_path} is not a URDF: its root element is <{root.tag}>, not <robot>")
-    links = [link.get("name") for link in root.findall("link")]
-    children = {child.get("link") for child in root.findall("joint/child")}
-    roots = [name for name in links if name not in children]
-    if len(roots) != 1:
-        raise URDFError(
-            f"{urdf_path} must have exactly one root link (a link that is no joint's child); "
-            f"found {roots or 'none'}"
-        )
-    return root.get("name", urdf_path.stem), roots[0]
-
-
-@contextlib.contextmanager
-def _native_stderr_captured() -> Iterator[list[str]]:
-    """Redirect file descriptor 2 into a temporary file while the block runs.
-
-    Native code (urdfdom inside Pinocchio) prints its diagnostics straight to file descriptor
-    2, past Python's ``sys.stderr``; this keeps them off the terminal. The yielded list receives
-    the captured text when the block ends. Without a usable descriptor 2 nothing is captured.
-    """
-    captured: list[str] = []
-    try:
-        saved = os.dup(2)
-    except OSError:  # no descriptor 2 (a daemon): nothing to keep off the terminal
-        yield captured
-        return
-    with tempfile.TemporaryFile() as sink:
-        try:
-            sys.stderr.flush()
-        except (AttributeError, OSError, ValueError):  # replaced or closed sys.stderr
-            pass
-        os.dup2(sink.fileno(), 2)
-        try:
-            yield captured
-        finally:
-            os.dup2(saved, 2)
-            os.close(saved)
-            sink.seek(0)
-            captured.append(sink.read().decode("utf-8", errors="replace"))
-
-
-def _parser_messages(text: str) -> str:
-    """urdfdom's captured ``Error:``/``Warning:`` lines on one line, without the source
-    locations of its C++ code (``at line 105 in .../pose.cpp``)."""
-    messages = []
-    for line in text.splitlines():
-        line = " ".join(line.split())
-        if not line or re.match(r"^at line \d+ in ", line):
-            continue
-        messages.append(re.sub(r"^Error:\s*", "", line))
-    return "; ".join(messages)
-
-
-def _build_model(urdf_path: Path) -> pin.Model:
-    """Pinocchio's model of the URDF; urdfdom's own messages go into the error (or the log)."""
-    with _native_stderr_captured() as captured:
-        try:
-            model = pin.buildModelFromUrdf(str(urdf_path))
-            failure = None
-        except Exception as exc:  # RuntimeError, ValueError or Boost.Python errors: all bad URDF
-            model, failure = None, exc
-    details = _parser_messages("".join(captured))
-    if failure is not None:
-        said = f" (the URDF parser reported: {details})" if details else ""
-        reason = str(failure).strip().rstrip(".")
-        raise URDFError(
-            f"Pinocchio could not read {urdf_path}: {reason}{said}; fix the file"
-        ) from failure
-    if details:
-        logger.info("URDF parser on %s: %s", urdf_path, details)
-    return model
-
-
-def _body_frames(model: pin.Model) -> list[str]:
-    return [f.name for f in model.frames if f.type == pin.FrameType.BODY and f.name != "universe"]
-
-
-def _default_tip(model: pin.Model, urdf_path: Path) -> str:
-    """The last link of the only chain; an error listing the chain ends if there are several."""
-    parents = {model.parents[j] for j in range(1, model.njoints)}
-    leaves = [j for j in range(1, model.njoints) if j not in parents]
-    if not leaves:
-        raise URDFError(f"{urdf_path} has no movable joint; kinplan plans for arms with joints")
-    ends = []
-    for j in leaves:
-        bodies = [
-            f.name for f in model.frames if f.type == pin.FrameType.BODY and f.parentJoint == j
-        ]
-        ends.append(bodies[-1])
-    if len(ends) > 1:
-        raise URDFError(
-            f"{urdf_path} has several kinematic chains ending at {', '.join(ends)}; "
-            "choose one with tip=<link name>"
-        )
-    return ends[0]
-
-
-def _chain_model(model: pin.Model, tip: str, urdf_path: Path) -> pin.Model:
-    """Reduce ``model`` to the joints between the root and frame ``tip`` (the others locked)."""
-    if not model.existFrame(tip):
-        candidates = ", ".join(_body_frames(model))
-        raise FrameError(f"no frame {tip!r} in {urdf_path.name}; links and frames: {candidates}")
-    frame = model.frames[model.getFrameId(tip)]
-    chain = set(model.supports[frame.parentJoint])
-    for j in sorted(chain - {0}):
-        kind = model.joints[j].shortname()
-        if kind not in _ONE_DOF_JOINTS:
-            raise URDFError(
-                f"joint {model.names[j]!r} of {urdf_path.name} is {kind}: kinplan plans for serial "
-                "arms of revolute (with limits) and prismatic joints; a floating or continuous "
-                "joint is not supported on the tool's chain"
-            )
-    locked = [j for j in range(1, model.njoints) if j not in chain]
-    if not locked:
-        return model
-    return pin.buildReducedModel(model, locked, pin.neutral(model))
 
 
 class Robot:
@@ -189,7 +49,15 @@ class Robot:
         package_dirs: Folders that resolve the URDF's ``package://`` mesh paths.
     """
 
-    def __init__(self, spec: RobotSpec, tip: str | None = None):
+    def __init__(
+        self,
+        spec: RobotSpec,
+        tip: str | None = None,
+        *,
+        locked_joints: Mapping[str, float] | None = None,
+        base_pose: pin.SE3 | None = None,
+        limits: Mapping[str, Mapping[str, float]] | None = None,
+    ):
         if not isinstance(spec, RobotSpec):
             raise InputError(
                 "Robot(spec) takes a kinplan.sources.RobotSpec; load a robot with "
@@ -197,28 +65,37 @@ class Robot:
             )
         if tip is not None:
             tip = checks.text(tip, "tip (a frame or link name)")
+        if base_pose is not None:
+            position, rotation = parse_target(base_pose, "base_pose")
+            if rotation is None:
+                rotation = np.eye(3)
+            base_pose = pin.SE3(rotation, position)
         urdf_path = Path(spec.urdf_path)
-        urdf_name, self.base_frame = _root_link(urdf_path)
-        full = _build_model(urdf_path)
-        self.tip_frame = tip or spec.default_tip or _default_tip(full, urdf_path)
-        self.model = _chain_model(full, self.tip_frame, urdf_path)
-        if self.model.nq == 0:
-            raise URDFError(f"no movable joint between {self.base_frame!r} and {self.tip_frame!r}")
-        self.name = spec.name or urdf_name
+        chain = build_chain(
+            urdf_path, tip, spec.default_tip, locked_joints=locked_joints, base_pose=base_pose,
+            limits=limits,
+        )  # fmt: skip
+        self.model = chain.model
+        self.tip_frame = chain.tip
+        self.base_frame = chain.base_frame
+        self.name = spec.name or chain.name
         self.urdf_path = urdf_path
         self.package_dirs = spec.package_dirs
         self.nq = self.model.nq
-        self.joint_names = [self.model.names[j] for j in range(1, self.model.njoints)]
-        self.tip_id = self.model.getFrameId(self.tip_frame)
-        self.lower = np.array(self.model.lowerPositionLimit, dtype=float)
-        self.upper = np.array(self.model.upperPositionLimit, dtype=float)
-        velocity = np.array(self.model.velocityLimit, dtype=float)
-        self.velocity_limit = np.where(velocity > 0, velocity, np.inf)
-        bad = [n for n, lo, hi in zip(self.joint_names, self.lower, self.upper) if not lo < hi]
-        if bad:
-            raise URDFError(f"joints {bad} of {urdf_path.name} have no valid position limits")
+        self.joint_names = [
+            self.model.names[j] for j in range(1, self.model.njoints) if self.model.joints[j].nq
+        ]
+        self.continuous_joints = chain.continuous
+        self.mimic_joints = chain.mimic
+        self.locked_joints = chain.locked
+        self.held_root = chain.held_root
+        self.base_pose = pin.SE3.Identity() if base_pose is None else base_pose
+        self.tip_id = frame_id(self.model, self.tip_frame, urdf_path)
+        self.lower, self.upper = chain.lower, chain.upper
+        self.velocity_limit, self.acceleration_limit = chain.velocity, chain.acceleration
         self.data = self.model.createData()
         self._ik = IKSolver(self.model, self.tip_id, self.lower, self.upper)
+        self._unbounded = np.flatnonzero(~np.isfinite(self.lower) & ~np.isfinite(self.upper))
         self._task = self._task_structure()
         self.link_lengths = self._planar_link_lengths()
 
@@ -278,14 +155,14 @@ class Robot:
         return np.clip(np.zeros(self.nq), self.lower, self.upper)
 
     def random_configuration(self, rng: np.random.Generator) -> np.ndarray:
-        """A configuration drawn uniformly within the limits with the caller's generator
-        (``numpy.random.default_rng(seed)``)."""
+        """A configuration drawn uniformly within the limits (continuous joints within [−π, π])
+        with the caller's generator (``numpy.random.default_rng(seed)``)."""
         if not isinstance(rng, np.random.Generator):
             raise InputError(
                 f"rng must be a numpy.random.Generator (numpy.random.default_rng(seed)); got "
                 f"{checks.describe(rng)}"
             )
-        return rng.uniform(self.lower, self.upper)
+        return rng.uniform(*finite_bounds(self.lower, self.upper))
 
     # ------------------------------------------------------------------ kinematics
     def fk(self, q: Sequence[float] | np.ndarray) -> pin.SE3:
@@ -512,7 +389,7 @@ class Robot:
         closed_form = self.closed_form_ik
         if closed_form is not None and rotation is None and closed_form.needs_rotation:
             closed_form = None  # a position-only target: the numerical solver
-        return self._ik.solve(
+        result = self._ik.solve(
             position,
             rotation,
             seed,
@@ -522,6 +399,41 @@ class Robot:
             max_restarts=max_restarts,
             closed_form=closed_form,
         )
+        unbounded = self._unbounded
+        if unbounded.size:  # continuous joints: the equivalent angle nearest the seed
+            turns = np.round((result.q[unbounded] - seed[unbounded]) / _TAU)
+            result.q = result.q.copy()
+            result.q[unbounded] -= _TAU * turns
+        return result
+
+    def jacobian_time_variations(
+        self, q: np.ndarray, qd: np.ndarray, jacobians: np.ndarray | None = None
+    ) -> np.ndarray:
+        """J̇ of the tool Jacobian (world-aligned, like :meth:`jacobian`) at many samples.
+
+        Without mimic joints: :func:`jacobian_time_variation` from the Jacobians alone (no
+        kinematics pass). A mimic joint makes a Jacobian column the sum of two joints' columns,
+        which that formula cannot split: then Pinocchio computes it sample by sample.
+
+        Args:
+            q: Joint positions (N, nq) [rad or m].
+            qd: Joint velocities (N, nq) [rad/s or m/s].
+            jacobians: The tool Jacobians (N, 6, nq) at q, if known.
+
+        Returns:
+            J̇, shape (N, 6, nq) (per second).
+        """
+        if not self.mimic_joints:
+            if jacobians is None:
+                jacobians = np.array([self.jacobian(row) for row in q]).reshape(-1, 6, self.nq)
+            return jacobian_time_variation(jacobians, qd)
+        out = np.empty((len(q), 6, self.nq))
+        model, data = self.model, self.data
+        for k, (row, rate) in enumerate(zip(q, qd)):
+            pin.computeJointJacobiansTimeVariation(model, data, row, rate)
+            pin.updateFramePlacement(model, data, self.tip_id)
+            out[k] = pin.getFrameJacobianTimeVariation(model, data, self.tip_id, _LWA)
+        return out
 
     @property
     def closed_form_ik(self):
@@ -646,21 +558,45 @@ def parse_target(
     return matrix[:3, 3], matrix[:3, :3]
 
 
-def load_robot(source: str | os.PathLike[str], tip: str | None = None) -> Robot:
+def load_robot(
+    source: str | os.PathLike[str],
+    tip: str | None = None,
+    *,
+    locked_joints: Mapping[str, float] | None = None,
+    base_pose: pin.SE3 | np.ndarray | None = None,
+    limits: Mapping[str, Mapping[str, float]] | None = None,
+    package_dirs: Sequence[str | os.PathLike[str]] | None = None,
+) -> Robot:
     """Load a robot arm.
+
+    Continuous joints become unbounded revolute joints (``lower = -inf``, ``upper = +inf``),
+    mimic joints follow their master (not in ``q``), a floating or planar root joint is held at
+    ``base_pose`` (see :mod:`kinplan.urdf_model`).
 
     Args:
         source: A bundled robot (``"planar_2r"``), an example-robot-data arm (``"ur3"``,
             ``"ur5"``, ``"ur10"``, ``"panda"``) or the path of a URDF file.
         tip: Tool frame (link or frame name). Default: ``tool0`` for UR arms, ``panda_hand_tcp``
-            for the panda, ``tip`` for planar arms, otherwise the last link of the only chain.
+            for the panda, ``tip`` for planar arms, otherwise the last link of the only chain
+            (gripper joints — names with gripper, finger, jaw — left out and held at 0).
+        locked_joints: Joints held at a value, {name: value [rad or m]}; they leave ``q``.
+        base_pose: Pose of the URDF's root link in the world (``pin.SE3`` or 4×4 matrix);
+            every pose of the robot is then expressed in the world. Default identity.
+        limits: Overrides of the URDF's limits, {joint: {"lower": .., "upper": .., "velocity":
+            .., "acceleration": ..}} (any subset; [rad or m, /s, /s²]). Joints without usable
+            limits in the URDF load with them.
+        package_dirs: Extra folders searched for ``package://`` and relative mesh paths (the
+            URDF's own folder and example-robot-data's always are).
 
     Raises:
         RobotNotFoundError: unknown name (the message lists the known ones) or missing file.
         URDFError: malformed XML, a URDF Pinocchio rejects, several chains without ``tip``, a
             floating or continuous joint on the chain.
-        FrameError: ``tip`` is not a frame of the robot (the message lists the candidates).
-        InputError: ``source`` is not a string or path, ``tip`` not a string.
+        FrameError: ``tip`` is not a frame of the robot, or several chains and no ``tip`` (the
+            message lists the candidate tool frames).
+        InputError: ``source`` is not a string or path, ``tip`` not a string; malformed
+            ``locked_joints``, ``base_pose``, ``limits`` or ``package_dirs`` (unknown joint
+            names are listed with the known ones).
     """
     if isinstance(source, os.PathLike):
         try:
@@ -683,7 +619,16 @@ def load_robot(source: str | os.PathLike[str], tip: str | None = None) -> Robot:
             f"cannot use {shown!r} as a robot ({reason}); give a robot name "
             f"({', '.join(known_names())}) or the path of a URDF file"
         ) from exc
-    return Robot(spec, tip=tip)
+    if package_dirs is not None:
+        if isinstance(package_dirs, (str, os.PathLike)):
+            package_dirs = [package_dirs]
+        if not isinstance(package_dirs, Sequence):
+            raise InputError(
+                f"package_dirs must be a list of folders, got {checks.describe(package_dirs)}"
+            )
+        extra = tuple(Path(checks.file_path(d, "package_dirs entry")) for d in package_dirs)
+        spec = dataclasses.replace(spec, package_dirs=extra + tuple(spec.package_dirs))
+    return Robot(spec, tip, locked_joints=locked_joints, base_pose=base_pose, limits=limits)
 
 
 def planar_arm(

@@ -45,6 +45,11 @@ from kinplan.errors import InfeasibleError, InputError
 
 __all__ = [
     "DEFAULT_BLEND_FRACTION",
+    "MAX_DURATION",
+    "MAX_MAGNITUDE",
+    "MAX_SAMPLES",
+    "MIN_DURATION",
+    "MIN_MAGNITUDE",
     "Segment",
     "Trajectory",
     "Waypoints",
@@ -898,9 +903,8 @@ def _finite_array(value: object, name: str) -> np.ndarray:
     if raw.dtype.kind == "O":
         for item in raw.flat:
             if item is None or isinstance(item, (str, bytes, bool, np.bool_)):
-                raise InputError(
-                    f"{name} must hold numbers only, got {item!r} in {_describe(value)}"
-                )
+                where = "" if raw.ndim == 0 else f" in {_describe(value)}"
+                raise InputError(f"{name} must hold numbers only, got {item!r}{where}")
     elif raw.dtype.kind not in "iuf":
         what = "booleans" if raw.dtype.kind == "b" else f"values of type {raw.dtype}"
         raise InputError(f"{name} must be real numbers, got {what}: {_describe(value)}")

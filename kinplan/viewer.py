@@ -44,6 +44,7 @@ import numpy as np
 import pinocchio as pin
 
 from kinplan import _meshcat_scene as ms
+from kinplan import _robot_visuals
 from kinplan._robot_visuals import RobotVisuals
 from kinplan.errors import InputError, ViewerError
 from kinplan.trajectory import time_grid
@@ -76,15 +77,25 @@ _FIT_MARGIN = 0.85  # share of the half field of view the scene may fill
 _PATH_SAMPLES = 400
 
 
-_VISUALS: weakref.WeakKeyDictionary[Any, RobotVisuals] = weakref.WeakKeyDictionary()
+TRIANGLE_BUDGET = _robot_visuals.TRIANGLE_BUDGET
+"""Triangles drawn for a whole robot by default; bigger meshes are simplified to fit."""
+
+_VISUALS: weakref.WeakKeyDictionary[Any, dict[int, RobotVisuals]] = weakref.WeakKeyDictionary()
 
 
-def _visuals_for(robot: Any) -> RobotVisuals:
-    """The robot's visual geometry, built once per robot object (meshes take ~1 s to read)."""
-    visuals = _VISUALS.get(robot)
-    if visuals is None:
-        visuals = _VISUALS[robot] = RobotVisuals(robot)
-    return visuals
+def _visuals_for(robot: Any, max_triangles: int = TRIANGLE_BUDGET) -> RobotVisuals:
+    """The robot's visual geometry, built once per robot object and triangle budget.
+
+    Meshes take a second or more to read and simplify.
+    """
+    if isinstance(max_triangles, bool) or not isinstance(max_triangles, int) or max_triangles < 1:
+        raise InputError(
+            f"max_triangles must be a positive whole number of triangles, got {max_triangles!r}"
+        )
+    built = _VISUALS.setdefault(robot, {})
+    if max_triangles not in built:
+        built[max_triangles] = RobotVisuals(robot, max_triangles)
+    return built[max_triangles]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -549,12 +560,18 @@ def _overlay_commands(
 def _animation_command(
     visuals: RobotVisuals, motion: _Motion, speed: float, loop: bool, play: bool
 ) -> ms.Command:
-    """Key frames of every robot part and of the tool triad, one FK pass per key frame."""
+    """Key frames of every moving robot part and of the tool triad, one FK pass per key frame.
+
+    Parts that stay still (the base, links behind locked joints) get no track: their
+    ``set_transform`` holds for the whole motion.
+    """
     parts, tools = visuals.placements_over(motion.q)
     clips = []
     nodes = [(f"{LAYERS['robot']}/{p.name}", parts[:, i]) for i, p in enumerate(visuals.parts)]
     nodes.append((LAYERS["tool"], tools))
     for path, poses in nodes:
+        if path != LAYERS["tool"] and np.ptp(poses, axis=0).max(initial=0.0) <= 1e-9:
+            continue
         positions, quaternions = ms.pose_to_track(poses)
         clips.append(ms.pose_track_clip(path, motion.t, positions, quaternions, speed))
     return ms.set_animation(clips, play=play, loop=loop)
@@ -608,6 +625,7 @@ def render_html(
     loop: bool = True,
     autoplay: bool = True,
     title: str | None = None,
+    max_triangles: int = TRIANGLE_BUDGET,
 ) -> str:
     """The page :func:`save_html` writes, as a string (e.g. for a notebook's ``IFrame(srcdoc=)``).
 
@@ -619,11 +637,12 @@ def render_html(
         loop: Start with looping on.
         autoplay: Start playing when the page opens.
         title: Page title (default: a description of the motion).
+        max_triangles: Triangles drawn for the whole robot (see :func:`save_html`).
 
     Raises:
         InputError: as :func:`save_html`.
     """
-    visuals = _visuals_for(robot)
+    visuals = _visuals_for(robot, max_triangles)
     scene = _build_scene(robot, visuals, motion, markers, fps, loop, autoplay)
     config = {
         "duration": scene.motion.duration,
@@ -645,6 +664,7 @@ def save_html(
     loop: bool = True,
     autoplay: bool = True,
     title: str | None = None,
+    max_triangles: int = TRIANGLE_BUDGET,
 ) -> Path:
     """Write one self-contained HTML file that animates ``motion`` in MeshCat (works offline).
 
@@ -654,7 +674,13 @@ def save_html(
     and the last good tool pose. Options after ``#`` in the address: ``t=<seconds>`` (show that
     instant, paused), ``hide=<layer>,...`` (``robot``, ``tool``, ``path``, ``markers``, ``grid``,
     ``axes``), ``ui=0`` (no overlays). The file holds MeshCat's viewer (~0.85 MB), the meshes
-    (a few MB for the UR and panda arms) and the key frames.
+    (a few MB: simplified so the robot has at most ``max_triangles``, each mesh file stored once)
+    and the key frames of the parts that move.
+
+    Mesh files are found through ``robot.package_dirs``, example-robot-data and the URDF's folder
+    and its parents (``package://``), or next to the URDF (relative names). A missing or
+    unreadable mesh is logged as a warning and drawn as the link's collision geometry, or a
+    small box: it never fails the page.
 
     Args:
         robot: The robot that moves (:func:`kinplan.load_robot`).
@@ -666,16 +692,27 @@ def save_html(
         loop: Start with looping on.
         autoplay: Start playing when the page opens.
         title: Page title (default: a description of the motion).
+        max_triangles: Triangles drawn for the whole robot; bigger meshes are simplified to fit
+            (none below a few hundred triangles).
 
     Returns:
         The path of the written file.
 
     Raises:
         InputError: the motion is not a trajectory or plan of this robot (joint count, NaN),
-            a marker is not a point, or fps is not positive.
+            a marker is not a point, or fps or max_triangles is not positive.
         ViewerError: the file cannot be written.
     """
-    text = render_html(robot, motion, markers, fps, loop=loop, autoplay=autoplay, title=title)
+    text = render_html(
+        robot,
+        motion,
+        markers,
+        fps,
+        loop=loop,
+        autoplay=autoplay,
+        title=title,
+        max_triangles=max_triangles,
+    )
     target = Path(path)
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
@@ -808,6 +845,7 @@ class Viewer:
         open: bool = False,
         zmq_url: str | None = None,
         timeout: float = 10.0,
+        max_triangles: int = TRIANGLE_BUDGET,
     ):
         """Start or connect to a server and show ``robot`` at its neutral configuration.
 
@@ -817,12 +855,13 @@ class Viewer:
             zmq_url: Address of a running MeshCat server (``tcp://127.0.0.1:6000``); default:
                 start one (it stops with :meth:`close`).
             timeout: Seconds to wait for the server to start or answer [s].
+            max_triangles: Triangles drawn for the whole robot (see :func:`save_html`).
 
         Raises:
             ViewerError: the server did not start or does not answer.
         """
         self.robot = robot
-        self._visuals = _visuals_for(robot)
+        self._visuals = _visuals_for(robot, max_triangles)
         self._process: subprocess.Popen | None = None
         self._finalizer: weakref.finalize | None = None
         self._radius = 1.0  # [m] scene size: sets the tube and marker sizes

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 import kinplan
@@ -62,15 +63,22 @@ def test_not_a_urdf(tmp_path):
 
 def test_several_chains_need_a_tip(tmp_path):
     path = write(tmp_path, TWO_CHAINS)
-    with pytest.raises(URDFError, match="several kinematic chains.*a.*b.*tip="):
+    with pytest.raises(FrameError, match="several kinematic chains.*tip=.*candidates: a, b"):
         kinplan.load_robot(path)
     robot = kinplan.load_robot(path, tip="b")
     assert robot.nq == 1 and robot.joint_names == ["jb"]
 
 
-def test_floating_base_on_chain_is_rejected(tmp_path):
-    with pytest.raises(URDFError, match="floating or continuous"):
-        kinplan.load_robot(write(tmp_path, FLOATING), tip="arm")
+def test_floating_root_is_held_at_the_base_pose(tmp_path):
+    """A floating root joint (a mobile base, a humanoid) is not in q: held at base_pose."""
+    robot = kinplan.load_robot(write(tmp_path, FLOATING), tip="arm")
+    assert robot.nq == 1 and robot.joint_names == ["j1"] and robot.held_root == "free"
+    moved = kinplan.load_robot(
+        write(tmp_path, FLOATING), tip="arm", base_pose=pin.SE3(np.eye(3), np.array([1, 2, 3]))
+    )
+    np.testing.assert_allclose(
+        moved.fk([0.3]).translation, robot.fk([0.3]).translation + [1, 2, 3], atol=1e-15
+    )
 
 
 def test_unknown_tip_lists_frames():

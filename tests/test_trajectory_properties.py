@@ -14,7 +14,17 @@ the shortest segment, accelerations that over it again, plus the given end rates
   polynomials: about a thousand times the rounding of evaluating them;
 - ``FD_TOL`` = 1e-6 for central differences with a step of 1e-4 of the segment (truncation
   error about 2e-9 of the scale);
-- velocity and acceleration limits of the minimum-time trapezoid: none, ``<=`` exactly.
+- velocity and acceleration limits of the minimum-time trapezoid: none, ``<=`` exactly;
+- blend accelerations equal to the given one: 1e-12 (LSPB), 1e-10 (through via points, whose end
+  blends are derived); the triangular LSPB's peak speed 1e-7: there the lecture's quadratic for
+  the blend time has a double root, so the rounded acceleration fixes it only to about the square
+  root of rounding.
+
+Mutations these tests were checked to catch (each applied to a scratch copy, see the report of
+issues 12 and 20): overlapping end blends accepted; the final blend's velocity change with the
+wrong sign; ``h**2`` → ``h*2`` in each quintic coefficient; ``/dt`` → ``*dt`` in the via-point
+heuristic; the minimum-time trapezoid without its margin below the limits; stated minimum
+accelerations rounded down.
 """
 
 from __future__ import annotations
@@ -568,6 +578,7 @@ def test_minimum_time_trapezoid_never_exceeds_its_limits():
     v, a = np.full((2, count, most_joints), np.inf)
     sampled_speed, sampled_acceleration = np.zeros((2, count, most_joints))
     duration_error, last = np.zeros(count), np.zeros(count, dtype=int)
+    to_sample: dict[int, tuple[list[Trajectory], list[np.ndarray]]] = {}
     for i, (start, end, v_max, a_max) in enumerate(minimum_time_cases(rng, count)):
         traj = trajectory.trapezoid(start, end, max_velocity=v_max, max_acceleration=a_max)
         n, segments = traj.n, len(traj.segments)
@@ -581,6 +592,12 @@ def test_minimum_time_trapezoid_never_exceeds_its_limits():
         sampled_acceleration[i, :n] = np.abs(qdd).max(axis=0)
         slowest = own_minimum_time(np.abs(end - start), v_max, a_max).max()
         duration_error[i] = traj.duration / slowest - 1.0 if slowest > 0 else traj.duration
+        if i % 10 == 0 and traj.duration > 0.0:  # sample = polynomials = differences
+            scale = 1.0 + np.abs(start) + np.abs(end)
+            speed = v_max + scale / traj.duration
+            group = to_sample.setdefault(n, ([], []))
+            group[0].append(traj)
+            group[1].append(np.stack([scale, speed, a_max + speed / traj.duration]))
     assert np.count_nonzero(np.isfinite(v)) >= 10_000
     # Limits: analytic (raw coefficients, evaluated as sample does) and sampled, exactly.
     end_speed = np.abs(2.0 * c[..., 2] * h[..., None] + c[..., 1])
@@ -608,6 +625,8 @@ def test_minimum_time_trapezoid_never_exceeds_its_limits():
     assert_small(c[:, 0, :, 1], speed, TOL, "qd(0) = 0")
     assert_small(knot_gaps(c, h, 0), scale[:, None], TOL, "q continuous, raw end at qf")
     assert_small(knot_gaps(c, h, 1), speed[:, None], TOL, "qd continuous, raw end at rest")
+    for trajectories, scales in to_sample.values():
+        check_sampling(trajectories, rng, np.array(scales))
 
 
 # ----------------------------------------------------------------------------------------------
@@ -716,10 +735,11 @@ def test_trapezoid_via_reaches_every_knot_as_craig_says(pass_through):
     the last stops at the final point (the last sample, snapped to the target, would hide it);
     the blends accelerate at exactly ±a; the lines have the model's velocities at the model's
     times and lie on the lines through their corners; the motion lasts sum(durations) and, with
-    pass_through, passes every via point at its nominal time."""
+    pass_through, passes every via point at its nominal time; sample = polynomials = central
+    differences."""
     rng = generator(f"trapezoid_via {pass_through}")
     count, n = 1_000, 10
-    errors = Errors()
+    errors, trajectories, scales = Errors(), [], []
     for _ in range(count):
         points, durations = via_blend_points(rng, int(rng.integers(3, 7)), n)
         times = np.concatenate([[0.0], np.cumsum(durations)])
@@ -734,7 +754,12 @@ def test_trapezoid_via_reaches_every_knot_as_craig_says(pass_through):
         check_craig_trajectory(
             errors, traj, points, times, corners, corner_times, acceleration, model
         )
+        trajectories.append(traj)
+        scale = 1.0 + np.max(np.abs(points), axis=0)
+        speed = scale / np.min(np.diff(corner_times)) + np.abs(model["velocity"]).max(axis=0)
+        scales.append(np.stack([scale, speed, acceleration + speed / traj.duration]))
     errors.check()
+    check_sampling(trajectories, rng, np.array(scales))
 
 
 def check_craig_trajectory(

@@ -90,9 +90,15 @@ def line_plan_stand_in(robot, q0, delta, duration: float, fail_at: float | None,
 def page_parts(text: str) -> tuple[list[dict], dict]:
     """The MeshCat commands and the page configuration embedded in a saved page."""
     scene = re.search(r'<script id="kinplan-scene" type="application/json">(.*?)</script>', text)
+    blobs = re.search(r'<script id="kinplan-blobs" type="application/json">(.*?)</script>', text)
     config = re.search(r'<script id="kinplan-config" type="application/json">(.*?)</script>', text)
-    assert scene and config, "the page misses its embedded scene or configuration"
-    commands = [ms.unpack(base64.b64decode(b)) for b in json.loads(scene.group(1))]
+    assert scene and blobs and config, "the page misses its embedded scene or configuration"
+    shared = [base64.b64decode(b) for b in json.loads(blobs.group(1))]
+    commands = []
+    for entry in json.loads(scene.group(1)):  # base64 text, or pieces: text and shared arrays
+        pieces = [entry] if isinstance(entry, str) else entry
+        data = b"".join(shared[p] if isinstance(p, int) else base64.b64decode(p) for p in pieces)
+        commands.append(ms.unpack(data))
     return commands, json.loads(config.group(1))
 
 
@@ -481,12 +487,12 @@ def test_meshes_trimesh_cannot_read_are_embedded_as_files(monkeypatch):
     robot = kinplan.load_robot("ur5")  # a new object: no cached visuals
     normal = _robot_visuals.RobotVisuals(robot)
     monkeypatch.setattr(trimesh, "load", unreadable)
-    _robot_visuals._load_mesh.cache_clear()
+    _robot_visuals.clear_mesh_caches()
     try:
         fallback = _robot_visuals.RobotVisuals(robot)
     finally:
         monkeypatch.undo()
-        _robot_visuals._load_mesh.cache_clear()
+        _robot_visuals.clear_mesh_caches()
     assert [p.name for p in fallback.parts] == [p.name for p in normal.parts]
     for a, b in zip(fallback.parts, normal.parts):
         geometry = a.obj["geometries"][0]

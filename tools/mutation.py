@@ -153,16 +153,7 @@ def write_config(copy: Path, module: str, tests: list[str]) -> None:
     lines = ["[mutmut]", "source_paths =", "    kinplan", "    cartesian", "only_mutate ="]
     lines += [f"    {module}", "pytest_add_cli_args_test_selection ="]
     lines += [f"    {t}" for t in tests]
-    # mutmut hands node ids back to pytest: ids with non-ASCII characters must not be escaped
-    unescaped = "disable_test_id_escaping_and_forfeit_all_rights_to_community_support=True"
-    lines += [
-        "pytest_add_cli_args =",
-        "    -p",
-        "    no:cacheprovider",
-        "    -o",
-        f"    {unescaped}",
-    ]
-    lines += [""]
+    lines += ["pytest_add_cli_args =", "    -p", "    no:cacheprovider", ""]
     (copy / "setup.cfg").write_text("\n".join(lines))
 
 
@@ -191,6 +182,19 @@ def mutant_names(copy: Path, module: str, log: Path) -> list[str]:
     if not meta.exists():
         raise RuntimeError(f"mutmut made no mutants of {module} (failing tests?); see {log}")
     return sorted(json.loads(meta.read_text())["exit_code_by_key"])
+
+
+def skip_all_but(copy: Path, module: str, chosen: set[str]) -> None:
+    """Mark every mutant not in ``chosen`` as skipped (mutmut's exit code 34), so that the next
+    ``mutmut run`` (which runs the mutants without a result) runs the sample only. (Running
+    mutants by name would make mutmut hand pytest node ids, which fails for some ids.)"""
+    meta = copy / "mutants" / f"{module}.meta"
+    data = json.loads(meta.read_text())
+    codes = data["exit_code_by_key"]
+    for name in codes:
+        if name not in chosen:
+            codes[name] = 34
+    meta.write_text(json.dumps(data))
 
 
 def statuses(copy: Path, log: Path) -> dict[str, str]:
@@ -288,12 +292,10 @@ def run_module(
     mutmut(copy, ["run", "--max-children", str(max_children), "zz-generate-only"], log, False)
     names = mutant_names(copy, module, log)
     result.total = len(names)
-    children = ["--max-children", str(max_children)]
     if sample is not None and len(names) > sample:
         names = sorted(random.Random(f"{seed}:{module}").sample(names, sample))
-        mutmut(copy, ["run", *children, *names], log)
-    else:
-        mutmut(copy, ["run", *children], log)
+        skip_all_but(copy, module, set(names))
+    mutmut(copy, ["run", "--max-children", str(max_children)], log)
     result.seconds = time.monotonic() - start
     status = statuses(copy, log)
     chosen = [status.get(name, "not checked") for name in names]

@@ -1,0 +1,502 @@
+"""The kinematic chain of a URDF, as a Pinocchio model kinplan can plan with.
+
+:func:`build_chain` reads a URDF and returns a :class:`Chain`: a Pinocchio model of the joints
+between the root and the tool frame, one coordinate per joint (radians or metres), with
+
+* **continuous joints** as unbounded revolute joints (lower = −inf, upper = +inf: the angle is
+  never wrapped along a motion). Pinocchio models them with (cos θ, sin θ); the URDF is read with
+  them as revolute joints instead, so every joint has one coordinate;
+* **mimic joints** following their master (Pinocchio's ``mimic=True``): they are not in q, and
+  the Jacobian columns of their masters carry the coupling;
+* **locked joints** (``locked_joints={name: value}``) and every joint off the tool's chain held at
+  a value (the URDF's neutral 0 unless given), and out of q;
+* a **floating or planar root joint** (mobile bases, humanoids) held fixed: the whole robot stands
+  at ``base_pose`` in the world (an SE3; identity by default);
+* **limit overrides** (``limits={joint: {"lower", "upper", "velocity", "acceleration"}}``, any
+  subset) that replace the URDF's values, so joints without usable limits load.
+
+Everything wrong with the input is a :class:`~kinplan.errors.KinplanError` that says what to do.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import re
+import sys
+import tempfile
+import xml.etree.ElementTree as ET
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from kinplan import checks
+from kinplan.errors import FrameError, InputError, URDFError
+
+logger = logging.getLogger(__name__)
+
+#: Joint limits written into the URDF for continuous joints read as revolute [rad]; kinplan's own
+#: limits for them are ±inf.
+UNBOUNDED = 1e9
+#: Keys of a ``limits=`` entry.
+LIMIT_KEYS = ("lower", "upper", "velocity", "acceleration")
+#: Joint names that make a gripper, left out of the default tool chain (locked at 0).
+GRIPPER_JOINT = re.compile(r"gripper|finger|jaw|claw|hand_joint", re.IGNORECASE)
+_ONE_DOF = {"revolute", "prismatic", "continuous"}
+_HELD_ROOT = {"floating", "planar"}
+
+
+@dataclass
+class Chain:
+    """A URDF's tool chain as a Pinocchio model (see the module docstring).
+
+    Attributes:
+        model: Pinocchio model with one coordinate per independent joint of the chain.
+        name: The URDF's robot name.
+        base_frame: The URDF's root link.
+        tip: The tool frame.
+        lower: Lower position limits [rad or m] (−inf for continuous joints).
+        upper: Upper position limits [rad or m] (+inf for continuous joints).
+        velocity: Speed limits [rad/s or m/s] (inf where unknown).
+        acceleration: Acceleration limits [rad/s² or m/s²] (inf where unknown).
+        continuous: Names of the continuous joints of the chain.
+        mimic: Mimic joints of the chain: name → (master, multiplier, offset).
+        locked: Joints held at a value: name → value [rad or m] (the user's and the grippers'
+            left out of the default chain; joints off the chain are not listed).
+        held_root: A floating or planar root joint held at the base pose, or None.
+    """
+
+    model: pin.Model
+    name: str
+    base_frame: str
+    tip: str
+    lower: np.ndarray
+    upper: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    continuous: list[str] = field(default_factory=list)
+    mimic: dict[str, tuple[str, float, float]] = field(default_factory=dict)
+    locked: dict[str, float] = field(default_factory=dict)
+    held_root: str | None = None
+
+
+@dataclass
+class _Joint:
+    """One joint of the URDF's XML."""
+
+    name: str
+    kind: str
+    parent: str
+    child: str
+    has_limit: bool
+    mimic: tuple[str, float, float] | None
+
+
+# ------------------------------------------------------------------------------------ reading
+def read_urdf(urdf_path: Path) -> ET.Element:
+    """The URDF's ``<robot>`` element, or a URDFError saying why it cannot be used."""
+    try:
+        root = ET.parse(urdf_path).getroot()
+    except ET.ParseError as exc:
+        raise URDFError(f"{urdf_path} is not valid XML ({exc}); fix the file") from exc
+    except OSError as exc:
+        raise URDFError(f"cannot read the URDF file {urdf_path}: {exc}") from exc
+    if root.tag != "robot":
+        raise URDFError(f"{urdf_path} is not a URDF: its root element is <{root.tag}>, not <robot>")
+    return root
+
+
+def root_link(root: ET.Element, urdf_path: Path) -> str:
+    """The URDF's root link (the one link that is no joint's child)."""
+    links = [link.get("name") for link in root.findall("link")]
+    children = {child.get("link") for child in root.findall("joint/child")}
+    roots = [name for name in links if name not in children]
+    if len(roots) != 1:
+        raise URDFError(
+            f"{urdf_path} must have exactly one root link (a link that is no joint's child); "
+            f"found {roots or 'none'}"
+        )
+    return roots[0]
+
+
+def _joints(root: ET.Element) -> dict[str, _Joint]:
+    joints = {}
+    for element in root.findall("joint"):
+        mimic = element.find("mimic")
+        mimic_of = None
+        if mimic is not None:
+            mimic_of = (
+                mimic.get("joint", ""),
+                float(mimic.get("multiplier", "1")),
+                float(mimic.get("offset", "0")),
+            )
+        parent, child = element.find("parent"), element.find("child")
+        joints[element.get("name", "")] = _Joint(
+            element.get("name", ""),
+            element.get("type", ""),
+            "" if parent is None else parent.get("link", ""),
+            "" if child is None else child.get("link", ""),
+            element.find("limit") is not None,
+            mimic_of,
+        )
+    return joints
+
+
+@contextlib.contextmanager
+def _native_stderr_captured() -> Iterator[list[str]]:
+    """Redirect file descriptor 2 into a temporary file while the block runs.
+
+    Native code (urdfdom inside Pinocchio) prints its diagnostics straight to file descriptor
+    2, past Python's ``sys.stderr``; this keeps them off the terminal. The yielded list receives
+    the captured text when the block ends. Without a usable descriptor 2 nothing is captured.
+    """
+    captured: list[str] = []
+    try:
+        saved = os.dup(2)
+    except OSError:  # no descriptor 2 (a daemon): nothing to keep off the terminal
+        yield captured
+        return
+    with tempfile.TemporaryFile() as sink:
+        try:
+            sys.stderr.flush()
+        except (AttributeError, OSError, ValueError):  # replaced or closed sys.stderr
+            pass
+        os.dup2(sink.fileno(), 2)
+        try:
+            yield captured
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            sink.seek(0)
+            captured.append(sink.read().decode("utf-8", errors="replace"))
+
+
+def _parser_messages(text: str) -> str:
+    """urdfdom's captured ``Error:``/``Warning:`` lines on one line, without the source
+    locations of its C++ code (``at line 105 in .../pose.cpp``)."""
+    messages = []
+    for line in text.splitlines():
+        line = " ".join(line.split())
+        if not line or re.match(r"^at line \d+ in ", line):
+            continue
+        messages.append(re.sub(r"^Error:\s*", "", line))
+    return "; ".join(messages)
+
+
+def _parse_model(xml: str, urdf_path: Path) -> pin.Model:
+    """Pinocchio's model of the URDF text (mimic joints as such); urdfdom's own messages go
+    into the error (or the log)."""
+    with _native_stderr_captured() as captured:
+        try:
+            model = pin.buildModelFromXML(xml, mimic=True)
+            failure = None
+        except Exception as exc:  # RuntimeError, ValueError or Boost.Python errors: all bad URDF
+            model, failure = None, exc
+    details = _parser_messages("".join(captured))
+    if failure is not None:
+        said = f" (the URDF parser reported: {details})" if details else ""
+        reason = str(failure).strip().rstrip(".")
+        raise URDFError(
+            f"Pinocchio could not read {urdf_path}: {reason}{said}; fix the file"
+        ) from failure
+    if details:
+        logger.info("URDF parser on %s: %s", urdf_path, details)
+    return model
+
+
+# ------------------------------------------------------------------------------ arguments
+def check_locked_joints(locked_joints: object, joints: Mapping[str, _Joint]) -> dict[str, float]:
+    """``locked_joints`` as {name: value}, every name a movable 1-dof joint of the URDF."""
+    if locked_joints is None:
+        return {}
+    if not isinstance(locked_joints, Mapping):
+        raise InputError(
+            "locked_joints must be a dict {joint name: value [rad or m]}, got "
+            f"{checks.describe(locked_joints)}"
+        )
+    locked = {}
+    for name, value in locked_joints.items():
+        joint = _known_joint(name, joints, "locked_joints")
+        if joint.kind not in _ONE_DOF:
+            raise InputError(
+                f"locked_joints: joint {name!r} is {joint.kind}; only revolute, continuous and "
+                "prismatic joints can be locked at a value (a floating or planar root joint is "
+                "held at base_pose)"
+            )
+        locked[name] = checks.number(value, f"locked_joints[{name!r}]", unit="rad or m")
+    return locked
+
+
+def check_limits(limits: object, joints: Mapping[str, _Joint]) -> dict[str, dict[str, float]]:
+    """``limits`` as {joint: {key: value}} with keys among :data:`LIMIT_KEYS`."""
+    if limits is None:
+        return {}
+    if not isinstance(limits, Mapping):
+        raise InputError(
+            'limits must be a dict {joint name: {"lower": .., "upper": .., "velocity": .., '
+            f'"acceleration": ..}}}} (any subset), got {checks.describe(limits)}'
+        )
+    checked: dict[str, dict[str, float]] = {}
+    for name, entry in limits.items():
+        _known_joint(name, joints, "limits")
+        if not isinstance(entry, Mapping) or not entry:
+            raise InputError(
+                f"limits[{name!r}] must be a dict with any of {', '.join(LIMIT_KEYS)}, got "
+                f"{checks.describe(entry)}"
+            )
+        values = {}
+        for key, value in entry.items():
+            if key not in LIMIT_KEYS:
+                raise InputError(
+                    f"limits[{name!r}] has an unknown key {key!r}; use {', '.join(LIMIT_KEYS)}"
+                )
+            positive = key in ("velocity", "acceleration")
+            values[key] = checks.number(value, f"limits[{name!r}][{key!r}]", positive=positive)
+        if "lower" in values and "upper" in values and not values["lower"] < values["upper"]:
+            raise InputError(
+                f"limits[{name!r}]: lower {values['lower']} must be below upper {values['upper']}"
+            )
+        checked[name] = values
+    return checked
+
+
+def _known_joint(name: object, joints: Mapping[str, _Joint], what: str) -> _Joint:
+    if not isinstance(name, str) or name not in joints:
+        movable = [j.name for j in joints.values() if j.kind != "fixed"]
+        raise InputError(
+            f"{what}: no joint {name!r} in the URDF; its movable joints: {', '.join(movable)}"
+        )
+    return joints[name]
+
+
+# ------------------------------------------------------------------------------ the chain
+def _edited_xml(
+    root: ET.Element, joints: Mapping[str, _Joint], limits: Mapping[str, Mapping[str, float]]
+) -> tuple[str, set[str]]:
+    """The URDF text with continuous joints as revolute ones (limits ±UNBOUNDED), the limit
+    overrides written in, and placeholder limits (0, 0) where a revolute or prismatic joint has
+    none (the parser needs one; such a joint is refused only if the chain uses it).
+
+    Returns:
+        (text, names of the joints that got a placeholder).
+    """
+    placeholders = set()
+    for element in root.findall("joint"):
+        name, kind = element.get("name", ""), element.get("type", "")
+        if kind not in _ONE_DOF:
+            continue
+        limit = element.find("limit")
+        if limit is None:
+            limit = ET.SubElement(element, "limit", effort="0", velocity="0")
+            if kind != "continuous":
+                placeholders.add(name)
+                limit.set("lower", "0")
+                limit.set("upper", "0")
+        if kind == "continuous":
+            element.set("type", "revolute")
+            limit.set("lower", repr(-UNBOUNDED))
+            limit.set("upper", repr(UNBOUNDED))
+        for key, value in limits.get(name, {}).items():
+            if key in ("lower", "upper", "velocity"):
+                limit.set(key, repr(float(value)))
+                placeholders.discard(name)
+        limit.attrib.setdefault("effort", "0")
+        limit.attrib.setdefault("velocity", "0")
+    return ET.tostring(root, encoding="unicode"), placeholders
+
+
+def tip_candidates(model: pin.Model) -> list[str]:
+    """Candidate tool frames: the links at the ends of the chains and the frames below them."""
+    parents = {model.parents[j] for j in range(1, model.njoints)}
+    leaves = {j for j in range(1, model.njoints) if j not in parents}
+    return [
+        f.name
+        for f in model.frames
+        if f.parentJoint in leaves and f.type in (pin.FrameType.BODY, pin.FrameType.OP_FRAME)
+    ]
+
+
+def frame_id(model: pin.Model, name: str, urdf_path: Path) -> int:
+    """Index of the frame ``name``: a link first (a link and a joint may share a name), then
+    any other frame; a FrameError listing the candidate tool frames if there is none."""
+    for kind in (pin.FrameType.BODY, pin.FrameType.OP_FRAME, pin.FrameType.FIXED_JOINT):
+        if model.existFrame(name, kind):
+            return model.getFrameId(name, kind)
+    if model.existFrame(name):
+        return model.getFrameId(name)
+    raise FrameError(
+        f"no frame {name!r} in {urdf_path.name}; candidate tool frames (chain ends and the "
+        f"frames below them): {', '.join(tip_candidates(model))} (`kinplan info ROBOT --frames` "
+        "lists every frame)"
+    )
+
+
+def _default_tip(model: pin.Model, joints: Mapping[str, _Joint], urdf_path: Path) -> str:
+    """The last link of the only chain, grippers left out (their joints stay at 0): a chain
+    that ends in gripper joints ends at the link its first gripper joint hangs from."""
+    parents = {model.parents[j] for j in range(1, model.njoints)}
+    leaves = [j for j in range(1, model.njoints) if j not in parents]
+    if not leaves:
+        raise URDFError(f"{urdf_path} has no movable joint; kinplan plans for arms with joints")
+    ends = []
+    for leaf in leaves:
+        j, first_gripper = leaf, None
+        while j > 0 and GRIPPER_JOINT.search(model.names[j]):
+            first_gripper, j = j, model.parents[j]
+        if first_gripper is not None:
+            ends.append(joints[model.names[first_gripper]].parent)
+        else:
+            bodies = [
+                f.name for f in model.frames if f.type == pin.FrameType.BODY and f.parentJoint == j
+            ]
+            ends.append(bodies[-1])
+    ends = list(dict.fromkeys(ends))
+    if len(ends) != 1:
+        raise FrameError(
+            f"{urdf_path} has several kinematic chains; choose the tool frame with tip=<name>; "
+            f"candidates: {', '.join(tip_candidates(model))}"
+        )
+    return ends[0]
+
+
+def build_chain(
+    urdf_path: Path,
+    tip: str | None = None,
+    default_tip: str | None = None,
+    locked_joints: Mapping[str, float] | None = None,
+    base_pose: pin.SE3 | None = None,
+    limits: Mapping[str, Mapping[str, float]] | None = None,
+) -> Chain:
+    """Read a URDF and build the model of the chain from its root to the tool frame.
+
+    Args:
+        urdf_path: The URDF file.
+        tip: Tool frame (a link or frame name); default ``default_tip``, else the last link of
+            the only chain (grippers left out).
+        default_tip: The source's default tool frame (e.g. ``tool0`` for UR arms).
+        locked_joints: Joints held at a value {name: value [rad or m]}, out of q.
+        base_pose: Pose of the URDF's root in the world (a valid SE3); default identity.
+        limits: Limit overrides {joint: {"lower", "upper", "velocity", "acceleration"}}.
+
+    Raises:
+        URDFError: a file that is not a usable URDF; a chain joint without usable limits (the
+            message says how to give them or lock the joint); a floating joint inside the chain.
+        FrameError: an unknown tool frame, or several chains and no ``tip``.
+        InputError: malformed ``locked_joints``, ``limits`` or ``base_pose``.
+    """
+    root = read_urdf(urdf_path)
+    base_frame = root_link(root, urdf_path)
+    joints = _joints(root)
+    locked = check_locked_joints(locked_joints, joints)
+    overrides = check_limits(limits, joints)
+    base = pin.SE3.Identity() if base_pose is None else base_pose
+    continuous = {j.name for j in joints.values() if j.kind == "continuous"}
+    for name, entry in overrides.items():
+        if "lower" in entry or "upper" in entry:
+            continuous.discard(name)  # bounded by the caller
+    xml, placeholders = _edited_xml(root, joints, overrides)
+    model = _parse_model(xml, urdf_path)
+
+    tip = tip or default_tip or _default_tip(model, joints, urdf_path)
+    chain = set(model.supports[model.frames[frame_id(model, tip, urdf_path)].parentJoint]) - {0}
+    held_root = None
+    hold: set[int] = set()
+    for j in sorted(chain):
+        name, kind = model.names[j], joints[model.names[j]].kind
+        if kind in _HELD_ROOT:
+            if model.parents[j] != 0:
+                raise URDFError(
+                    f"joint {name!r} of {urdf_path.name} is {kind} inside the chain; kinplan "
+                    "holds a floating or planar joint only at the root (at base_pose)"
+                )
+            held_root = name
+            hold.add(j)
+        elif name in locked:
+            hold.add(j)
+    q_ref = pin.neutral(model)
+    for name, value in locked.items():
+        j = model.getJointId(name)
+        if model.joints[j].nq == 1:
+            q_ref[model.joints[j].idx_q] = value
+    off_chain = {j for j in range(1, model.njoints) if j not in chain}
+    # a mimic joint whose master is held goes with it (Pinocchio needs both held)
+    for j in range(1, model.njoints):
+        mimic = joints[model.names[j]].mimic
+        if mimic is not None and model.existJointName(mimic[0]):
+            if model.getJointId(mimic[0]) in hold | off_chain:
+                hold.add(j)
+    if model.nq and len(chain - hold) == 0:
+        raise URDFError(
+            f"no movable joint between {base_frame!r} and {tip!r} in {urdf_path.name} (every "
+            "joint of the chain is locked or held)"
+        )
+    to_hold = sorted(hold | off_chain)
+    reduced = pin.buildReducedModel(model, to_hold, q_ref) if to_hold else model
+    _place_at(reduced, base)
+
+    names = [reduced.names[j] for j in range(1, reduced.njoints)]
+    independent = [n for n in names if reduced.joints[reduced.getJointId(n)].nq == 1]
+    unusable = sorted(set(independent) & placeholders)
+    if unusable:
+        raise URDFError(
+            f"joint(s) {', '.join(unusable)} of {urdf_path.name} have no <limit>; give them with "
+            "limits={name: {'lower': .., 'upper': .., 'velocity': ..}} or lock them with "
+            "locked_joints={name: value}"
+        )
+    lower = np.array(reduced.lowerPositionLimit, dtype=float)
+    upper = np.array(reduced.upperPositionLimit, dtype=float)
+    velocity = np.array(reduced.velocityLimit, dtype=float)
+    acceleration = np.full(reduced.nq, np.inf)
+    order = {name: reduced.joints[reduced.getJointId(name)].idx_q for name in independent}
+    for name in continuous & set(order):
+        lower[order[name]], upper[order[name]] = -np.inf, np.inf
+    for name, entry in overrides.items():
+        if name in order and "acceleration" in entry:
+            acceleration[order[name]] = entry["acceleration"]
+    velocity = np.where(velocity > 0, velocity, np.inf)
+    bad = [n for n in independent if not lower[order[n]] < upper[order[n]]]
+    if bad:
+        shown = ", ".join(f"{n} [{lower[order[n]]:g}, {upper[order[n]]:g}]" for n in bad)
+        raise URDFError(
+            f"joint(s) of {urdf_path.name} without a usable range (lower < upper): {shown}; give "
+            "them with limits={name: {'lower': .., 'upper': ..}} or lock them with "
+            "locked_joints={name: value}"
+        )
+    mimic = {
+        n: joints[n].mimic  # type: ignore[misc]
+        for n in names
+        if reduced.joints[reduced.getJointId(n)].nq == 0 and joints[n].mimic is not None
+    }
+    return Chain(
+        model=reduced,
+        name=root.get("name", urdf_path.stem),
+        base_frame=base_frame,
+        tip=tip,
+        lower=lower,
+        upper=upper,
+        velocity=velocity,
+        acceleration=acceleration,
+        continuous=[n for n in independent if n in continuous],
+        mimic=mimic,
+        locked={n: v for n, v in locked.items()},
+        held_root=held_root,
+    )
+
+
+def _place_at(model: pin.Model, base: pin.SE3) -> None:
+    """Stand the model at ``base`` in the world: the placements of the joints and frames on the
+    world (universe) are moved by it."""
+    if base.isIdentity():
+        return
+    for j in range(1, model.njoints):
+        if model.parents[j] == 0:
+            model.jointPlacements[j] = base * model.jointPlacements[j]
+    for k in range(len(model.frames)):
+        if model.frames[k].parentJoint == 0 and model.frames[k].name != "universe":
+            frame = model.frames[k]
+            frame.placement = base * frame.placement
+            model.frames[k] = frame
