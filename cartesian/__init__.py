@@ -8,7 +8,9 @@ times a path and solves IK at every sample with reachability and singularity mon
 
 from __future__ import annotations
 
-from cartesian.follow import CartesianPlan, Event, Reachability, check_reachability, follow
+from cartesian.events import Event, Status
+from cartesian.follow import CartesianPlan, follow
+from cartesian.geometry import Reachability, check_reachability
 from cartesian.paths import (
     Arc,
     Circle,
@@ -32,6 +34,7 @@ __all__ = [
     "PathSequence",
     "Polyline",
     "Reachability",
+    "Status",
     "check_reachability",
     "follow",
 ]

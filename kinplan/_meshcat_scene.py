@@ -482,12 +482,13 @@ SHARED_MIN_BYTES = 256
 
 
 def shared_scene(commands: Sequence[Command]) -> tuple[list[Any], list[str]]:
-    """Commands as base64 msgpack, with typed arrays that occur more than once stored once.
+    """Commands as base64 msgpack, with large arrays that occur more than once stored once.
 
     A mesh file drawn by several links (left and right legs, fingers) and the key times every
-    animation track repeats make identical typed arrays. Each such array (of at least
-    :data:`SHARED_MIN_BYTES`) becomes a *blob*; a command that holds one is written as a list of
-    pieces: base64 text of its own bytes, and blob indices, which joined give its msgpack bytes.
+    animation track repeats make identical typed arrays (or texts, for mesh files embedded as
+    they are). Each such payload (of at least :data:`SHARED_MIN_BYTES`) becomes a *blob*; a
+    command that holds one is written as a list of pieces: base64 text of its own bytes, and
+    blob indices, which joined give its msgpack bytes.
 
     Returns:
         (scene, blobs): one entry per command, a base64 string or a list of base64 strings and
@@ -523,10 +524,14 @@ def shared_scene(commands: Sequence[Command]) -> tuple[list[Any], list[str]]:
 
 
 def _large_payloads(value: Any) -> Iterator[bytes]:
-    """Typed-array bytes of at least :data:`SHARED_MIN_BYTES` in a command, in packing order."""
+    """Bytes of the typed arrays and texts (embedded mesh files) of at least
+    :data:`SHARED_MIN_BYTES` in a command, in packing order."""
     if isinstance(value, umsgpack.Ext):
         if len(value.data) >= SHARED_MIN_BYTES:
             yield value.data
+    elif isinstance(value, str):
+        if len(value) >= SHARED_MIN_BYTES:
+            yield value.encode("utf-8")
     elif isinstance(value, Mapping):
         for key, item in value.items():
             yield from _large_payloads(key)

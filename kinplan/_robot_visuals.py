@@ -10,13 +10,15 @@ robot's package folders, example-robot-data's and the URDF's own folder and its 
 missing or unreadable is logged (one warning per file, naming the links) and drawn as a
 placeholder: the link's collision geometry when that loads, else a small box.
 
-Meshes (DAE, STL, OBJ) are read with trimesh, simplified with ``fast-simplification`` (quadric
-edge collapse) so the whole robot stays within a triangle budget (:func:`triangle_caps`), split at
-sharp edges for smooth shading and sent as compact binary arrays (float32 positions, int8
-normals, uint8 colours, uint16 indices where they fit). A mesh file's data do not depend on the
-visual that uses it (the URDF scale is the object's transform), so a file used twice is stored
-twice with identical bytes, which the HTML page keeps once. Boxes, spheres and cylinders become
-three.js primitives.
+Meshes (DAE, STL, OBJ, ...) are read with trimesh (with their colours); simplified with
+``fast-simplification`` (quadric edge collapse) so the whole robot stays within a triangle budget
+(:func:`triangle_caps`); split at sharp edges for smooth shading and sent as compact binary
+arrays (float32 positions, int8 normals, uint8 colours, uint16 indices where they fit). A mesh
+file's arrays do not depend on the visual that uses it (the URDF scale is the object's
+transform), so a file drawn twice gives identical bytes, which the HTML page stores once
+(:func:`kinplan._meshcat_scene.shared_scene`). A DAE, OBJ or STL file in which trimesh finds no
+triangles is embedded as it is, for MeshCat's own loaders in the browser. Boxes, spheres and
+cylinders become three.js primitives.
 """
 
 from __future__ import annotations
@@ -172,7 +174,9 @@ class RobotVisuals:
             if link not in frames:
                 frame_id = model.getFrameId(link, pin.FrameType.BODY)
                 if frame_id >= model.nframes:
-                    logger.warning("visual %s: link %s is not in the robot's model", item.name, link)
+                    logger.warning(
+                        "visual %s: link %s is not in the robot's model", item.name, link
+                    )
                     continue
                 frames[link] = frame_id
             part = _visual_part(item, caps.get(item.mesh, 0) if item.mesh else 0)
@@ -262,7 +266,9 @@ def _material_colours(root: ET.Element) -> dict[str, tuple[float, ...]]:
     return colours
 
 
-def _colour(element: ET.Element, named: Mapping[str, tuple[float, ...]]) -> tuple[float, ...] | None:
+def _colour(
+    element: ET.Element, named: Mapping[str, tuple[float, ...]]
+) -> tuple[float, ...] | None:
     """A visual's material colour: its own ``<color>``, or the named material's; else None."""
     material = element.find("material")
     if material is None:
@@ -296,7 +302,9 @@ def read_urdf_elements(
         for index, visual in enumerate(link.findall("visual")):
             name = f"{link_name}_{index}".replace("/", "_")
             geometry = _geometry(visual)
-            visuals.append(_Element(link_name, name, _origin(visual), geometry, _colour(visual, named)))
+            visuals.append(
+                _Element(link_name, name, _origin(visual), geometry, _colour(visual, named))
+            )
         collisions[link_name] = [
             _Element(link_name, f"{link_name}_collision{k}", _origin(c), _geometry(c), None)
             for k, c in enumerate(link.findall("collision"))
@@ -368,13 +376,17 @@ def resolve_mesh(
 
 @lru_cache(maxsize=64)
 def _read_mesh(path: Path) -> tuple[_ColourGroup, ...] | None:
-    """A mesh file's triangles grouped by colour, welded (cached); None if trimesh fails."""
+    """A mesh file's triangles grouped by colour, welded, in the file's units (cached).
+
+    None when trimesh cannot read the file; an empty tuple when it finds no triangles in it (a
+    DAE whose geometry is bound to a broken texture reference, for one).
+    """
     import trimesh
 
     try:
         scene = trimesh.load(str(path), force="scene")
     except Exception as exc:  # trimesh raises many types (and ImportError without pycollada)
-        logger.warning("trimesh cannot read the mesh %s (%s)", path, exc)
+        logger.info("trimesh cannot read the mesh %s (%s)", path, exc)
         return None
     pieces: dict[tuple[float, ...] | None, list[tuple[np.ndarray, np.ndarray]]] = {}
     for node in scene.graph.nodes_geometry:
@@ -389,16 +401,22 @@ def _read_mesh(path: Path) -> tuple[_ColourGroup, ...] | None:
     groups = []
     for rgba, parts in pieces.items():
         offsets = np.cumsum([0] + [len(v) for v, _ in parts])
-        welded = trimesh.Trimesh(
-            np.vstack([v for v, _ in parts]),
-            np.vstack([f + o for (_, f), o in zip(parts, offsets)]),
-            process=True,
-        )
-        if len(welded.faces):
-            groups.append(
-                _ColourGroup(np.asarray(welded.vertices), np.asarray(welded.faces), rgba)
-            )
+        vertices = np.vstack([v for v, _ in parts])
+        faces = np.vstack([f + o for (_, f), o in zip(parts, offsets)])
+        group = _welded(vertices, faces, rgba)
+        if group is not None:
+            groups.append(group)
     return tuple(groups)
+
+
+def _welded(vertices: np.ndarray, faces: np.ndarray, rgba: Any) -> _ColourGroup | None:
+    """Triangles with their coincident vertices merged (simplification needs the topology)."""
+    import trimesh
+
+    mesh = trimesh.Trimesh(vertices, faces, process=True)
+    if len(mesh.faces) == 0:
+        return None
+    return _ColourGroup(np.asarray(mesh.vertices), np.asarray(mesh.faces), rgba)
 
 
 def clear_mesh_caches() -> None:
@@ -440,7 +458,9 @@ def triangle_caps(sizes: Mapping[K, tuple[int, int]], budget: int) -> dict[K, in
     return {key: int(min(n, max(cap, MIN_TRIANGLES))) for key, (n, _) in sizes.items()}
 
 
-def simplified(vertices: np.ndarray, faces: np.ndarray, target: int) -> tuple[np.ndarray, np.ndarray]:
+def simplified(
+    vertices: np.ndarray, faces: np.ndarray, target: int
+) -> tuple[np.ndarray, np.ndarray]:
     """A triangle mesh reduced to about ``target`` triangles by quadric edge collapse.
 
     Uses ``fast-simplification`` (Fast-Quadric-Mesh-Simplification); a mesh already within the
@@ -531,11 +551,11 @@ def _piece_rgba(mesh: Any) -> tuple[float, ...] | None:
 
 
 def _drawable(path: Path) -> bool:
-    """Whether a mesh file can be drawn: trimesh reads triangles, or MeshCat can parse it."""
-    groups = _read_mesh(path)
-    if groups is None:
-        return path.suffix.lower() in (".dae", ".obj", ".stl")
-    return len(groups) > 0
+    """Whether a mesh file can be drawn: trimesh reads triangles, or MeshCat's loaders may."""
+    return bool(_read_mesh(path)) or path.suffix.lower() in _BROWSER_FORMATS
+
+
+_BROWSER_FORMATS = (".dae", ".obj", ".stl")  # MeshCat's ``_meshfile_geometry`` loaders
 
 
 def _items(
@@ -556,8 +576,10 @@ def _items(
     for element in visuals:
         geometry = element.geometry
         if geometry is None:
-            logger.warning("visual %s: its geometry is not drawn (no box, cylinder, sphere or "
-                           "mesh)", element.name)
+            logger.warning(
+                "visual %s: its geometry is not drawn (no box, cylinder, sphere or mesh)",
+                element.name,
+            )
             continue
         if geometry.kind != "mesh":
             items.append(_Item(element.name, element, geometry, element.rgba))
@@ -567,20 +589,17 @@ def _items(
             items.append(_Item(element.name, element, geometry, element.rgba, path))
             continue
         if path is None:
-            shown = ", ".join(str(p) for p in dict.fromkeys(tried))
-            why = f"not found (looked for {shown})"
-        elif _read_mesh(path) is None:
-            why = f"{path} cannot be read"
+            why = _not_found(geometry.filename, tried, folders)
         else:
-            why = f"{path} has no triangles"
-        placeholder = [] if element.link in covered else _collision_items(
-            element, collisions.get(element.link, []), urdf_path, folders
-        )
-        if placeholder:
+            why = f"trimesh finds no triangles in {path}"
+        placeholder: list[_Item] = []
+        if element.link not in covered:
+            placeholder = _collision_items(
+                element, collisions.get(element.link, []), urdf_path, folders
+            )
+        if placeholder or element.link in covered:
             covered.add(element.link)
-            drawn = "its collision geometry"
-        elif element.link in covered:
-            drawn = "its collision geometry"
+            drawn = "the link's collision geometry"
         else:
             box = _Geometry("box", (PLACEHOLDER_SIZE,) * 3)
             placeholder = [_Item(element.name, element, box, element.rgba)]
@@ -599,6 +618,23 @@ def _items(
             " / ".join(dict.fromkeys(drawn)),
         )
     return items
+
+
+def _not_found(filename: str, tried: Sequence[Path], folders: Sequence[Path]) -> str:
+    """Why a mesh was not found: the file looked for, or the folders searched for a package."""
+    if filename.startswith("package://"):
+        package = filename[len("package://") :].split("/", 1)[0]
+        shown = ", ".join(str(f) for f in folders)
+        return (
+            f"not found: no package {package!r} holding it under {shown} (give the folder that "
+            "holds the package with load_robot(..., package_dirs=[...]))"
+        )
+    if len(tried) == 1:
+        return f"not found ({tried[0]} does not exist)"
+    return (
+        f"not found next to the URDF ({tried[0]}) nor under the package folders "
+        f"{', '.join(str(f) for f in folders)}"
+    )
 
 
 def _collision_items(
@@ -633,7 +669,7 @@ def _visual_part(item: _Item, max_triangles: int) -> VisualPart | None:
         return _primitive_part(name, geometry, item.rgba or DEFAULT_RGBA)
     scale = np.asarray(geometry.scale, dtype=float)
     mesh = _shaded_mesh(item.mesh, max_triangles)
-    if mesh is None:
+    if mesh is None:  # trimesh reads no triangles: the browser reads the file
         return _mesh_file_part(name, item.mesh, scale, item.rgba or DEFAULT_RGBA)
     if item.rgba is not None or mesh.colors is None:  # the URDF's colour wins over the file's
         rgba = item.rgba or mesh.rgba or DEFAULT_RGBA
@@ -665,12 +701,12 @@ def _primitive_part(name: str, geometry: _Geometry, rgba: Sequence[float]) -> Vi
     return VisualPart(name, ms.scene_object(name, shape, material, matrix), np.array([-half, half]))
 
 
-def _mesh_file_part(
-    name: str, path: Path, scale: np.ndarray, rgba: Sequence[float]
-) -> VisualPart | None:
+def _mesh_file_part(name: str, path: Path, scale: np.ndarray, rgba: Sequence[float]) -> VisualPart:
     """The mesh file itself, for MeshCat's browser-side loaders (when trimesh cannot read it).
 
-    Bigger than :func:`_shaded_mesh`'s arrays, neither simplified nor coloured, but drawn.
+    Bigger than :func:`_shaded_mesh`'s arrays (not simplified) and drawn in one colour, but
+    drawn. The file's text or bytes are the same for every visual that uses it, so the page
+    stores them once.
     """
     suffix = path.suffix.lower().lstrip(".")
     raw = path.read_bytes()
@@ -685,21 +721,31 @@ def _mesh_file_part(
         "data": data,
     }
     material = ms.phong_material(name, rgba[:3], rgba[3])
-    bounds = _file_bounds(path) * scale
-    bounds = np.array([bounds.min(axis=0), bounds.max(axis=0)])
-    return VisualPart(name, ms.scene_object(name, geometry, material, np.diag([*scale, 1.0])), bounds)
+    mesh = _assimp_mesh(path)
+    if mesh is None:
+        corners, triangles = np.zeros((2, 3)), 0
+    else:
+        corners = np.array([mesh.aabb_local.min_, mesh.aabb_local.max_], dtype=float) * scale
+        triangles = int(mesh.num_tris)
+    bounds = np.array([corners.min(axis=0), corners.max(axis=0)])
+    obj = ms.scene_object(name, geometry, material, np.diag([*scale, 1.0]))
+    return VisualPart(name, obj, bounds, triangles)
 
 
-def _file_bounds(path: Path) -> np.ndarray:
-    """Axis-aligned box of a mesh file read by Pinocchio's collision library (coal), (2, 3)."""
+def _assimp_mesh(path: Path) -> Any:
+    """The mesh as assimp reads it through Pinocchio's collision library (coal), or None.
+
+    Used for its bounding box only (coal 3.0 misnumbers the triangles of files with several
+    meshes, which leaves the box right).
+    """
     try:
         import coal as collision
     except ImportError:  # Pinocchio < 3.4 ships hpp-fcl
         import hppfcl as collision
     try:
         mesh = collision.MeshLoader().load(str(path), np.ones(3))
-        mesh.computeLocalAABB()
-        return np.array([mesh.aabb_local.min_, mesh.aabb_local.max_], dtype=float)
-    except Exception as exc:  # assimp cannot read it either: frame the camera on the origin
+    except Exception as exc:  # assimp's errors arrive as RuntimeError, ValueError, ...
         logger.warning("cannot measure the mesh %s (%s)", path, exc)
-        return np.zeros((2, 3))
+        return None
+    mesh.computeLocalAABB()
+    return mesh

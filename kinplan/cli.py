@@ -164,7 +164,7 @@ def _cmd_ik(args: argparse.Namespace) -> int:
         print(f"rotation error [rad]:  {result.rotation_error:.3g}")
     print(f"iterations:            {result.iterations}")
     if not result.success:
-        from cartesian.follow import out_of_reach
+        from cartesian.events import out_of_reach
 
         return _fail(
             f"no IK solution for the {what} at {_fmt(position, 3)} m: "

@@ -687,7 +687,7 @@ class _Validator:
         if result.success:
             return
         where = ", ".join(f"{x:.4g}" for x in point.position)
-        from cartesian.follow import out_of_reach
+        from cartesian.events import out_of_reach
 
         why = out_of_reach(robot, result, point.position)
         fix = "move the point" + ("" if point.rotation is None else " or change its orientation")

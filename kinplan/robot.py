@@ -20,7 +20,7 @@ import pinocchio as pin
 
 from kinplan import checks
 from kinplan.errors import InputError, RobotNotFoundError
-from kinplan.ik import IKResult, IKSolver, finite_bounds
+from kinplan.ik import IKResult, IKSolver, finite_bounds, halton
 from kinplan.planar import planar_arm_urdf, write_planar_arm
 from kinplan.sources import RobotSpec, known_names, resolve_source
 from kinplan.urdf_model import build_chain, frame_id
@@ -95,6 +95,7 @@ class Robot:
         self.velocity_limit, self.acceleration_limit = chain.velocity, chain.acceleration
         self.data = self.model.createData()
         self._ik = IKSolver(self.model, self.tip_id, self.lower, self.upper)
+        self._reference_manipulability: dict[bool, float] = {}
         self._unbounded = np.flatnonzero(~np.isfinite(self.lower) & ~np.isfinite(self.upper))
         self._task = self._task_structure()
         self.link_lengths = self._planar_link_lengths()
@@ -434,6 +435,25 @@ class Robot:
             pin.updateFramePlacement(model, data, self.tip_id)
             out[k] = pin.getFrameJacobianTimeVariation(model, data, self.tip_id, _LWA)
         return out
+
+    @property
+    def ik_solver(self) -> IKSolver:
+        """The robot's numerical IK solver (owns its ``pin.Data``; see :class:`IKSolver`)."""
+        return self._ik
+
+    def reference_manipulability(self, position_only: bool) -> float:
+        """Median manipulability over a fixed low-discrepancy set of 256 configurations within
+        the limits (continuous joints within [−π, π]): the arm's typical value, which singularity
+        thresholds are a share of. Cached per task."""
+        cache = self._reference_manipulability
+        if position_only not in cache:
+            lower, upper = finite_bounds(self.lower, self.upper)
+            values = [
+                self.manipulability(lower + (upper - lower) * halton(i, self.nq), position_only)
+                for i in range(1, 257)
+            ]
+            cache[position_only] = float(np.median(values))
+        return cache[position_only]
 
     @property
     def closed_form_ik(self):

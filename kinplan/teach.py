@@ -312,7 +312,7 @@ class TeachPendant:
             target = position if rotation is None else pin.SE3(rotation, position)
             result = robot.ik(target, q_seed=self.q, position_only=rotation is None)
             if not result.success:
-                from cartesian.follow import out_of_reach
+                from cartesian.events import out_of_reach
 
                 why = out_of_reach(robot, result, position)
                 return Reply(

@@ -27,7 +27,7 @@ import re
 import sys
 import tempfile
 import xml.etree.ElementTree as ET
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -46,6 +46,12 @@ UNBOUNDED = 1e9
 LIMIT_KEYS = ("lower", "upper", "velocity", "acceleration")
 #: Joint names that make a gripper, left out of the default tool chain (locked at 0).
 GRIPPER_JOINT = re.compile(r"gripper|finger|jaw|claw|hand_joint", re.IGNORECASE)
+#: Link names that make a tool frame, preferred (in this order) as the default tip among the
+#: links fixed to the last joint of the chain.
+TOOL_LINKS = tuple(
+    re.compile(pattern, re.IGNORECASE)
+    for pattern in (r"tcp", r"tool", r"eef|end_?effector", r"flange", r"ee_link")
+)
 _ONE_DOF = {"revolute", "prismatic", "continuous"}
 _HELD_ROOT = {"floating", "planar"}
 
@@ -113,6 +119,8 @@ def read_urdf(urdf_path: Path) -> ET.Element:
 def root_link(root: ET.Element, urdf_path: Path) -> str:
     """The URDF's root link (the one link that is no joint's child)."""
     links = [link.get("name") for link in root.findall("link")]
+    if not links:
+        raise URDFError(f"{urdf_path} has no <link>: it describes no robot; check the file")
     children = {child.get("link") for child in root.findall("joint/child")}
     roots = [name for name in links if name not in children]
     if len(roots) != 1:
@@ -187,12 +195,12 @@ def _parser_messages(text: str) -> str:
     return "; ".join(messages)
 
 
-def _parse_model(xml: str, urdf_path: Path) -> pin.Model:
-    """Pinocchio's model of the URDF text (mimic joints as such); urdfdom's own messages go
-    into the error (or the log)."""
+def _parse_model(xml: str, urdf_path: Path, mimic: bool = True) -> pin.Model:
+    """Pinocchio's model of the URDF text (mimic joints as such unless ``mimic`` is False);
+    urdfdom's own messages go into the error (or the log)."""
     with _native_stderr_captured() as captured:
         try:
-            model = pin.buildModelFromXML(xml, mimic=True)
+            model = pin.buildModelFromXML(xml, mimic=mimic)
             failure = None
         except Exception as exc:  # RuntimeError, ValueError or Boost.Python errors: all bad URDF
             model, failure = None, exc
@@ -309,6 +317,98 @@ def _edited_xml(
     return ET.tostring(root, encoding="unicode"), placeholders
 
 
+def _uncouple_mimics(
+    root: ET.Element, joints: Mapping[str, _Joint], xml: str, urdf_path: Path
+) -> tuple[str, set[str]]:
+    """Drop the ``<mimic>`` of the mimic joints Pinocchio cannot couple, so the URDF loads.
+
+    Pinocchio couples a mimic joint to its master only when the master is a 1-dof joint that
+    is not itself a mimic joint and that its depth-first walk of the tree reaches first. Talos'
+    and Romeo's grippers (master on a sibling branch reached later) and Alex's hands (master
+    missing) break that; such a joint becomes an independent joint of the model, which
+    :func:`build_chain` holds at the value of the relation (or refuses on the tool chain).
+
+    Args:
+        root: The URDF's ``<robot>`` element, edited in place.
+        joints: The URDF's joints.
+        xml: The URDF text of ``root`` (continuous joints already read as revolute).
+        urdf_path: The file, for messages.
+
+    Returns:
+        (the URDF text, names of the uncoupled mimic joints).
+    """
+    mimics = {
+        name: joint.mimic
+        for name, joint in joints.items()
+        if joint.mimic is not None and joint.kind in _ONE_DOF  # Talos has fixed "mimic" joints
+    }
+    if not mimics:
+        return xml, set()
+    walk = list(_parse_model(xml, urdf_path, mimic=False).names)
+    order = {name: k for k, name in enumerate(walk)}
+    uncoupled = set()
+    for name, (master, _, _) in mimics.items():
+        usable = (
+            master in joints
+            and joints[master].kind in _ONE_DOF
+            and master not in mimics
+            and order.get(master, len(walk)) < order.get(name, -1)
+        )
+        if not usable:
+            uncoupled.add(name)
+    if not uncoupled:
+        return xml, set()
+    for element in root.findall("joint"):
+        if element.get("name", "") in uncoupled:
+            element.remove(element.find("mimic"))
+    logger.info(
+        "%s: Pinocchio cannot couple the mimic joint(s) %s to their masters; held at the "
+        "value of the relation where they are off the tool chain",
+        urdf_path.name,
+        ", ".join(sorted(uncoupled)),
+    )
+    return ET.tostring(root, encoding="unicode"), uncoupled
+
+
+def _reduced_model(model: pin.Model, to_hold: Sequence[int], q_ref: np.ndarray) -> pin.Model:
+    """``pin.buildReducedModel``, safe for joints named like a link.
+
+    Pinocchio looks frames up by name while it reduces a model, which fails when a joint
+    shares its name with a link (so100's ``gripper``); such joints are renamed meanwhile and
+    get their names back in the reduced model.
+    """
+    if not to_hold:
+        return model
+    links = {f.name for f in model.frames if f.type != pin.FrameType.JOINT}
+    renamed = {}
+    for j in range(1, model.njoints):
+        name = model.names[j]
+        if name in links:
+            temporary = f"{name}__kinplan_joint_{j}"
+            renamed[temporary] = name
+            _rename_joint(model, name, temporary)
+    try:
+        reduced = pin.buildReducedModel(model, list(to_hold), q_ref)
+    finally:
+        for temporary, name in renamed.items():
+            _rename_joint(model, temporary, name)
+    for temporary, name in renamed.items():
+        _rename_joint(reduced, temporary, name)
+    return reduced
+
+
+def _rename_joint(model: pin.Model, old: str, new: str) -> None:
+    """Rename a joint of ``model`` and its joint frame (or the fixed frame a held joint left)."""
+    for j in range(1, model.njoints):
+        if model.names[j] == old:
+            model.names[j] = new
+    for k in range(len(model.frames)):
+        frame = model.frames[k]
+        if frame.name == old and frame.type in (pin.FrameType.JOINT, pin.FrameType.FIXED_JOINT):
+            frame.name = new
+            model.frames[k] = frame
+
+
 def tip_candidates(model: pin.Model) -> list[str]:
     """Candidate tool frames: the links at the ends of the chains and the frames below them."""
     parents = {model.parents[j] for j in range(1, model.njoints)}
@@ -336,8 +436,14 @@ def frame_id(model: pin.Model, name: str, urdf_path: Path) -> int:
 
 
 def _default_tip(model: pin.Model, joints: Mapping[str, _Joint], urdf_path: Path) -> str:
-    """The last link of the only chain, grippers left out (their joints stay at 0): a chain
-    that ends in gripper joints ends at the link its first gripper joint hangs from."""
+    """The tool link of the only chain, grippers left out (their joints stay at 0).
+
+    The chain ends at its last joint that is not a gripper's (unless every joint of the chain
+    is named like a gripper's: a finger robot keeps them). Of the links fixed to that joint, a
+    tool-like one (:data:`TOOL_LINKS`: ``tcp``, ``tool``, ``eef``, ``end_effector``,
+    ``flange``, ``ee_link``, in this order) is the tip; else the link the first gripper joint
+    hangs from; else the last of them that is not a gripper or finger link.
+    """
     parents = {model.parents[j] for j in range(1, model.njoints)}
     leaves = [j for j in range(1, model.njoints) if j not in parents]
     if not leaves:
@@ -347,13 +453,19 @@ def _default_tip(model: pin.Model, joints: Mapping[str, _Joint], urdf_path: Path
         j, first_gripper = leaf, None
         while j > 0 and GRIPPER_JOINT.search(model.names[j]):
             first_gripper, j = j, model.parents[j]
-        if first_gripper is not None:
+        if j == 0:  # the whole chain is a finger (finger_edu): it is the arm
+            j, first_gripper = leaf, None
+        bodies = [
+            f.name for f in model.frames if f.type == pin.FrameType.BODY and f.parentJoint == j
+        ]
+        plain = [b for b in bodies if not GRIPPER_JOINT.search(b)] or bodies
+        tools = [b for pattern in TOOL_LINKS for b in plain if pattern.search(b)]
+        if tools:
+            ends.append(tools[0])
+        elif first_gripper is not None:
             ends.append(joints[model.names[first_gripper]].parent)
         else:
-            bodies = [
-                f.name for f in model.frames if f.type == pin.FrameType.BODY and f.parentJoint == j
-            ]
-            ends.append(bodies[-1])
+            ends.append(plain[-1])
     ends = list(dict.fromkeys(ends))
     if len(ends) != 1:
         raise FrameError(
@@ -399,6 +511,7 @@ def build_chain(
         if "lower" in entry or "upper" in entry:
             continuous.discard(name)  # bounded by the caller
     xml, placeholders = _edited_xml(root, joints, overrides)
+    xml, uncoupled = _uncouple_mimics(root, joints, xml, urdf_path)
     model = _parse_model(xml, urdf_path)
 
     tip = tip or default_tip or _default_tip(model, joints, urdf_path)
@@ -423,6 +536,7 @@ def build_chain(
         if model.joints[j].nq == 1:
             q_ref[model.joints[j].idx_q] = value
     off_chain = {j for j in range(1, model.njoints) if j not in chain}
+    _hold_uncoupled(model, joints, uncoupled, chain, hold, locked, q_ref, urdf_path)
     # a mimic joint whose master is held goes with it (Pinocchio needs both held)
     for j in range(1, model.njoints):
         mimic = joints[model.names[j]].mimic
@@ -435,7 +549,7 @@ def build_chain(
             "joint of the chain is locked or held)"
         )
     to_hold = sorted(hold | off_chain)
-    reduced = pin.buildReducedModel(model, to_hold, q_ref) if to_hold else model
+    reduced = _reduced_model(model, to_hold, q_ref)
     _place_at(reduced, base)
 
     names = [reduced.names[j] for j in range(1, reduced.njoints)]
@@ -485,6 +599,41 @@ def build_chain(
         locked={n: v for n, v in locked.items()},
         held_root=held_root,
     )
+
+
+def _hold_uncoupled(
+    model: pin.Model,
+    joints: Mapping[str, _Joint],
+    uncoupled: set[str],
+    chain: set[int],
+    hold: set[int],
+    locked: Mapping[str, float],
+    q_ref: np.ndarray,
+    urdf_path: Path,
+) -> None:
+    """Hold the mimic joints Pinocchio could not couple (see :func:`_uncouple_mimics`) at
+    multiplier · master + offset, the master at its held value (its lock, else 0; a missing
+    master counts as 0, as yourdfpy reads it); ``hold`` and ``q_ref`` are updated.
+
+    Raises:
+        URDFError: such a joint on the tool chain whose master moves with the chain.
+    """
+    for name in sorted(uncoupled):
+        j = model.getJointId(name)
+        master, multiplier, offset = joints[name].mimic  # type: ignore[misc]
+        master_id = model.getJointId(master) if model.existJointName(master) else None
+        if j in chain and master_id in chain - hold and name not in locked:
+            raise URDFError(
+                f"joint {name!r} of {urdf_path.name} mimics {master!r}, which comes after it "
+                "in the tree: kinplan cannot couple them; lock one of them with "
+                "locked_joints={name: value} or choose a tip before them"
+            )
+        if name not in locked:
+            master_value = 0.0
+            if master_id is not None and model.joints[master_id].nq == 1:
+                master_value = float(q_ref[model.joints[master_id].idx_q])
+            q_ref[model.joints[j].idx_q] = multiplier * master_value + offset
+        hold.add(j)
 
 
 def _place_at(model: pin.Model, base: pin.SE3) -> None:

@@ -8,8 +8,8 @@ import pytest
 
 import cartesian
 import kinplan
-from cartesian.follow import _pseudo_inverses
 from cartesian.timing import time_path
+from cartesian.tracker import pseudo_inverses
 from kinplan import trajectory
 from kinplan.errors import InputError
 
@@ -296,7 +296,7 @@ def test_stacked_pseudo_inverses_of_every_shape_and_rank():
     for rows, cols, rank in ((6, 6, 6), (6, 7, 6), (3, 6, 3), (3, 2, 2), (3, 4, 2), (4, 3, 2)):
         J = rng.normal(size=(5, rows, rank)) @ rng.normal(size=(5, rank, cols))
         np.testing.assert_allclose(
-            _pseudo_inverses(J, rank), np.linalg.pinv(J), rtol=1e-9, atol=1e-12
+            pseudo_inverses(J, rank), np.linalg.pinv(J), rtol=1e-9, atol=1e-12
         )
 
 

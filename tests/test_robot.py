@@ -13,7 +13,7 @@ import pytest
 import yourdfpy
 
 import kinplan
-from kinplan.robot import jacobian_time_variation
+from kinplan.robot import jacobian_time_variation, manipulability_of
 from tests.conftest import cached_robot
 
 ARMS = ["planar_2r", "ur3", "ur5", "ur10", "panda"]
@@ -155,7 +155,7 @@ def test_ik_reported_errors_match_log3_and_the_position_distance(panda):
         axis /= np.linalg.norm(axis)
         rotation = pin.exp3(angle * axis) @ pose.rotation
         position = pose.translation + rng.normal(size=3) * angle
-        perr, rerr = panda._ik.errors(q, position, rotation)
+        perr, rerr = panda.ik_solver.errors(q, position, rotation)
         assert perr == pytest.approx(np.linalg.norm(position - pose.translation), abs=1e-15)
         expected = np.linalg.norm(pin.log3(rotation @ pose.rotation.T))
         assert rerr == pytest.approx(expected, abs=1e-15 + 1e-7 * angle)
@@ -281,3 +281,58 @@ def test_tool_positions_of_joint_rows(panda):
         panda.tool_positions(rows[:, :6])
     with pytest.raises(kinplan.errors.InputError):
         panda.tool_positions(np.full((2, 7), np.nan))
+
+
+@pytest.mark.parametrize(
+    ("lengths", "annulus"),
+    [([1.0, 0.25], (0.75, 1.25)), ([1.0, 1.0], (0.0, 2.0)), ([0.5, 1.0, 0.2], (0.3, 1.7))],
+)
+def test_planar_workspace_annulus_bounds_every_configuration(lengths, annulus):
+    """The annulus (r_min, r_max) of a planar arm: no configuration puts the tool outside it,
+    and configurations come within 1 % of both radii (r_min = max(0, 2·l_longest − Σl))."""
+    arm = kinplan.planar_arm(lengths)
+    assert arm.link_lengths == pytest.approx(lengths, abs=1e-12)
+    r_min, r_max = arm.planar_reach()
+    assert (r_min, r_max) == pytest.approx(annulus, abs=1e-12)
+    assert arm.reach() == pytest.approx(r_max, abs=1e-12)
+    rng = np.random.default_rng(11)
+    q = rng.uniform(arm.lower, arm.upper, (4000, arm.nq))
+    r = np.linalg.norm(arm.tool_positions(q)[:, :2], axis=1)
+    assert r.min() >= r_min - 1e-12 and r.max() <= r_max + 1e-12
+    assert r.min() <= r_min + 0.01 * r_max and r.max() >= 0.99 * r_max
+    assert kinplan.load_robot("ur5").planar_reach() is None
+
+
+def test_manipulability_of_a_stack_is_that_of_each_sample(panda):
+    """manipulability_of on a stack of Jacobians (N, 6, 7) gives the N per-sample values (an
+    array), on one Jacobian a float."""
+    rng = np.random.default_rng(12)
+    qs = [panda.random_configuration(rng) for _ in range(5)]
+    stack = np.array([panda.jacobian(q) for q in qs])
+    values = manipulability_of(stack, 6)
+    assert isinstance(values, np.ndarray) and values.shape == (5,)
+    for q, value, J in zip(qs, values, stack):
+        single = manipulability_of(J, 6)
+        assert isinstance(single, float)
+        assert value == pytest.approx(single, rel=1e-12)
+        assert single == pytest.approx(np.sqrt(np.linalg.det(J @ J.T)), rel=1e-9)
+        assert panda.manipulability(q) == pytest.approx(single, rel=1e-12)
+    # a rank-deficient request: the product of the largest singular values only
+    np.testing.assert_allclose(
+        manipulability_of(stack, 2),
+        np.prod(np.linalg.svd(stack, compute_uv=False)[:, :2], axis=1),
+        rtol=1e-12,
+    )
+
+
+@pytest.mark.parametrize(("lower", "upper", "neutral"), [(0.5, 2.0, 0.5), (-2.0, -0.5, -0.5)])
+def test_neutral_is_zero_moved_into_the_limits(lower, upper, neutral):
+    arm = kinplan.planar_arm([1.0, 1.0], lower=lower, upper=upper, name="two_link")
+    assert arm.name == "two_link"
+    np.testing.assert_array_equal(arm.lower, [lower, lower])
+    np.testing.assert_array_equal(arm.neutral(), [neutral, neutral])
+
+
+def test_a_zero_link_length_is_refused():
+    with pytest.raises(kinplan.KinplanError, match="lengths"):
+        kinplan.planar_arm([1.0, 0.0])

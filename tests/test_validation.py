@@ -159,7 +159,7 @@ CASES += [
     ("frobenius_tolerance('x')", lambda r: frobenius_tolerance("x"), InputError,
      ["rotation_tolerance"]),
     ("IKSolver.solve(max_iterations=-1)",
-     lambda r: r["ur5"]._ik.solve(np.array(P0), None, np.zeros(6), max_iterations=-1),
+     lambda r: r["ur5"].ik_solver.solve(np.array(P0), None, np.zeros(6), max_iterations=-1),
      InputError, ["max_iterations"]),
     ("IKSolver(lower=3 values)",
      lambda r: IKSolver(r["ur5"].model, r["ur5"].tip_id, np.zeros(3), np.ones(6)), InputError,
@@ -358,7 +358,7 @@ def _calls(robots) -> list[tuple[str, object, list]]:
         ("home_configuration", home_configuration, [planar]),
         ("run_session", run_session, [TeachPendant(planar), ["show"], str, None, False]),
         ("resolve_robot_source", resolve_robot_source, ["planar_2r", "."]),
-        ("IKSolver.solve", ur5._ik.solve, [np.array(P0), None, np.zeros(6)]),
+        ("IKSolver.solve", ur5.ik_solver.solve, [np.array(P0), None, np.zeros(6)]),
         ("Robot.ik (pose)", lambda t: ur5.ik(t, max_restarts=1), [pose]),
     ]
 

@@ -1,0 +1,98 @@
+"""What a Cartesian plan reports: its status and the events that stopped it.
+
+:class:`Status` names the outcomes (``"ok"`` and the kinds of :class:`Event`); an event says what
+happened and where (``message``) and what to do about it (``remedy``). The helpers here phrase the
+facts every event states: a position, a joint's unit, why a point is out of reach.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from kinplan.ik import IKResult
+from kinplan.robot import Robot
+
+
+class Status(str, enum.Enum):
+    """Outcome of a plan or kind of an event; compares equal to its string value."""
+
+    OK = "ok"
+    UNREACHABLE = "unreachable"
+    SINGULAR = "singular"
+    JOINT_LIMIT = "joint_limit"
+    VELOCITY_LIMIT = "velocity_limit"
+    JUMP = "jump"
+
+    def __str__(self) -> str:
+        return self.value
+
+
+@dataclass
+class Event:
+    """Why a plan stopped.
+
+    Attributes:
+        kind: "unreachable", "joint_limit", "jump", "singular" or "velocity_limit".
+        t: Time of the offending sample [s] (0 for a geometric check).
+        s: Path fraction of the offending sample [-].
+        index: Index of the offending sample.
+        message: What happened and where (no advice: see ``remedy``).
+        position: Target tool position of the offending sample [m].
+        joint: The joint concerned (limits, speeds, jumps), if any.
+        value: The offending value (joint position [rad or m], speed [rad/s or m/s],
+            manipulability).
+        limit: The limit it broke.
+        remedy: What the caller of :func:`follow` can do about it ("" when nothing obvious).
+    """
+
+    kind: str
+    t: float
+    s: float
+    index: int
+    message: str
+    position: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    joint: str | None = None
+    value: float | None = None
+    limit: float | None = None
+    remedy: str = ""
+
+    def __str__(self) -> str:
+        return f"{self.message}; {self.remedy}" if self.remedy else self.message
+
+
+def out_of_reach(robot: Robot, result: IKResult, position: np.ndarray) -> str:
+    """Why a target is out of reach, from an unsuccessful IK ``result``: the distance from the
+    arm's first joint and its reach, or how close the best configuration came."""
+    distance, reach = robot.shoulder_distance(position), robot.reach()
+    annulus = robot.planar_reach()
+    if distance > reach * (1 + 1e-12):
+        return f"it is {distance:.4f} m from the arm's first joint, which reaches {reach:.4f} m"
+    if annulus is not None and distance < annulus[0]:
+        return (
+            f"its distance to the first joint, {distance:.4f} m, is inside the hole "
+            f"r < {annulus[0]:.4f} m that the arm cannot reach"
+        )
+    text = (
+        f"within the arm's reach ({distance:.4f} m of {reach:.4f} m from its first joint), but the "
+        f"closest tool pose within the joint limits is {result.position_error:.4f} m"
+    )
+    if result.rotation_error > 0:
+        text += f" and {result.rotation_error:.3f} rad"
+    return text + " away"
+
+
+def joint_units(robot: Robot) -> list[str]:
+    """Unit of each joint coordinate: "m" for prismatic joints, "rad" for the others."""
+    units = ["rad"] * robot.nq
+    for joint in robot.model.joints[1:]:
+        if joint.nq == 1 and joint.shortname().startswith("JointModelP"):  # PX/PY/PZ/Unaligned
+            units[joint.idx_q] = "m"
+    return units
+
+
+def where(position: np.ndarray) -> str:
+    """A position [m] as text: "(x, y, z) m" to 0.1 mm."""
+    return "(" + ", ".join(f"{x:.4f}" for x in position) + ") m"

@@ -1,0 +1,238 @@
+"""The geometry of a path for an arm, before any timing: continuous IK along it.
+
+:func:`trace_geometry` solves warm-started IK at path fractions, bisecting where a joint moves
+fast, and stops at the first joint limit, singularity, branch flip or unreachable point;
+:func:`check_reachability` is the public pre-check built on it, :func:`trace_between` what the
+follower asks when a sample seems to jump.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from cartesian.events import Event, Status, where
+from cartesian.paths import Path
+from cartesian.tracker import SINGULAR_FRACTION, Tracker, path_targets, resolve_position_only
+from kinplan.robot import Robot
+
+
+@dataclass
+class Reachability:
+    """Result of :func:`check_reachability` (geometric: no timing).
+
+    Attributes:
+        ok: Whether every sampled point of the path is reachable continuously.
+        status: "ok" or the kind of the first event.
+        fraction: Path fraction reached before the first failure (1.0 when ok).
+        events: The events at the first failing point.
+        s: Path fractions checked (up to the failure).
+        q: Joint positions at those points (IK checks; empty for an analytic check).
+    """
+
+    ok: bool
+    status: str
+    fraction: float
+    events: list[Event]
+    s: np.ndarray
+    q: np.ndarray
+
+    def __repr__(self) -> str:
+        text = f"Reachability({self.status}, fraction {self.fraction:.3f}, {len(self.s)} points"
+        return text + (f": {self.events[0].message})" if self.events else ")")
+
+
+@dataclass
+class Geometry:
+    """Joint solutions along the path up to the first event (for checks and retiming).
+
+    Attributes:
+        s: Path fractions solved (the requested ones plus refinements).
+        q: Joint positions there, shape (len(s), nq).
+        dq_ds: Geometric joint rates dq/ds there.
+        events: The first event, if any.
+    """
+
+    s: np.ndarray
+    q: np.ndarray
+    dq_ds: np.ndarray
+    events: list[Event]
+
+
+#: Largest joint step [rad] between checked points before the interval is bisected.
+MAX_JOINT_STEP = 0.1
+
+
+#: Smallest interval in s that is still bisected.
+MIN_REFINE_DS = 1e-7
+
+
+def _points(tracker: Tracker, path: Path, s: np.ndarray) -> list[tuple]:
+    """(s, position, rotation or None, dx/ds) of each path fraction in ``s``."""
+    targets = path_targets(path, s, tracker.position_only, tracker.rows)
+    rotations = [None] * len(s) if targets.rotations is None else list(targets.rotations)
+    return list(zip(s.tolist(), targets.positions, rotations, targets.rate))
+
+
+def trace_geometry(tracker: Tracker, path: Path, s: np.ndarray, seed: np.ndarray) -> Geometry:
+    """Warm-started IK at path fractions ``s`` with joint-limit/jump/singularity checks.
+
+    Where a joint moves more than :data:`MAX_JOINT_STEP` between two points the interval is
+    bisected, so a singularity or a branch flip between grid points is not stepped over. Also
+    returns dq/ds = J⁺ dx/ds at every solved point.
+    """
+    robot = tracker.robot
+    # A stack of (s, position, rotation, dx/ds): the next point to check is at the end.
+    pending = _points(tracker, path, s)[::-1]
+    solved_s: list[float] = []
+    qs, dqs, events = [], [], []
+    q_prev = None
+    while pending:
+        sk, position, rotation, dx = pending[-1]
+        k = len(qs)
+        if q_prev is None:
+            guess = tracker.start(position, rotation, seed)
+        else:
+            guess = q_prev + dqs[-1] * (sk - solved_s[-1])
+        q, ok, *_ = tracker.solve(guess, position, rotation)
+        if q_prev is not None and sk - solved_s[-1] > MIN_REFINE_DS:
+            if not ok or np.max(np.abs(q - q_prev)) > MAX_JOINT_STEP:
+                pending += _points(tracker, path, np.array([0.5 * (sk + solved_s[-1])]))
+                continue
+        if not ok:
+            found = tracker.rescue(k, 0.0, sk, guess, q_prev, position, rotation)
+            if isinstance(found, Event):
+                events.append(found)
+                break
+            q = found
+            tracker.accepts(
+                q, position.tolist(), None if rotation is None else rotation.reshape(9).tolist()
+            )
+        j = tracker.beyond_limit(q)
+        if j is not None:
+            events.append(tracker.limit_event(k, 0.0, sk, q, j, position))
+            break
+        m = tracker.factor(tracker.jacobian())
+        event = tracker.singular_event(k, 0.0, sk, m, position)
+        dq = None
+        if event is None:
+            dq = tracker.rates(dx)
+            h = sk - solved_s[-1] if solved_s else 0.0
+            rate_prev = dqs[-1] if dqs else None
+            event = tracker.jump_event(k, 0.0, sk, q, q_prev, dq, rate_prev, h, position)
+        if event is not None:
+            events.append(event)
+            break
+        pending.pop()
+        solved_s.append(sk)
+        qs.append(q)
+        dqs.append(dq)
+        q_prev = q
+    nq = robot.nq
+    return Geometry(
+        np.array(solved_s), np.array(qs).reshape(-1, nq), np.array(dqs).reshape(-1, nq), events
+    )
+
+
+#: Points of the finer trace that checks a jump between two samples.
+JUMP_CHECK_POINTS = 17
+
+
+def trace_between(
+    tracker: Tracker, path: Path, s0: float, s1: float, q0: np.ndarray
+) -> np.ndarray | Event | None:
+    """Follow the path geometrically from ``q0`` at fraction ``s0`` to ``s1`` on a finer grid
+    (bisected where a joint moves fast): what a sample that seems to jump really is.
+
+    Returns:
+        The configuration at s1 reached continuously (the sample's step was only too coarse
+        for the motion: its speed is then checked like any other), the event that the finer
+        trace meets on the way (a singularity, a joint limit, a branch flip), or None when it
+        cannot be started from q0.
+    """
+    geometry = trace_geometry(tracker, path, np.linspace(s0, s1, JUMP_CHECK_POINTS), q0)
+    if geometry.events:
+        return geometry.events[0]
+    if len(geometry.q) == 0 or np.max(np.abs(geometry.q[0] - q0)) > tracker.jump_tolerance:
+        return None
+    return geometry.q[-1]
+
+
+# ------------------------------------------------------------------------------------------
+def check_reachability(
+    robot: Robot,
+    path: Path,
+    q_seed=None,
+    position_only: bool | None = None,
+    *,
+    resolution: float = 0.005,
+    singular_threshold: float | None = None,
+) -> Reachability:
+    """Fast pre-check: does the path stay in the workspace, continuously, away from singularities?
+
+    Warm-started IK at points every ``resolution`` metres (at least 50 points, bisected where a
+    joint moves more than 0.1 rad), reporting unreachable points, joint limits, branch jumps and
+    singularities with the thresholds :func:`follow` uses, so the two agree. Planar arms first
+    check their analytic workspace (the annulus r_min ≤ r ≤ r_max about the first joint, in its
+    plane), which names the exact reason of an unreachable point. No timing, so no velocity
+    check.
+
+    Args:
+        robot: The arm.
+        path: The path.
+        q_seed: Start configuration guess.
+        position_only: As in :func:`follow`.
+        resolution: Spacing of the checked points along the path [m].
+        singular_threshold: As in :func:`follow`.
+    """
+    position_only = resolve_position_only(robot, path, position_only)
+    count = max(50, int(np.ceil(path.length / resolution)) + 1)
+    s = np.linspace(0.0, 1.0, count)
+    reach = robot.planar_reach()
+    if reach is not None and position_only:
+        annulus = _planar_check(robot, path, s, reach)
+        if not annulus.ok:  # the analytic answer, with its exact reason
+            return annulus
+    seed = robot.neutral() if q_seed is None else robot.check_q(q_seed, "q_seed")
+    if singular_threshold is None:
+        singular_threshold = SINGULAR_FRACTION * robot.reference_manipulability(position_only)
+    tracker = Tracker(robot, position_only, 1e-7, 1e-7, singular_threshold, 1.0, 0.1)
+    geometry = trace_geometry(tracker, path, s, seed)
+    done = len(geometry.q)
+    return Reachability(
+        ok=not geometry.events,
+        status=geometry.events[0].kind if geometry.events else Status.OK,
+        fraction=1.0 if not geometry.events else (float(geometry.s[-1]) if done else 0.0),
+        events=geometry.events,
+        s=geometry.s,
+        q=geometry.q,
+    )
+
+
+def _planar_check(robot: Robot, path: Path, s: np.ndarray, reach) -> Reachability:
+    """Analytic check of a planar arm: annulus about the first joint, in its plane."""
+    base = robot.model.jointPlacements[1]
+    local = (path.position(s) - base.translation) @ base.rotation  # in the first joint's frame
+    r = np.hypot(local[:, 0], local[:, 1])
+    r_min, r_max = reach
+    bad = (r < r_min - 1e-9) | (r > r_max + 1e-9) | (np.abs(local[:, 2]) > 1e-9)
+    if not bad.any():
+        return Reachability(True, Status.OK, 1.0, [], s, np.empty((0, robot.nq)))
+    k = int(np.argmax(bad))
+    position = path.position(s[k : k + 1])[0]
+    if abs(local[k, 2]) > 1e-9:
+        why = f"it is {local[k, 2]:.4f} m off the arm's plane"
+    elif r[k] < r_min:
+        why = f"its distance to the first joint, {r[k]:.4f} m, is inside the hole r < {r_min:.4f} m"
+    else:
+        why = f"its distance to the first joint, {r[k]:.4f} m, exceeds the reach {r_max:.4f} m"
+    event = Event(
+        Status.UNREACHABLE, 0.0, float(s[k]), k, f"{where(position)} is out of reach: {why}",
+        position,
+        remedy="shorten or move the path, or move the robot's base",
+    )  # fmt: skip
+    fraction = float(s[k - 1]) if k else 0.0
+    return Reachability(
+        False, Status.UNREACHABLE, fraction, [event], s[:k], np.empty((0, robot.nq))
+    )

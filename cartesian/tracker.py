@@ -1,0 +1,418 @@
+"""Warm-started IK along a path and the quantities that monitor it.
+
+:class:`Tracker` holds, for one plan, the arm, its IK solver and the monitoring thresholds: it
+accepts predicted configurations, solves the ones that need Newton steps, factors the Jacobian
+for the joint rates and the manipulability, and phrases the events (joint limit, singularity,
+jump, velocity) of a sample. :func:`path_targets` evaluates a path at many fractions at once.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import eigenpy
+import numpy as np
+import pinocchio as pin
+
+from cartesian.events import Event, Status, joint_units, out_of_reach, where
+from cartesian.paths import Path
+from kinplan.errors import InputError
+from kinplan.ik import frobenius_tolerance
+from kinplan.robot import Robot, manipulability_of
+from kinplan.sampling import joint_speeds
+
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+
+#: Default singularity threshold, as a share of the arm's median manipulability.
+SINGULAR_FRACTION = 0.05
+
+
+# ------------------------------------------------------------------------------------------
+class Tracker:
+    """Warm-started IK along a path plus the monitoring quantities, on the robot's IK data."""
+
+    def __init__(
+        self,
+        robot: Robot,
+        position_only: bool,
+        tolerance: float,
+        rotation_tolerance: float,
+        singular_threshold: float,
+        velocity_scale: float,
+        jump_tolerance: float,
+    ):
+        self.robot = robot
+        self.solver = robot.ik_solver
+        self.model, self.data, self.fid = robot.model, robot.ik_solver.data, robot.tip_id
+        self.position_only = position_only
+        self.rows, self.rank = robot.task_rows(position_only), robot.task_rank(position_only)
+        # the same rows as a slice when they are consecutive: a view instead of a copy
+        first, last = int(self.rows[0]), int(self.rows[-1])
+        consecutive = np.array_equal(self.rows, np.arange(first, last + 1))
+        self._row_index = slice(first, last + 1) if consecutive else self.rows
+        self._all_rows = consecutive and (first, last) == (0, 5)
+        self._flat_jacobian = robot.nq == 1  # eigenpy gives a 1-D array for one column
+        rows, cols = len(self.rows), robot.nq
+        self._shape = (rows > cols) - (rows < cols)  # −1 wide, 0 square, 1 tall
+        self._full_rank = self.rank == min(rows, cols)
+        self.tolerance, self.rotation_tolerance = tolerance, rotation_tolerance
+        self._tolerances2 = (tolerance * tolerance, frobenius_tolerance(rotation_tolerance))
+        self.singular_threshold = singular_threshold
+        self.velocity_scale = velocity_scale
+        self.speed_limit = robot.velocity_limit * velocity_scale
+        self.jump_tolerance = jump_tolerance
+        self.units = joint_units(robot)
+        # below this manipulability no joint rates can be computed, whatever the threshold:
+        # the rates would be a million times the arm's usual ones, and the √det of a Gram
+        # matrix JJᵀ carries a rounding noise of √ε‖J‖² (1e-7 for a 3 m arm at full stretch)
+        self.rank_floor = 1e-6 * robot.reference_manipulability(position_only)
+
+    def solve(self, guess, position, rotation, evaluated: bool = False, iterations: int = 12):
+        """Newton steps from ``guess``, ignoring the joint limits (the caller checks them: a
+        joint that must leave its range is a ``joint_limit`` event, never a clamp).
+        ``evaluated``: see :meth:`IKSolver.descend`."""
+        return self.solver.descend(
+            guess, position, rotation, self.tolerance, self.rotation_tolerance, iterations,
+            clamp=False, evaluated=evaluated,
+        )  # fmt: skip
+
+    def accepts(
+        self, guess: np.ndarray, position: list[float], rotation: list[float] | None
+    ) -> np.ndarray | None:
+        """``guess`` itself when the tool there already meets the tolerances (one kinematics
+        pass, left for :meth:`jacobian`), else None. The joint limits are not applied here.
+
+        Args:
+            guess: Predicted configuration.
+            position: Target tool position [m], 3 floats.
+            rotation: Target tool rotation, 9 floats (row-major), or None (position only).
+        """
+        return guess if self.solver.accepts(guess, position, rotation, *self._tolerances2) else None
+
+    def beyond_limit(self, q: np.ndarray) -> int | None:
+        """Index of the joint furthest beyond its position limits at ``q``, or None."""
+        over = np.maximum(self.robot.lower - q, q - self.robot.upper)
+        j = int(np.argmax(over))
+        return j if over[j] > 0.0 else None
+
+    def limit_event(self, k, t, s, q: np.ndarray, j: int, position) -> Event:
+        """The "joint_limit" event of joint ``j`` beyond its range at ``q``."""
+        robot = self.robot
+        name, unit = robot.joint_names[j], self.units[j]
+        upper = q[j] > robot.upper[j]
+        bound = robot.upper[j] if upper else robot.lower[j]
+        return Event(
+            Status.JOINT_LIMIT, float(t), float(s), k,
+            f"joint {name} would need {q[j]:.4f} {unit}, beyond its {'upper' if upper else 'lower'}"
+            f" limit {bound:.4f} {unit}, to keep the tool on the path at {where(position)}",
+            position, name, float(q[j]), float(bound),
+            remedy=f"start from a configuration with joint {name} further from that limit "
+            "(another q_seed), or move the path",
+        )  # fmt: skip
+
+    def jacobian(self) -> np.ndarray:
+        """Tool Jacobian (6, nq) at the last converged q (no new kinematics pass)."""
+        J = pin.getFrameJacobian(self.model, self.data, self.fid, _LWA)
+        return J.reshape(6, 1) if self._flat_jacobian else J
+
+    def tool_position(self) -> tuple[float, float, float]:
+        """Tool position [m] at the last converged q."""
+        return self.solver.converged_position
+
+    def factor(self, jacobian: np.ndarray) -> float:
+        """Factor the task rows J of a tool ``jacobian`` (6, nq) for :meth:`rates`; return the
+        manipulability.
+
+        One LU factorisation (partial pivoting) serves the joint velocities and the
+        manipulability: of J itself when it is square (manipulability |det J|), else of the
+        smaller Gram matrix JJᵀ or JᵀJ (manipulability √det). A structurally rank-deficient
+        task falls back to the pseudo-inverse. An exactly singular J gives 0.
+        """
+        J = self._J = jacobian if self._all_rows else jacobian[self._row_index]
+        if not self._full_rank:
+            self._lu = None
+            return manipulability_of(J, self.rank)
+        if self._shape == 0:
+            self._lu = eigenpy.PartialPivLU(J)
+            return abs(self._lu.determinant())
+        self._lu = eigenpy.PartialPivLU(J.dot(J.T) if self._shape < 0 else J.T.dot(J))
+        return math.sqrt(max(self._lu.determinant(), 0.0))
+
+    def rates(self, b: np.ndarray) -> np.ndarray:
+        """J⁺ b for the last factored J: the solution (square), least squares (tall) or minimum
+        norm (wide)."""
+        J, lu, shape = self._J, self._lu, self._shape
+        if lu is None:
+            return np.linalg.pinv(J) @ b
+        if shape == 0:
+            return lu.solve(b)
+        return lu.solve(b).dot(J) if shape < 0 else lu.solve(b.dot(J))
+
+    def accelerations(
+        self, q: np.ndarray, jacobians: np.ndarray, qd: np.ndarray, xdd: np.ndarray
+    ) -> np.ndarray:
+        """q̈ = dq̇/dt [rad/s²] of the rates q̇ = J⁺ẋ, at many samples at once.
+
+        q̈ = J⁺(ẍ − J̇q̇) + (I − J⁺J) J̇ᵀJ⁺ᵀq̇, computed as z + J⁺(ẍ − J̇q̇ − Jz) with
+        z = J̇ᵀJ⁺ᵀq̇. The second term is the null-space part of the derivative of a redundant
+        arm's minimum-norm rate; it vanishes (and is skipped) when J has full column rank
+        (square or tall J).
+        J̇ comes from the Jacobians and the rates (:meth:`~kinplan.robot.Robot.
+        jacobian_time_variations`: no kinematics pass unless the arm has mimic joints).
+
+        Args:
+            q: Joint positions (N, nq) of the samples.
+            jacobians: Tool Jacobians (N, 6, nq) of the samples (:meth:`jacobian`).
+            qd: Joint velocities (N, nq) [rad/s] there.
+            xdd: Task accelerations (N, r): the tool origin's classical acceleration [m/s²] and
+                the angular acceleration [rad/s²], in the task rows.
+        """
+        J_dot = self.robot.jacobian_time_variations(q, qd, jacobians)
+        J = jacobians
+        if not self._all_rows:
+            J_dot, J = J_dot[:, self.rows], J[:, self.rows]
+        pinv = pseudo_inverses(J, self.rank)
+        b = xdd - matvec(J_dot, qd)
+        if self.rank == J.shape[2]:  # full column rank: no null space
+            return matvec(pinv, b)
+        z = matvec(J_dot.transpose(0, 2, 1), matvec(pinv.transpose(0, 2, 1), qd))
+        return z + matvec(pinv, b - matvec(J, z))
+
+    def check_sample(
+        self, k, t, s, q, q_prev, qd_prev, h, xd, position, corrections: int
+    ) -> tuple[Event | None, np.ndarray | None, float, np.ndarray | None]:
+        """Check a solved sample k at ``q`` (kinematics at q in the solver's data): joint
+        limits, singularity and, when Newton ``corrections`` moved it off its prediction, a
+        jump relative to the previous sample.
+
+        Args:
+            q_prev, qd_prev: Previous sample's configuration and rates (None at k = 0).
+            h: Time step from the previous sample [s].
+            xd: Task velocity of the sample.
+
+        Returns:
+            (event or None, Jacobian (6, nq), manipulability, rates q̇); the last three are
+            None / nan where the check stopped before computing them.
+        """
+        j = self.beyond_limit(q)
+        if j is not None:
+            return self.limit_event(k, t, s, q, j, position), None, math.nan, None
+        J = self.jacobian()
+        m = self.factor(J)
+        if self.is_singular(m):
+            return self.singular_event(k, t, s, m, position), J, m, None
+        qd = self.rates(xd)
+        event = None
+        if corrections:  # an uncorrected prediction (q = guess) cannot jump
+            event = self.jump_event(k, t, s, q, q_prev, qd, qd_prev, h, position)
+        return event, J, m, qd
+
+    def coarse_step_event(
+        self, k, t, s, q, q_prev, qd, qd_prev, h, position, qs, qds
+    ) -> Event | None:
+        """The event of sample k whose step its rates do not explain although the path is
+        continuous there (a finer trace reached q): the motion is too fast for a joint (a
+        "velocity_limit" at the step's mean speed) or, with the speed limits lifted, too fast
+        for the sampling (a "jump" that says so, with a smaller dt as its remedy).
+
+        Args:
+            t: All sample times [s] (sample k's is t[k]).
+            q, q_prev, qd, qd_prev: The sample's and the previous sample's configurations and
+                rates.
+            h: Time step between them [s].
+            qs, qds: Configurations and rates of the samples achieved before.
+        """
+        ratios = np.abs(q - q_prev) / h / self.speed_limit
+        if ratios.max() > 1.0:
+            before = joint_speeds(np.array(qs), np.array(qds), t[: len(qs)]) / self.speed_limit
+            peak = max(float(ratios.max()), float(before.max(initial=0.0)))
+            return self.speed_event(k, t[k], s, ratios, peak, position)
+        return self.jump_event(k, t[k], s, q, q_prev, qd, qd_prev, h, position, continuous=True)
+
+    def is_singular(self, m: float) -> bool:
+        """Whether manipulability ``m`` is under the threshold, or so small (numerically zero)
+        that no joint rates can be computed, whatever the threshold."""
+        return not m >= self.singular_threshold or m <= self.rank_floor
+
+    def singular_event(self, k, t, s, m, position) -> Event | None:
+        """A "singular" event when :meth:`is_singular` holds for the manipulability m."""
+        if not self.is_singular(m):
+            return None
+        return Event(
+            Status.SINGULAR, float(t), float(s), k,
+            f"near a singularity at {where(position)}: manipulability {m:.3g} is below "
+            f"{max(self.singular_threshold, self.rank_floor):.3g}",
+            position, value=m, limit=self.singular_threshold,
+            remedy="keep the path away from the workspace boundary and from configurations "
+            "with aligned joint axes",
+        )  # fmt: skip
+
+    def jump_event(
+        self, k, t, s, q, q_prev, rate, rate_prev, h, position, continuous: bool = False
+    ) -> Event | None:
+        """A "jump" event when q moved more than its rates explain over the step h: a branch
+        flip or, when a finer trace showed the path ``continuous`` there, a sampling too coarse
+        for the motion."""
+        if q_prev is None:
+            return None
+        step = abs(q - q_prev - 0.5 * (rate + rate_prev) * h)
+        if step.max() <= self.jump_tolerance:
+            return None
+        j = int(np.argmax(step))
+        name, unit = self.robot.joint_names[j], self.units[j]
+        if continuous:
+            why = "the path is continuous there, but the sampling is too coarse for the motion"
+            remedy = f"sample more finely (a dt well below {h:.3g} s)"
+        else:
+            why = "a branch flip"
+            remedy = "start from another configuration (q_seed) or split the path there"
+        return Event(
+            Status.JUMP, float(t), float(s), k,
+            f"joint {name} moves {q[j] - q_prev[j]:.4f} {unit} in {h:.3g} s at "
+            f"{where(position)}, {step[j]:.4f} {unit} more than its rates explain: {why}",
+            position, name, float(q[j] - q_prev[j]), self.jump_tolerance, remedy=remedy,
+        )  # fmt: skip
+
+    def speed_event(self, k, t, s, ratios: np.ndarray, peak: float, position) -> Event:
+        """The "velocity_limit" event of sample k, for the joint furthest above its (scaled)
+        limit.
+
+        Args:
+            ratios: Joint speeds of the sample over their limits
+                (:func:`kinplan.sampling.joint_speeds`).
+            peak: The largest such ratio over the whole motion.
+        """
+        j = int(np.argmax(ratios))
+        name, unit = self.robot.joint_names[j], self.units[j]
+        speed, limit = float(ratios[j] * self.speed_limit[j]), float(self.speed_limit[j])
+        scaled = "" if self.velocity_scale == 1.0 else f" ({self.velocity_scale:g} of its rating)"
+        return Event(
+            Status.VELOCITY_LIMIT, float(t), float(s), k,
+            f"joint {name} would need {speed:.4g} {unit}/s, above its limit {limit:.4g} "
+            f"{unit}/s{scaled}, at {where(position)} (the motion needs up to {peak:.3g}× the "
+            "joint speed limits)",
+            position, name, speed, limit,
+            remedy=f"slow the tool down by a factor of at least {peak:.3g} (a lower speed or a "
+            "longer duration)",
+        )  # fmt: skip
+
+    def start(self, position, rotation, seed: np.ndarray) -> np.ndarray:
+        """Configuration for the first point: full IK from ``seed`` (the seed's branch), or the
+        seed itself when IK fails (the tracking step then diagnoses why)."""
+        target = position if rotation is None else pin.SE3(rotation, position)
+        first = self.robot.ik(
+            target, q_seed=seed, position_only=rotation is None,
+            position_tolerance=self.tolerance, rotation_tolerance=self.rotation_tolerance,
+        )  # fmt: skip
+        return first.q if first.success else seed
+
+    def rescue(self, k, t, s, guess, q_prev, position, rotation) -> np.ndarray | Event:
+        """Sample k after the short Newton pass from the prediction failed: a configuration
+        found by a longer search (the caller checks it for limits and jumps), or the event that
+        says why there is none: jump (reachable only on another branch) or unreachable."""
+        robot = self.robot
+        q, converged, *_ = self.solve(guess, position, rotation, iterations=60)
+        if converged:
+            return q
+        target = position if rotation is None else pin.SE3(rotation, position)
+        only = rotation is None
+        here = where(position)
+        if q_prev is not None:
+            res = robot.ik(
+                target, q_seed=q_prev, position_only=only, position_tolerance=self.tolerance,
+                rotation_tolerance=self.rotation_tolerance,
+            )  # fmt: skip
+            if res.success:
+                j = int(np.argmax(np.abs(res.q - q_prev)))
+                if abs(res.q[j] - q_prev[j]) <= self.jump_tolerance:
+                    return res.q  # the same branch, found by the full solver
+                name, unit = robot.joint_names[j], self.units[j]
+                return Event(
+                    Status.JUMP, t, s, k,
+                    f"{here} is reachable only on another branch: joint {name} would jump "
+                    f"from {q_prev[j]:.4f} to {res.q[j]:.4f} {unit}",
+                    position, name, float(res.q[j] - q_prev[j]), self.jump_tolerance,
+                    remedy="split the path there or start from another configuration (q_seed)",
+                )  # fmt: skip
+        res = robot.ik(target, q_seed=guess if q_prev is None else q_prev, position_only=only)
+        if res.success:  # reachable within the limits, but not from where the arm is
+            return Event(
+                Status.JUMP, t, s, k,
+                f"{here} is reachable only in another configuration than the arm's",
+                position,
+                remedy="start from another configuration (q_seed) or split the path there",
+            )  # fmt: skip
+        why = out_of_reach(robot, res, position)
+        return Event(
+            Status.UNREACHABLE, t, s, k, f"{here} is out of reach: {why}", position,
+            value=res.position_error,
+            remedy="shorten or move the path, or move the robot's base",
+        )  # fmt: skip
+
+
+def matvec(A: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """A x for stacks of matrices (N, r, c) and vectors (N, c)."""
+    return (A @ x[:, :, None])[:, :, 0]
+
+
+def pseudo_inverses(J: np.ndarray, rank: int) -> np.ndarray:
+    """Pseudo-inverses J⁺ (N, c, r) of a stack of task Jacobians (N, r, c) of the given rank:
+    from the inverse of J or of its smaller Gram matrix when the rank is full, else by SVD."""
+    rows, cols = J.shape[1:]
+    J_t = J.transpose(0, 2, 1)
+    if rank == rows == cols:
+        return np.linalg.inv(J)
+    if rank == rows:
+        return J_t @ np.linalg.inv(J @ J_t)
+    if rank == cols:
+        return np.linalg.inv(J_t @ J) @ J_t
+    return np.linalg.pinv(J)
+
+
+def adams_bashforth_weights(steps: np.ndarray) -> list[tuple[float, float]]:
+    """Weights (a_k, b_k) of the two-step Adams–Bashforth prediction q_k ≈ q_(k−1) +
+    a_k q̇_(k−1) + b_k q̇_(k−2), for steps h_k = t_k − t_(k−1) [s] (``steps`` are h_1, h_2, ...):
+    q + h q̇ + (h²/2) q̈ with q̈ ≈ (q̇_(k−1) − q̇_(k−2)) / h_(k−1). Entry k of the list is for
+    sample k (entries 0 and 1 are unused)."""
+    h = np.concatenate([[np.nan, np.nan], steps[1:]])
+    h_prev = np.concatenate([[np.nan, np.nan], steps[:-1]])
+    ratio = 0.5 * h / h_prev
+    return list(zip((h * (1.0 + ratio)).tolist(), (-h * ratio).tolist()))
+
+
+def resolve_position_only(robot: Robot, path: Path, position_only: bool | None) -> bool:
+    if position_only is None:
+        return robot.default_position_only() or not path.has_orientation
+    if not position_only and not path.has_orientation:
+        raise InputError("the path has no orientation (built from 3-vectors); use position_only")
+    return bool(position_only)
+
+
+@dataclass
+class Targets:
+    """Tool targets along a path at fractions s, in the task rows of the arm.
+
+    Attributes:
+        positions: Tool positions [m], (N, 3).
+        rotations: Tool rotations (N, 3, 3), or None for a position-only task.
+        rate: dx/ds of the task rows (linear [m], angular [rad] per unit s), (N, r).
+        curvature: d²x/ds² of the task rows, (N, r).
+    """
+
+    positions: np.ndarray
+    rotations: np.ndarray | None
+    rate: np.ndarray
+    curvature: np.ndarray
+
+
+def path_targets(path: Path, s: np.ndarray, position_only: bool, rows: np.ndarray) -> Targets:
+    """Evaluate the path at fractions ``s`` (vectorised): poses and their s-derivatives."""
+    first, second = np.zeros((len(s), 6)), np.zeros((len(s), 6))
+    first[:, :3], second[:, :3] = path.position_derivatives(s)
+    rotations = None
+    if not position_only:
+        rotations = path.rotation(s)
+        first[:, 3:], second[:, 3:] = path.angular_rates(s)
+    return Targets(path.position(s), rotations, first[:, rows], second[:, rows])
