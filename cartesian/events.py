@@ -25,6 +25,7 @@ class Status(str, enum.Enum):
     JOINT_LIMIT = "joint_limit"
     VELOCITY_LIMIT = "velocity_limit"
     JUMP = "jump"
+    ACCELERATION_LIMIT = "acceleration_limit"
 
     def __str__(self) -> str:
         return self.value
@@ -35,7 +36,8 @@ class Event:
     """Why a plan stopped.
 
     Attributes:
-        kind: "unreachable", "joint_limit", "jump", "singular" or "velocity_limit".
+        kind: "unreachable", "joint_limit", "jump", "singular", "velocity_limit" or
+            "acceleration_limit" (a :class:`Status`).
         t: Time of the offending sample [s] (0 for a geometric check).
         s: Path fraction of the offending sample [-].
         index: Index of the offending sample.

@@ -18,7 +18,7 @@ import numpy as np
 from cartesian.events import Event, Status
 from cartesian.geometry import trace_between, trace_geometry
 from cartesian.paths import Path
-from cartesian.retime import grid_points, retime_for_speed_limits
+from cartesian.retime import grid_points, optimal_speeds, timing_from_speeds
 from cartesian.timing import PathTiming, time_path
 from cartesian.tracker import (
     SINGULAR_FRACTION,
@@ -117,6 +117,7 @@ def follow(
     tolerance: float = 1e-7,
     rotation_tolerance: float = 1e-7,
     retime: bool = False,
+    max_acceleration: float | np.ndarray | None = None,
 ) -> CartesianPlan:
     """Plan the tool along ``path``: timed, IK at every sample, monitored.
 
@@ -137,8 +138,15 @@ def follow(
         jump_tolerance: Largest joint step [rad] beyond what the joint velocities explain.
         tolerance: Tool position tolerance of every sample [m].
         rotation_tolerance: Tool rotation tolerance of every sample [rad].
-        retime: Instead of stopping at a joint speed limit (near a singularity), slow the path
-            parameter down where needed, keeping the exact path; ``duration`` becomes longer.
+        retime: Time the exact path optimally instead (:mod:`cartesian.retime`): the fastest
+            law within the joint velocity limits, the joint acceleration limits and the
+            nominal law's top tool speed (``speed``, or the peak of the law ``duration`` gives),
+            at rest at both ends: constant tool speed wherever the arm allows, slower only where
+            it must (near singularities, at corners). Where no joint acceleration is limited, the
+            nominal law's path acceleration is kept too. The plan's ``duration`` is the law's.
+        max_acceleration: Joint acceleration limits [rad/s² or m/s²], one number for all joints
+            or one per joint; default the robot's ``acceleration_limit`` (inf where unknown).
+            Limited joints are checked at every sample (an "acceleration_limit" event).
 
     Returns:
         CartesianPlan; an event stops it at the first offending sample.
@@ -158,18 +166,27 @@ def follow(
         rotation_tolerance, "rotation_tolerance", positive=True, unit="rad"
     )
     retime = checks.flag(retime, "retime")
+    accel_limit = robot.acceleration_limit
+    if max_acceleration is not None:
+        if np.ndim(max_acceleration) == 0:
+            value = checks.number(max_acceleration, "max_acceleration", positive=True)
+            accel_limit = np.full(robot.nq, value)
+        else:
+            accel_limit = checks.vector(max_acceleration, "max_acceleration", robot.nq)
+            if np.any(accel_limit <= 0):
+                raise InputError(f"max_acceleration must be > 0 for every joint, got {accel_limit}")
     if singular_threshold is None:
         singular_threshold = SINGULAR_FRACTION * robot.reference_manipulability(position_only)
     singular_threshold = checks.number(singular_threshold, "singular_threshold", minimum=0.0)
     tracker = Tracker(
         robot, position_only, tolerance, rotation_tolerance, singular_threshold,
-        velocity_scale, jump_tolerance,
+        velocity_scale, jump_tolerance, accel_limit,
     )  # fmt: skip
     timing = time_path(path.length, duration, speed, acceleration, profile, dt)
     if retime:
         return _retimed_plan(tracker, path, timing, seed, dt)
     plan = _track(tracker, path, timing, seed)
-    if plan.status == Status.VELOCITY_LIMIT:
+    if plan.status in (Status.VELOCITY_LIMIT, Status.ACCELERATION_LIMIT):
         # offer retiming only when it would pass: try it
         retimed = _retimed_plan(tracker, path, timing, seed, dt)
         if retimed.ok:
@@ -184,17 +201,27 @@ def follow(
 def _retimed_plan(
     tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray, dt: float
 ) -> CartesianPlan:
-    """The plan of ``path`` with its time law slowed where a joint would be too fast (the
-    nominal one when the geometric pass fails: the plan then reports that failure)."""
-    s = np.linspace(0.0, 1.0, grid_points(path.length))
-    geometry = trace_geometry(tracker, path, s, seed)
-    new_timing = timing
-    if not geometry.events:
-        new_timing = retime_for_speed_limits(
-            geometry.s, geometry.dq_ds, tracker.speed_limit, timing, dt
-        )
-    plan = _track(tracker, path, new_timing, seed)
-    plan.retimed = new_timing is not timing
+    """The plan of ``path`` with its time-optimal law (:mod:`cartesian.retime`) under the joint
+    velocity and acceleration limits and the nominal law's top path speed (the nominal law's
+    path acceleration too where no joint acceleration is limited); the nominal plan when the
+    geometric pass fails or no finite timing exists (the plan then reports why)."""
+    grid = np.linspace(0.0, 1.0, grid_points(path.length))
+    geometry = trace_geometry(tracker, path, grid, seed)
+    if geometry.events:
+        return _track(tracker, path, timing, seed)
+    targets = path_targets(path, geometry.s, tracker.position_only, tracker.rows)
+    d2q = tracker.accelerations(geometry.q, geometry.jacobians, geometry.dq_ds, targets.curvature)
+    accel = tracker.acceleration_limit
+    path_accel = float(np.abs(timing.sdd).max()) if not np.isfinite(accel).any() else np.inf
+    speeds = optimal_speeds(
+        geometry.s, geometry.dq_ds, d2q, tracker.speed_limit, accel,
+        float(timing.sd.max()), path_accel,
+    )  # fmt: skip
+    retimed = timing_from_speeds(geometry.s, speeds, dt)
+    if retimed is None:  # stopped for good at a singular point: the nominal plan says where
+        return _track(tracker, path, timing, seed)
+    plan = _track(tracker, path, retimed, seed)
+    plan.retimed = True
     return plan
 
 
@@ -301,6 +328,19 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
     q_out, qd_out = q_out[:done], qd_out[:done]
     jacobian_stack = np.array(jacobians[:done]).reshape(done, 6, nq)
     qdd_out = tracker.accelerations(q_out, jacobian_stack, qd_out, xdd[:done])
+    if np.isfinite(tracker.acceleration_limit).any() and done:
+        # accelerations are checked where they are limited; q̈ is exact at every sample (the
+        # profiles' s̈ jumps at their knots: a knot's sample carries the later segment's)
+        accel_ratios = np.abs(qdd_out) / tracker.acceleration_limit
+        hard = np.flatnonzero((accel_ratios > 1.0 + 1e-9).any(axis=1))
+        if len(hard):
+            k = int(hard[0])
+            peak_accel = float(accel_ratios.max())
+            events = [
+                tracker.acceleration_event(k, t[k], s[k], qdd_out[k], peak_accel, positions[k])
+            ]
+            done = k
+            q_out, qd_out, qdd_out = q_out[:done], qd_out[:done], qdd_out[:done]
     tool = np.array(tools[:done]).reshape(done, 3)
     manip = np.array(manips[:done])
 

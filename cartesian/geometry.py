@@ -52,12 +52,14 @@ class Geometry:
         q: Joint positions there, shape (len(s), nq).
         dq_ds: Geometric joint rates dq/ds there.
         events: The first event, if any.
+        jacobians: Tool Jacobians (len(s), 6, nq) there.
     """
 
     s: np.ndarray
     q: np.ndarray
     dq_ds: np.ndarray
     events: list[Event]
+    jacobians: np.ndarray
 
 
 #: Largest joint step [rad] between checked points before the interval is bisected.
@@ -86,16 +88,24 @@ def trace_geometry(tracker: Tracker, path: Path, s: np.ndarray, seed: np.ndarray
     # A stack of (s, position, rotation, dx/ds): the next point to check is at the end.
     pending = _points(tracker, path, s)[::-1]
     solved_s: list[float] = []
-    qs, dqs, events = [], [], []
+    qs, dqs, jacobians, events = [], [], [], []
     q_prev = None
     while pending:
         sk, position, rotation, dx = pending[-1]
         k = len(qs)
         if q_prev is None:
             guess = tracker.start(position, rotation, seed)
+        elif len(dqs) > 1:  # second order: the rate's change over the last step
+            h, h_prev = sk - solved_s[-1], solved_s[-1] - solved_s[-2]
+            guess = q_prev + dqs[-1] * h + (0.5 * h * h / h_prev) * (dqs[-1] - dqs[-2])
         else:
             guess = q_prev + dqs[-1] * (sk - solved_s[-1])
-        q, ok, *_ = tracker.solve(guess, position, rotation)
+        # most predictions are within tolerance: one kinematics pass, else Newton steps
+        floats = position.tolist(), None if rotation is None else rotation.reshape(9).tolist()
+        q, ok, corrected = tracker.accepts(guess, *floats), True, False
+        if q is None:
+            q, ok, *_ = tracker.solve(guess, position, rotation, evaluated=True)
+            corrected = True
         if q_prev is not None and sk - solved_s[-1] > MIN_REFINE_DS:
             if not ok or np.max(np.abs(q - q_prev)) > MAX_JOINT_STEP:
                 pending += _points(tracker, path, np.array([0.5 * (sk + solved_s[-1])]))
@@ -113,14 +123,16 @@ def trace_geometry(tracker: Tracker, path: Path, s: np.ndarray, seed: np.ndarray
         if j is not None:
             events.append(tracker.limit_event(k, 0.0, sk, q, j, position))
             break
-        m = tracker.factor(tracker.jacobian())
+        J = tracker.jacobian()
+        m = tracker.factor(J)
         event = tracker.singular_event(k, 0.0, sk, m, position)
         dq = None
         if event is None:
             dq = tracker.rates(dx)
             h = sk - solved_s[-1] if solved_s else 0.0
             rate_prev = dqs[-1] if dqs else None
-            event = tracker.jump_event(k, 0.0, sk, q, q_prev, dq, rate_prev, h, position)
+            if corrected:  # an uncorrected prediction cannot jump
+                event = tracker.jump_event(k, 0.0, sk, q, q_prev, dq, rate_prev, h, position)
         if event is not None:
             events.append(event)
             break
@@ -128,10 +140,15 @@ def trace_geometry(tracker: Tracker, path: Path, s: np.ndarray, seed: np.ndarray
         solved_s.append(sk)
         qs.append(q)
         dqs.append(dq)
+        jacobians.append(J)
         q_prev = q
     nq = robot.nq
     return Geometry(
-        np.array(solved_s), np.array(qs).reshape(-1, nq), np.array(dqs).reshape(-1, nq), events
+        np.array(solved_s),
+        np.array(qs).reshape(-1, nq),
+        np.array(dqs).reshape(-1, nq),
+        events,
+        np.array(jacobians).reshape(-1, 6, nq),
     )
 
 

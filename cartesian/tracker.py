@@ -42,8 +42,13 @@ class Tracker:
         singular_threshold: float,
         velocity_scale: float,
         jump_tolerance: float,
+        acceleration_limit: np.ndarray | None = None,
     ):
         self.robot = robot
+        #: Joint acceleration limits [rad/s² or m/s²] (inf: none), default the robot's.
+        self.acceleration_limit = (
+            robot.acceleration_limit if acceleration_limit is None else acceleration_limit
+        )
         self.solver = robot.ik_solver
         self.model, self.data, self.fid = robot.model, robot.ik_solver.data, robot.tip_id
         self.position_only = position_only
@@ -296,6 +301,23 @@ class Tracker:
             position, name, speed, limit,
             remedy=f"slow the tool down by a factor of at least {peak:.3g} (a lower speed or a "
             "longer duration)",
+        )  # fmt: skip
+
+    def acceleration_event(self, k, t, s, qdd: np.ndarray, peak: float, position) -> Event:
+        """The "acceleration_limit" event of sample k with joint accelerations ``qdd``, for the
+        joint furthest above its limit; ``peak``: the largest ratio over the motion."""
+        ratios = np.abs(qdd) / self.acceleration_limit
+        j = int(np.argmax(ratios))
+        name, unit = self.robot.joint_names[j], self.units[j]
+        limit = float(self.acceleration_limit[j])
+        return Event(
+            Status.ACCELERATION_LIMIT, float(t), float(s), k,
+            f"joint {name} would need {abs(qdd[j]):.4g} {unit}/s², above its limit {limit:.4g} "
+            f"{unit}/s², at {where(position)} (the motion needs up to {peak:.3g}× the joint "
+            "acceleration limits)",
+            position, name, float(qdd[j]), limit,
+            remedy="retime the motion (retime=True: time-optimal within the limits), or slow it "
+            f"down (by a factor of at least {math.sqrt(peak):.3g})",
         )  # fmt: skip
 
     def start(self, position, rotation, seed: np.ndarray) -> np.ndarray:

@@ -57,6 +57,7 @@ __all__ = [
     "cubic_via",
     "four_three_four",
     "quintic",
+    "scurve",
     "time_grid",
     "trapezoid",
     "trapezoid_via",
@@ -741,6 +742,68 @@ def four_three_four(
     )
 
 
+def scurve(
+    q0: ArrayLike,
+    qf: ArrayLike,
+    max_velocity: ArrayLike,
+    max_acceleration: ArrayLike,
+    max_jerk: ArrayLike,
+    duration: float | None = None,
+) -> Trajectory:
+    """Jerk-limited (seven-phase S-curve) point-to-point motion, at rest at both ends.
+
+    Each joint's own minimum-time profile is found in closed form (jerk up, constant
+    acceleration, jerk down, cruise, and the mirror image; phases drop out when the joint does
+    not reach its velocity or acceleration limit), the same duration as ruckig's for one degree
+    of freedom. Every joint then takes the slowest joint's duration, so all start and stop
+    together within their own limits: a joint takes the slowest joint's phase times (the joints
+    switch together and move on the straight line in joint space) where its limits allow, and
+    otherwise its own profile stretched in time, which divides its speed, acceleration and jerk
+    by s, s² and s³ for a stretch s ≥ 1. The limits are never exceeded, not even by rounding
+    (the motion is planned a few units of rounding below them, 16 ulp relative, and checked as
+    sampled).
+
+    Args:
+        q0: Start position, shape (n,) or scalar [rad].
+        qf: End position, shape (n,) or scalar [rad].
+        max_velocity: Velocity limit, scalar or per joint, > 0 [rad/s].
+        max_acceleration: Acceleration limit, scalar or per joint, > 0 [rad/s²].
+        max_jerk: Jerk limit, scalar or per joint, > 0 [rad/s³].
+        duration: Motion time [s]; default the minimum time. A longer duration stretches the
+            slowest joint's profile in time.
+
+    Returns:
+        A trajectory of cubic segments (one knot wherever any joint switches phase), acceleration
+        continuous, jerk piecewise constant; zero duration when nothing moves.
+
+    Raises:
+        InputError: bad shapes or values, non-positive or NaN limits (as for :func:`trapezoid`).
+        InfeasibleError: ``duration`` shorter than the limits allow (the message states the
+            minimum time).
+    """
+    q0, qf = _joint_vectors(q0=q0, qf=qf)
+    n = q0.size
+    max_velocity = _magnitudes(max_velocity, "max_velocity", n)
+    max_acceleration = _magnitudes(max_acceleration, "max_acceleration", n)
+    max_jerk = _magnitudes(max_jerk, "max_jerk", n)
+    requested = None if duration is None else _duration(duration, "duration")
+    target = _profiles.without_negligible_moves(q0, qf)
+    distance = np.abs(target - q0)
+    limits = (max_velocity, max_acceleration, max_jerk)
+    own = _profiles.scurve_minimum_times(distance, *limits)
+    slowest = int(np.argmax(own))
+    if requested is not None:
+        _check_requested_duration(requested, own[slowest], slowest, distance, limits)
+    reduced = [limit * (1.0 - _profiles.LIMIT_MARGIN) for limit in limits]
+    minimum = float(np.max(_profiles.scurve_minimum_times(distance, *reduced)))
+    duration = minimum if requested is None else max(requested, minimum)
+    knots, coefficients = _profiles.synchronised_scurve(q0, target, duration, *limits)
+    zero = np.zeros(n)
+    return _from_pieces(
+        knots, coefficients, end=qf, end_velocity=zero, end_acceleration=zero
+    )
+
+
 # ----------------------------------------------------------------------------------------------
 # Helpers of the constructors
 # ----------------------------------------------------------------------------------------------
@@ -824,6 +887,31 @@ def _synchronised(
     if requested is not None:
         duration = max(requested, duration)
     return _profiles.synchronised_lspb(q0, qf, duration, max_velocity, max_acceleration)
+
+
+def _check_requested_duration(
+    requested: float,
+    least: float,
+    joint: int,
+    distance: np.ndarray,
+    limits: Sequence[np.ndarray],
+) -> None:
+    """InfeasibleError stating the minimum time when ``requested`` is below ``least`` (relative
+    slack :data:`~kinplan._profiles.RELATIVE_TOLERANCE` for rounding)."""
+    if requested >= least * (1.0 - _profiles.RELATIVE_TOLERANCE):
+        return
+    names = ("max_velocity", "max_acceleration", "max_jerk")
+    units = ("rad/s", "rad/s²", "rad/s³")
+    within = " and ".join(
+        f"{name} {limit[joint]:.6g} {unit}"
+        for name, limit, unit in zip(names, limits, units, strict=False)
+    )
+    rounded = _profiles.round_up(float(least))
+    raise InfeasibleError(
+        f"duration {requested:.6g} s is too short: joint {joint} needs at least {rounded:.6g} s "
+        f"to move {distance[joint]:.6g} rad within {within}; give a duration of at least "
+        f"{rounded:.6g} s or raise the limits"
+    )
 
 
 def _pseudo_via_points(

@@ -652,3 +652,50 @@ def test_batch_equals_per_sample_on_random_pose_sequences(ur5):
         batch = solver.nearest_batch(positions, rotations, q_ref)
         expected = follow_per_sample(solver, positions, rotations, q_ref)
         np.testing.assert_allclose(batch, expected, atol=1e-9, equal_nan=True)
+
+
+MODIFIED_GEOMETRIES = {
+    "offsets": {
+        "shoulder_lift_joint": ('xyz="0.0 0.13585 0.0"', 'xyz="0.0 0.2 0.0"'),
+        "elbow_joint": ('xyz="0.0 -0.1197 0.425"', 'xyz="0.0 -0.05 0.55"'),
+        "wrist_1_joint": ('xyz="0.0 0.0 0.39225"', 'xyz="0.0 0.0 0.3"'),
+        "wrist_3_joint": ('xyz="0.0 0.0 0.09465"', 'xyz="0.0 0.0 0.12"'),
+    },
+    "shifted and turned base": {
+        "world_joint": (
+            'rpy="0.0 0.0 0.0" xyz="0.0 0.0 0.0"',
+            'rpy="0.2 -0.1 0.7" xyz="0.3 -0.2 0.1"',
+        ),
+        "shoulder_pan_joint": ('xyz="0.0 0.0 0.089159"', 'xyz="0.04 -0.03 0.089159"'),
+    },
+    "zero offsets and tool": {
+        "wrist_2_joint": ('rpy="0.0 0.0 0.0"', 'rpy="0.0 0.3 0.0"'),
+        "elbow_joint": ('rpy="0.0 0.0 0.0"', 'rpy="0.0 -0.7 0.0"'),
+        "wrist_3_joint": ('rpy="0.0 0.0 0.0"', 'rpy="0.0 0.0 0.4"'),
+    },
+}
+
+
+@pytest.mark.parametrize("variant", list(MODIFIED_GEOMETRIES))
+def test_fast_nearest_equals_batch_path_on_modified_geometries(tmp_path, variant):
+    """The single-pose path in plain floats against the vectorised one on UR-type arms whose
+    offsets, base placement, joint zeros and tool differ from the stock UR5 (terms that vanish
+    on a stock arm do not there): the same answer to 1e-9 rad, reaching the target."""
+    tool_rpy = "0.3 -0.5 1.2" if variant == "zero offsets and tool" else None
+    robot = modified_ur5(tmp_path, tool_rpy=tool_rpy, **MODIFIED_GEOMETRIES[variant])
+    solver = analytic_solver_for(robot)
+    assert isinstance(solver, URIK) and solver._fast is not None
+    rng = np.random.default_rng(31)
+    used_fast = 0
+    for i in range(150):
+        q = robot.random_configuration(rng)
+        target = robot.fk(q)
+        q_ref = robot.random_configuration(rng) if i % 2 else q + rng.normal(0.0, 0.2, 6)
+        q_ref = np.clip(q_ref, robot.lower, robot.upper)
+        path, _ = fast_nearest(solver, target, q_ref)
+        used_fast += path == "fast"
+        assert assert_same_answer(solver, robot, target, q_ref) is not None
+        fast = solver.solutions(target.translation, target.rotation)
+        batch = _ClosedFormIK.solutions(solver, target.translation, target.rotation)
+        np.testing.assert_allclose(fast, batch, rtol=0.0, atol=1e-9)
+    assert used_fast >= 140
