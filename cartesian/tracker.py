@@ -316,8 +316,8 @@ class Tracker:
             f"{unit}/s², at {where(position)} (the motion needs up to {peak:.3g}× the joint "
             "acceleration limits)",
             position, name, float(qdd[j]), limit,
-            remedy="retime the motion (retime=True: time-optimal within the limits), or slow it "
-            f"down (by a factor of at least {math.sqrt(peak):.3g})",
+            remedy=f"slow the tool down by a factor of at least {math.sqrt(peak):.3g} (a lower "
+            "speed or a longer duration)",
         )  # fmt: skip
 
     def start(self, position, rotation, seed: np.ndarray) -> np.ndarray:
