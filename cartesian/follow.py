@@ -287,8 +287,9 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
         if event is not None and k > 0 and event.kind in (Status.JOINT_LIMIT, Status.JUMP):
             # a limit or a branch flip, or only a step too coarse for a fast motion?
             found = trace_between(tracker, path, s[k - 1], s[k], q_prev)
-            if isinstance(found, Event):
-                found.t, found.index = float(t[k]), k
+            if isinstance(found, Event):  # met between the samples: reported at sample k
+                found.t, found.s, found.index = float(t[k]), float(s[k]), k
+                found.position = positions[k]
                 event = found
             elif found is not None:  # the continuous solution
                 q = found

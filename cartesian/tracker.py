@@ -341,30 +341,24 @@ class Tracker:
         target = position if rotation is None else pin.SE3(rotation, position)
         only = rotation is None
         here = where(position)
-        if q_prev is not None:
-            res = robot.ik(
-                target, q_seed=q_prev, position_only=only, position_tolerance=self.tolerance,
-                rotation_tolerance=self.rotation_tolerance,
-            )  # fmt: skip
-            if res.success:
-                j = int(np.argmax(np.abs(res.q - q_prev)))
-                if abs(res.q[j] - q_prev[j]) <= self.jump_tolerance:
-                    return res.q  # the same branch, found by the full solver
-                name, unit = robot.joint_names[j], self.units[j]
-                return Event(
-                    Status.JUMP, t, s, k,
-                    f"{here} is reachable only on another branch: joint {name} would jump "
-                    f"from {q_prev[j]:.4f} to {res.q[j]:.4f} {unit}",
-                    position, name, float(res.q[j] - q_prev[j]), self.jump_tolerance,
-                    remedy="split the path there or start from another configuration (q_seed)",
-                )  # fmt: skip
-        res = robot.ik(target, q_seed=guess if q_prev is None else q_prev, position_only=only)
-        if res.success:  # reachable within the limits, but not from where the arm is
+        # the full solver (closed form or restarts), from the previous sample (its branch)
+        res = robot.ik(
+            target, q_seed=guess if q_prev is None else q_prev, position_only=only,
+            position_tolerance=self.tolerance, rotation_tolerance=self.rotation_tolerance,
+        )  # fmt: skip
+        if res.success and q_prev is None:
+            return res.q
+        if res.success:
+            j = int(np.argmax(np.abs(res.q - q_prev)))
+            if abs(res.q[j] - q_prev[j]) <= self.jump_tolerance:
+                return res.q  # the same branch, found by the full solver
+            name, unit = robot.joint_names[j], self.units[j]
             return Event(
                 Status.JUMP, t, s, k,
-                f"{here} is reachable only in another configuration than the arm's",
-                position,
-                remedy="start from another configuration (q_seed) or split the path there",
+                f"{here} is reachable only on another branch: joint {name} would jump "
+                f"from {q_prev[j]:.4f} to {res.q[j]:.4f} {unit}",
+                position, name, float(res.q[j] - q_prev[j]), self.jump_tolerance,
+                remedy="split the path there or start from another configuration (q_seed)",
             )  # fmt: skip
         why = out_of_reach(robot, res, position)
         return Event(

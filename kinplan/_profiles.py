@@ -589,13 +589,17 @@ def scurve_peaks(distance: np.ndarray, phase_times: np.ndarray) -> tuple[np.ndar
     return speed, jerk * t_j, jerk
 
 
-def scurve_pieces(q0: np.ndarray, qf: np.ndarray, phase_times: np.ndarray) -> Pieces:
+def scurve_pieces(
+    q0: np.ndarray, qf: np.ndarray, phase_times: np.ndarray, duration: float
+) -> Pieces:
     """Cubic segments of rest-to-rest seven-phase profiles with the given phase times.
 
     Args:
         q0: Start positions, shape (n,) [rad].
         qf: End positions, shape (n,) [rad].
-        phase_times: ``(t_j, t_a, t_v)`` per joint, shape (n, 3), all joints of one duration [s].
+        phase_times: ``(t_j, t_a, t_v)`` per joint, shape (n, 3), every moving joint's phases
+            lasting ``duration`` together (up to rounding) [s].
+        duration: Motion time [s]; joints that do not move stay still for that long.
 
     Returns:
         Knots and coefficient arrays of shape (n, 4) (one knot wherever a joint switches phase).
@@ -605,7 +609,7 @@ def scurve_pieces(q0: np.ndarray, qf: np.ndarray, phase_times: np.ndarray) -> Pi
     t_j, t_a, t_v = phase_times.T
     spans = np.stack([t_j, t_a, t_j, t_v, t_j, t_a, t_j], axis=1)
     breaks = np.hstack([np.zeros((q0.size, 1)), np.cumsum(spans, axis=1)])
-    breaks[:, -1] = breaks[:, -1].max()  # one common end, against rounding
+    breaks[:, -1] = max(duration, float(breaks[:, -2].max()))  # one common end
     jerks = (np.sign(delta) * jerk)[:, None] * SCURVE_JERK_SIGNS[None, :]
     return constant_derivative_pieces(q0, breaks, jerks, 3)
 
@@ -689,8 +693,8 @@ def synchronised_scurve(
         Knots and coefficient arrays of shape (n, 4).
     """
     distance = np.abs(qf - q0)
-    if duration == 0.0:  # nothing moves
-        return scurve_pieces(q0, qf, np.zeros((q0.size, 3)))
+    if not np.any(distance > 0.0):  # nothing moves
+        return scurve_pieces(q0, qf, np.zeros((q0.size, 3)), duration)
     reduced = 1.0 - LIMIT_MARGIN
     limits = (max_velocity * reduced, max_acceleration * reduced, max_jerk * reduced)
     own = scurve_phase_times(distance, *limits)
@@ -705,7 +709,7 @@ def synchronised_scurve(
         peaks = scurve_peaks(distance, together)
         fits = np.all([p <= lim for p, lim in zip(peaks, limits, strict=True)], axis=0)
         phase_times = np.where(fits[:, None], together, stretched)
-        knots, coefficients = scurve_pieces(q0, qf, phase_times)
+        knots, coefficients = scurve_pieces(q0, qf, phase_times, duration)
         sampled = cubic_peak_rates(knots, coefficients)
         within = (max_velocity, max_acceleration, max_jerk)
         if all(np.all(p <= lim) for p, lim in zip(sampled, within, strict=True)):

@@ -168,25 +168,26 @@ class RobotVisuals:
         items = _items(visuals, collisions, urdf_path, folders)
         caps = triangle_caps(_mesh_sizes(items), triangle_budget)
         self.parts: list[VisualPart] = []
-        frames: dict[str, int] = {}
+        self._frame_ids: list[int] = []  # link frames, each once
+        slots: dict[str, int] = {}  # link -> index in _frame_ids
         part_frames, origins = [], []
         for item in items:
             link = item.element.link
-            if link not in frames:
+            if link not in slots:
                 frame_id = model.getFrameId(link, pin.FrameType.BODY)
                 if frame_id >= model.nframes:
                     logger.warning(
                         "visual %s: link %s is not in the robot's model", item.name, link
                     )
                     continue
-                frames[link] = frame_id
+                slots[link] = len(self._frame_ids)
+                self._frame_ids.append(frame_id)
             part = _visual_part(item, caps.get(item.mesh, 0) if item.mesh else 0)
             if part is None:
                 continue
             self.parts.append(part)
-            part_frames.append(list(frames).index(link))
+            part_frames.append(slots[link])
             origins.append(item.element.origin)
-        self._frame_ids = list(frames.values())
         self._part_frames = np.array(part_frames, dtype=int)
         self._origins = np.array(origins, dtype=float).reshape(-1, 4, 4)
         self.triangles = sum(p.triangles for p in self.parts)
@@ -267,17 +268,26 @@ def _material_colours(root: ET.Element) -> dict[str, tuple[float, ...]]:
     return colours
 
 
-def _colour(
-    element: ET.Element, named: Mapping[str, tuple[float, ...]]
-) -> tuple[float, ...] | None:
-    """A visual's material colour: its own ``<color>``, or the named material's; else None."""
+def _colour(element: ET.Element, named: dict[str, tuple[float, ...]]) -> tuple[float, ...] | None:
+    """A visual's material colour, as urdfdom (Pinocchio, ROS) reads it; None without one.
+
+    A material name keeps its first colour: a top-level ``<material>``, else the first visual
+    that defines it inline (registered in ``named``); a later inline colour under a known name
+    is ignored. An unnamed material has its own colour.
+    """
     material = element.find("material")
     if material is None:
         return None
+    name = material.get("name", "")
+    if name in named:
+        return named[name]
     color = material.find("color")
-    if color is not None and color.get("rgba"):
-        return _floats(color.get("rgba"), DEFAULT_RGBA)
-    return named.get(material.get("name", ""))
+    if color is None or not color.get("rgba"):
+        return None
+    rgba = _floats(color.get("rgba"), DEFAULT_RGBA)
+    if name:
+        named[name] = rgba
+    return rgba
 
 
 def read_urdf_elements(

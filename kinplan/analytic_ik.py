@@ -340,7 +340,11 @@ class _ClosedFormIK:
         self.upper = np.asarray(upper, dtype=float)
         self.nq = len(self.lower)
         self.weights = np.ones(self.nq) if weights is None else np.asarray(weights, dtype=float)
-        self._middle = 0.5 * (self.lower + self.upper)
+        bounded = np.isfinite(self.lower) & np.isfinite(self.upper)
+        # mid-range; 0 for an unbounded (continuous) joint, whose limits are ±inf
+        self._middle = 0.5 * (
+            np.where(bounded, self.lower, 0.0) + np.where(bounded, self.upper, 0.0)
+        )
         self._neutral = np.clip(np.zeros(self.nq), self.lower, self.upper)
 
     def _raw(

@@ -2,12 +2,15 @@
 
 Usage::
 
-    kinplan info ROBOT [--tip TIP]
+    kinplan info ROBOT [--tip TIP] [--lock NAME=VALUE ...] [--frames]
     kinplan fk ROBOT --q Q [Q ...] [--deg]
     kinplan ik ROBOT --xyz X Y Z [--rpy-deg R P Y | --quat-xyzw X Y Z W] [--seed Q ...] [--deg]
     kinplan run PROGRAM.yaml [--html FILE] [--plot FILE] [--csv FILE] [--dt DT]
     kinplan demo lecture|weld [--html FILE] [--out DIR]
     kinplan teach ROBOT -o PROGRAM.yaml [--start Q ...] [--deg] [--view]
+
+Every command that loads a robot takes ``--tip TIP`` and ``--lock NAME=VALUE`` (repeatable:
+joint NAME held at VALUE, in radians or metres, out of the joint vector).
 
 Exit status 0 on success, 1 on failure with a one-line reason on stderr (``kinplan: error: ...``),
 2 for a malformed command line.
@@ -28,7 +31,7 @@ import numpy as np
 import pinocchio as pin
 
 import kinplan
-from kinplan.errors import KinplanError
+from kinplan.errors import FrameError, InputError, KinplanError
 
 __all__ = ["main"]
 
@@ -82,29 +85,131 @@ def _pose_lines(pose: pin.SE3) -> list[str]:
 # ----------------------------------------------------------------------------------------------
 
 
+def _locks(texts: Sequence[str] | None) -> dict[str, float] | None:
+    """``--lock NAME=VALUE`` arguments as {name: value [rad or m]}.
+
+    Raises:
+        InputError: not NAME=VALUE with a finite number, or a joint given twice.
+    """
+    if not texts:
+        return None
+    locks: dict[str, float] = {}
+    for text in texts:
+        name, equals, value = text.partition("=")
+        name = name.strip()
+        try:
+            number = float(value) if equals else math.nan
+        except ValueError:
+            number = math.nan
+        if not name or not math.isfinite(number):
+            raise InputError(
+                f"--lock {text}: expected NAME=VALUE, the joint's name and its value in radians "
+                "(metres for a prismatic joint), e.g. --lock torso_lift_joint=0.15"
+            )
+        if name in locks:
+            raise InputError(f"--lock: joint {name!r} is locked twice")
+        locks[name] = number
+    return locks
+
+
+def _load(args: argparse.Namespace) -> kinplan.Robot:
+    """The robot of a command: ROBOT with ``--tip`` and ``--lock``."""
+    return kinplan.load_robot(args.robot, tip=args.tip, locked_joints=_locks(args.lock))
+
+
+def _joint_kind(robot: kinplan.Robot, name: str) -> str:
+    """The joint's type: revolute, continuous or prismatic."""
+    if name in robot.continuous_joints:
+        return "continuous"
+    shortname = robot.model.joints[robot.model.getJointId(name)].shortname()
+    return "prismatic" if shortname.startswith("JointModelP") else "revolute"
+
+
+def _limit_text(value: float, prismatic: bool) -> str:
+    if not math.isfinite(value):
+        return "none"
+    return f"{value:.3f} m" if prismatic else f"{math.degrees(value):.1f}"
+
+
 def _cmd_info(args: argparse.Namespace) -> int:
     from rich.table import Table
 
-    robot = kinplan.load_robot(args.robot, tip=args.tip)
+    if args.frames:
+        _print_frames(args.robot)
+        try:
+            robot = _load(args)
+        except FrameError as exc:  # the frames were asked for: say which tip to choose
+            print(f"no tool chain shown (choose one with --tip NAME): {_one_line(exc)}")
+            return 0
+    else:
+        robot = _load(args)
     print(f"robot: {robot.name} ({robot.nq} joints)")
     print(f"URDF: {robot.urdf_path}")
     print(f"base frame: {robot.base_frame}    tip frame: {robot.tip_frame}")
+    accelerations = bool(np.isfinite(robot.acceleration_limit).any())
     table = Table(title="joints")
-    for column in ("#", "name", "lower [deg]", "upper [deg]", "velocity [rad/s]", "[deg/s]"):
-        table.add_column(column, justify="left" if column == "name" else "right")
+    columns = ["#", "name", "type", "lower [deg]", "upper [deg]", "velocity [rad/s]", "[deg/s]"]
+    if accelerations:
+        columns.append("acceleration [rad/s²]")
+    for column in columns:
+        table.add_column(column, justify="left" if column in ("name", "type") else "right")
     for j, name in enumerate(robot.joint_names):
-        speed = robot.velocity_limit[j]
-        table.add_row(
+        kind = _joint_kind(robot, name)
+        prismatic = kind == "prismatic"
+        speed, accel = robot.velocity_limit[j], robot.acceleration_limit[j]
+        row = [
             str(j),
             name,
-            f"{math.degrees(robot.lower[j]):.1f}",
-            f"{math.degrees(robot.upper[j]):.1f}",
-            f"{speed:.3f}" if math.isfinite(speed) else "none",
-            f"{math.degrees(speed):.1f}" if math.isfinite(speed) else "none",
-        )
+            "continuous (unbounded)" if kind == "continuous" else kind,
+            _limit_text(robot.lower[j], prismatic),
+            _limit_text(robot.upper[j], prismatic),
+            "none" if not math.isfinite(speed) else f"{speed:.3f}" + (" m/s" if prismatic else ""),
+            "-" if prismatic or not math.isfinite(speed) else f"{math.degrees(speed):.1f}",
+        ]
+        if accelerations:
+            unknown = not math.isfinite(accel)
+            row.append("none" if unknown else f"{accel:.3f}" + (" m/s²" if prismatic else ""))
+        table.add_row(*row)
     _console().print(table)
+    for line in _held_joint_lines(robot):
+        print(line)
     print(_reach_text(robot))
     return 0
+
+
+def _held_joint_lines(robot: kinplan.Robot) -> list[str]:
+    """Mimic and locked joints and a held root, one line each (none when there are none)."""
+    lines = []
+    for name, (master, multiplier, offset) in robot.mimic_joints.items():
+        lines.append(
+            f"mimic joint (not in q): {name} = {multiplier:g} × {master} {offset:+g} [rad or m]"
+        )
+    for name, value in robot.locked_joints.items():
+        lines.append(f"locked joint (not in q): {name} = {value:g} [rad or m]")
+    if robot.held_root is not None:
+        pose = robot.base_pose
+        rpy = np.degrees(pin.rpy.matrixToRpy(pose.rotation))
+        lines.append(
+            f"held root joint (not in q): {robot.held_root} at base pose xyz "
+            f"{_fmt(pose.translation, 3)} m, rpy {_fmt(rpy, 1)} deg"
+        )
+    return lines
+
+
+def _print_frames(source: str) -> None:
+    """The table of every frame of the robot's URDF with the joint that moves it."""
+    from rich.table import Table
+
+    from kinplan.sources import resolve_source
+    from kinplan.urdf_model import frame_table
+
+    path = resolve_source(source).urdf_path
+    table = Table(title=f"frames of {path.name}")
+    for column in ("#", "frame", "type", "moved by joint", "joint type"):
+        table.add_column(column, justify="right" if column == "#" else "left")
+    for k, row in enumerate(frame_table(path)):
+        table.add_row(str(k), row.name, row.kind, row.parent_joint, row.joint_type)
+    _console().print(table)
 
 
 def _reach_text(robot: kinplan.Robot) -> str:
@@ -123,7 +228,7 @@ def _reach_text(robot: kinplan.Robot) -> str:
 
 
 def _cmd_fk(args: argparse.Namespace) -> int:
-    robot = kinplan.load_robot(args.robot, tip=args.tip)
+    robot = _load(args)
     q = _joint_values(robot, args.q, args.deg, "--q")
     pose = robot.fk(q)
     print(f"{robot.name}: tool {robot.tip_frame} in {robot.base_frame}")
@@ -138,7 +243,7 @@ def _cmd_fk(args: argparse.Namespace) -> int:
 
 
 def _cmd_ik(args: argparse.Namespace) -> int:
-    robot = kinplan.load_robot(args.robot, tip=args.tip)
+    robot = _load(args)
     position = np.asarray(args.xyz, dtype=float)
     rotation = None
     if args.rpy_deg is not None:
@@ -349,7 +454,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 def _cmd_teach(args: argparse.Namespace) -> int:
     from kinplan import teach
 
-    robot = kinplan.load_robot(args.robot, tip=args.tip)
+    robot = _load(args)
     start = None if args.start is None else _joint_values(robot, args.start, args.deg, "--start")
     pendant = teach.TeachPendant(robot, q_start=start, robot_source=args.robot)
     view = _teach_viewer(robot) if args.view else None
@@ -415,6 +520,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     info = commands.add_parser("info", help="joints, limits, frames and reach of a robot")
     _robot_arguments(info)
+    info.add_argument(
+        "--frames",
+        action="store_true",
+        help="list every frame of the URDF with the joint that moves it (to choose --tip)",
+    )
     info.set_defaults(handler=_cmd_info)
 
     fk = commands.add_parser("fk", help="tool pose of a joint configuration")
@@ -470,6 +580,13 @@ def build_parser() -> argparse.ArgumentParser:
 def _robot_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("robot", metavar="ROBOT", help="robot name or URDF file")
     parser.add_argument("--tip", help="tool frame (default: the robot's usual tool frame)")
+    parser.add_argument(
+        "--lock",
+        action="append",
+        metavar="NAME=VALUE",
+        help="hold joint NAME at VALUE (radians, or metres for a prismatic joint); it leaves the "
+        "joint vector (repeatable)",
+    )
 
 
 def _positive(text: str) -> float:

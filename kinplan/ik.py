@@ -9,6 +9,10 @@ nq×nq) system is solved by a Cholesky factorisation.
 
 When the attempt from the seed fails, the solver restarts from configurations of a Halton
 sequence spread over the joint limits (deterministic: the same input gives the same answer).
+When every attempt fails, the best one is polished with undamped steps (a near-singular target
+converges slowly under the damping), and a solution found ignoring the limits is tried with its
+revolute joints turned by whole turns into them (limits of ±π cut many solutions off from the
+starts).
 """
 
 from __future__ import annotations
@@ -31,6 +35,13 @@ DAMPING_FLOOR = 1e-6
 MAX_STEP = 1.0
 #: Iterations without a 0.1 % decrease of the error before an attempt is abandoned.
 STALL_ITERATIONS = 5
+#: Damping floor and patience of the polish that ends a failed solve (see
+#: :meth:`IKSolver.solve`): Gauss–Newton steps finish what the damped ones leave near a
+#: singularity, where a floor of DAMPING_FLOOR makes them crawl.
+POLISH_DAMPING_FLOOR = 1e-12
+POLISH_STALL_ITERATIONS = 20
+#: The polish and the solve without limits may take this many times ``max_iterations`` each.
+POLISH_ITERATIONS = 2
 _SQRT8 = math.sqrt(8.0)
 _PRIMES = (2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61, 67, 71)
 
@@ -163,6 +174,11 @@ class IKSolver:
         self.upper = upper
         self.nq = model.nq
         self._diagonal = np.diag_indices(model.nq)
+        self._revolute = np.zeros(model.nq, dtype=bool)  # joints that a whole turn leaves alike
+        for j in range(1, model.njoints):
+            joint = model.joints[j]
+            if joint.nq == 1 and joint.shortname().startswith("JointModelR"):
+                self._revolute[joint.idx_q] = True
         self._no_lower = np.full(model.nq, -np.inf)
         self._no_upper = np.full(model.nq, np.inf)
         self._restarts: np.ndarray = np.empty((0, model.nq))
@@ -235,6 +251,9 @@ class IKSolver:
         max_iterations: int,
         clamp: bool = True,
         evaluated: bool = False,
+        *,
+        damping_floor: float | None = None,
+        stall_iterations: int | None = None,
     ) -> tuple[np.ndarray, bool, float, float, int]:
         """Iterate from ``q`` (not modified) until converged, stalled or out of iterations.
 
@@ -246,6 +265,9 @@ class IKSolver:
                 a limit problem from an unreachable target).
             evaluated: The caller has just made :meth:`accepts` at ``q`` (clamped) for this
                 target and it did not accept: the first iterate reuses that kinematics pass.
+            damping_floor: λ₀ of the damping (default :data:`DAMPING_FLOOR`).
+            stall_iterations: Iterations without progress before giving up (default
+                :data:`STALL_ITERATIONS`).
 
         Returns:
             (q, converged, position_error, rotation_error, iterations)
@@ -263,6 +285,8 @@ class IKSolver:
         target_rotation = None if rotation is None else rotation.reshape(9).tolist()
         best_cost = np.inf
         stalled = 0
+        floor = DAMPING_FLOOR if damping_floor is None else damping_floor
+        patience = STALL_ITERATIONS if stall_iterations is None else stall_iterations
         perr2 = rerr2 = np.inf
         for it in range(max_iterations + 1):
             converged = (it > 0 or not evaluated) and self.accepts(
@@ -288,11 +312,11 @@ class IKSolver:
                 best_cost, stalled = cost, 0
             else:
                 stalled += 1
-                if stalled >= STALL_ITERATIONS:
+                if stalled >= patience:
                     break
             J = pin.getFrameJacobian(model, data, fid, _LWA).reshape(6, -1)[:rows]
             A = J.T.dot(J)
-            A[diagonal] += DAMPING_GAIN * cost + DAMPING_FLOOR
+            A[diagonal] += DAMPING_GAIN * cost + floor
             g = e[:rows].dot(J)
             dq = eigenpy.LLT(A).solve(g)
             if touching:
@@ -324,6 +348,11 @@ class IKSolver:
         closed_form=None,
     ) -> IKResult:
         """Solve from ``q_seed``, then from Halton restarts until one attempt converges.
+
+        When none does (and restarts are allowed), the best attempt is polished
+        (:data:`POLISH_DAMPING_FLOOR`), then the seed's attempt is repeated ignoring the limits:
+        a solution whose revolute joints come within the limits by whole turns is taken
+        (polished there). Either counts as one more attempt.
 
         With a ``closed_form`` solver (see :mod:`kinplan.analytic_ik`), its solution nearest the
         seed comes first; the numerical attempts only run when it has none within the limits
@@ -382,4 +411,51 @@ class IKSolver:
             if ok:
                 return IKResult(q, True, perr, rerr, total, attempt + 1)
         _, q, perr, rerr = best
+        tolerances = (position_tolerance, rotation_tolerance)
+        rescued = None
+        if max_restarts > 0:  # 0: the seed's attempt only
+            rescued = self._rescue(q, q_seed, position, rotation, tolerances, max_iterations)
+        if rescued is not None:
+            q, perr, rerr, its = rescued
+            return IKResult(q, True, perr, rerr, total + its, max_restarts + 2)
         return IKResult(q, False, perr, rerr, total, max_restarts + 1)
+
+    def _rescue(
+        self,
+        best: np.ndarray,
+        q_seed: np.ndarray,
+        position: np.ndarray,
+        rotation: np.ndarray | None,
+        tolerances: tuple[float, float],
+        max_iterations: int,
+    ) -> tuple[np.ndarray, float, float, int] | None:
+        """What :meth:`solve` tries when every attempt failed: polish the best attempt; then
+        solve from the seed ignoring the limits and turn the revolute joints by whole turns
+        into them.
+
+        Returns:
+            (q, position error [m], rotation error [rad], iterations), or None.
+        """
+        polish = {
+            "damping_floor": POLISH_DAMPING_FLOOR,
+            "stall_iterations": POLISH_STALL_ITERATIONS,
+        }
+        q, ok, perr, rerr, its = self.descend(
+            best, position, rotation, *tolerances, POLISH_ITERATIONS * max_iterations, **polish
+        )
+        if ok:
+            return q, perr, rerr, its
+        q, ok, *_, free_its = self.descend(
+            q_seed, position, rotation, *tolerances, POLISH_ITERATIONS * max_iterations, False
+        )
+        its += free_its
+        if not ok:
+            return None
+        turns = np.ceil((self.lower - q) / (2.0 * math.pi) - 1e-12)
+        q = q + 2.0 * math.pi * np.where(self._revolute & np.isfinite(turns), turns, 0.0)
+        if np.any(q < self.lower) or np.any(q > self.upper):
+            return None
+        q, ok, perr, rerr, polish_its = self.descend(
+            q, position, rotation, *tolerances, max_iterations, **polish
+        )
+        return (q, perr, rerr, its + polish_its) if ok else None

@@ -30,6 +30,12 @@ A Cartesian point given by ``xyz`` alone keeps the tool orientation the move sta
 with 6 or more joints) or is position-only (arms with fewer). Every move starts from the end
 state of the previous one.
 
+Optional robot keys, passed to :func:`kinplan.load_robot`: ``locked_joints: {name: value}``
+[rad, or m for a prismatic joint], ``limits: {joint: {lower, upper, velocity, acceleration}}``
+(any subset) [rad or m, per s, per s²], ``package_dirs: [folder, ...]`` (mesh folders,
+relative to the program file) and ``base_pose: {xyz: [..], rpy_deg: [..] | quat_xyzw: [..]}``
+(the robot's root in the world, in which the points are given).
+
 :func:`load_program` reads and validates a whole file and raises one :class:`ProgramError`
 listing every problem with its key path (``moves[2].lin``) and YAML line; :func:`plan_program`
 plans it into a :class:`ProgramPlan`. A move that cannot be done stops planning: the plan has
@@ -62,6 +68,7 @@ from kinplan.robot import Robot, load_robot, manipulability_of
 from kinplan.sampling import joint_speeds, motion_step
 from kinplan.sources import bundled_robots, known_names
 from kinplan.trajectory import Segment, Trajectory, Waypoints
+from kinplan.urdf_model import LIMIT_KEYS
 
 logger = logging.getLogger(__name__)
 
@@ -103,7 +110,21 @@ MAX_COORDINATE = 1e6
 """Largest |x|, |y|, |z| of a taught tool position [m]: anything beyond is a typo in a program
 (and out of reach of any arm)."""
 
-_TOP_KEYS = ("robot", "tip", "start", "points", "moves", "description")
+_TOP_KEYS = (
+    "robot",
+    "tip",
+    "locked_joints",
+    "limits",
+    "package_dirs",
+    "base_pose",
+    "start",
+    "points",
+    "moves",
+    "description",
+)
+_POSE_KEYS = ("xyz", "rpy_deg", "quat_xyzw")
+_INVALID = object()
+"""What a robot option's validator returns when it reported a problem."""
 _POINT_KEYS = ("joints", "joints_deg", "xyz", "rpy_deg", "quat_xyzw")
 _MOVE_OPTIONS = ("via", "duration", "speed", "profile", "name")
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
@@ -560,12 +581,191 @@ class _Validator:
         if not isinstance(source, str):
             self.error(("robot",), f"expected a robot name or URDF path, got {_describe(source)}")
             return ""
+        options = {
+            "locked_joints": self.locked_joints(data.get("locked_joints")),
+            "limits": self.limits(data.get("limits")),
+            "package_dirs": self.package_dirs(data.get("package_dirs")),
+            "base_pose": self.base_pose(data.get("base_pose")),
+        }
+        if any(value is _INVALID for value in options.values()):
+            return source  # reported; the robot would not be the one the program means
         try:
-            self.robot = _load_robot(resolve_robot_source(source, self.base_dir), tip)
+            self.robot = _load_robot(resolve_robot_source(source, self.base_dir), tip, **options)
         except KinplanError as exc:
-            key = "tip" if "frame" in type(exc).__name__.lower() else "robot"
-            self.error((key,), str(exc))
+            self.error(self.robot_error_path(str(exc), type(exc).__name__, data), str(exc))
         return source
+
+    @staticmethod
+    def robot_error_path(message: str, kind: str, data: dict) -> KeyPath:
+        """The key a loading error is about: a joint of ``locked_joints:`` or ``limits:`` (its
+        message starts with the key), ``tip`` (a frame error) or ``robot``."""
+        for key in ("locked_joints", "limits", "base_pose", "package_dirs"):
+            if message.startswith(key):
+                entries = data.get(key)
+                named = re.search(r"(?:no joint |\[)'([^']*)'", message)
+                if isinstance(entries, dict) and named and named.group(1) in entries:
+                    return (key, named.group(1))
+                return (key,)
+        return ("tip",) if "frame" in kind.lower() else ("robot",)
+
+    # -- robot options -------------------------------------------------------------------------
+    def locked_joints(self, spec: object) -> dict[str, float] | None | object:
+        """``locked_joints: {name: value}`` [rad, or m for a prismatic joint]."""
+        if spec is None:
+            return None
+        path: KeyPath = ("locked_joints",)
+        if not isinstance(spec, dict) or not spec:
+            self.error(
+                path,
+                "expected a mapping {joint name: value} (rad, or m for a prismatic joint), got "
+                f"{_describe(spec)}",
+            )
+            return _INVALID
+        locked: dict[str, float] = {}
+        ok = True
+        for name, value in spec.items():
+            if not _is_number(value) or not math.isfinite(_to_float(value)):
+                self.error(
+                    path + (str(name),),
+                    "expected the joint's value, a finite number (rad, or m for a prismatic "
+                    f"joint), got {_describe(value)}",
+                )
+                ok = False
+            else:
+                locked[str(name)] = _to_float(value)
+        return locked if ok else _INVALID
+
+    def limits(self, spec: object) -> dict[str, dict[str, float]] | None | object:
+        """``limits: {joint: {lower, upper, velocity, acceleration}}`` (any subset) [rad or m,
+        /s, /s²]."""
+        if spec is None:
+            return None
+        path: KeyPath = ("limits",)
+        keys = ", ".join(LIMIT_KEYS)
+        if not isinstance(spec, dict) or not spec:
+            self.error(
+                path, f"expected a mapping {{joint name: {{{keys}}}}}, got {_describe(spec)}"
+            )
+            return _INVALID
+        limits: dict[str, dict[str, float]] = {}
+        ok = True
+        for name, entry in spec.items():
+            where = path + (str(name),)
+            if not isinstance(entry, dict) or not entry:
+                self.error(
+                    where,
+                    f"expected a mapping with any of {keys} (rad or m; velocity per s, "
+                    f"acceleration per s²), got {_describe(entry)}",
+                )
+                ok = False
+                continue
+            values: dict[str, float] = {}
+            for key, value in entry.items():
+                if key not in LIMIT_KEYS:
+                    self.error(where + (str(key),), f"unknown key {key!r}; expected {keys}")
+                    ok = False
+                elif key in ("velocity", "acceleration"):
+                    unit = "rad/s or m/s" if key == "velocity" else "rad/s² or m/s²"
+                    number = self.positive(value, where + (key,), f"{key} limit [{unit}]")
+                    ok = ok and number is not None
+                    if number is not None:
+                        values[key] = number
+                elif not _is_number(value) or not math.isfinite(_to_float(value)):
+                    self.error(
+                        where + (key,),
+                        f"expected a finite number ({key} limit [rad or m]), got "
+                        f"{_describe(value)}",
+                    )
+                    ok = False
+                else:
+                    values[key] = _to_float(value)
+            if "lower" in values and "upper" in values and values["lower"] >= values["upper"]:
+                self.error(
+                    where,
+                    f"lower {values['lower']:g} must be below upper {values['upper']:g}",
+                )
+                ok = False
+            limits[str(name)] = values
+        return limits if ok else _INVALID
+
+    def package_dirs(self, spec: object) -> list[Path] | None | object:
+        """``package_dirs: [folder, ...]``: mesh folders, relative to the program's folder."""
+        if spec is None:
+            return None
+        path: KeyPath = ("package_dirs",)
+        if isinstance(spec, str):
+            spec = [spec]
+        if not isinstance(spec, list) or not spec or not all(isinstance(d, str) for d in spec):
+            self.error(path, f"expected a list of folders, got {_describe(spec)}")
+            return _INVALID
+        folders = []
+        for k, text in enumerate(spec):
+            folder = Path(text).expanduser()
+            folder = folder if folder.is_absolute() else self.base_dir / folder
+            if not folder.is_dir():
+                self.error(
+                    path + (k,),
+                    f"no folder {str(folder)!r} (relative folders are taken from the program's "
+                    "folder)",
+                )
+                return _INVALID
+            folders.append(folder)
+        return folders
+
+    def base_pose(self, spec: object) -> pin.SE3 | None | object:
+        """``base_pose: {xyz: [..] m, rpy_deg: [..] | quat_xyzw: [..]}``: the robot's root in
+        the world."""
+        if spec is None:
+            return None
+        path: KeyPath = ("base_pose",)
+        if not isinstance(spec, dict) or "xyz" not in spec:
+            self.error(
+                path,
+                "expected {xyz: [x, y, z]} [m] with rpy_deg: [r, p, y] or quat_xyzw: [x, y, z, "
+                f"w] (the robot's root in the world), got {_describe(spec)}",
+            )
+            return _INVALID
+        unknown = [key for key in spec if key not in _POSE_KEYS]
+        for key in unknown:
+            self.error(path + (str(key),), f"unknown key {key!r}; expected {', '.join(_POSE_KEYS)}")
+        point = self.cartesian_pose(spec, path, "the robot's root position [m]")
+        if unknown or point is None:
+            return _INVALID
+        position, rotation = point
+        return pin.SE3(np.eye(3) if rotation is None else rotation, position)
+
+    def cartesian_pose(
+        self, spec: dict, path: KeyPath, what: str = "tool position [m]"
+    ) -> tuple[np.ndarray, np.ndarray | None] | None:
+        """(position [m], rotation or None) of ``xyz`` with ``rpy_deg`` or ``quat_xyzw``; None
+        after reporting a problem."""
+        position = self.numbers(spec["xyz"], path + ("xyz",), 3, what, bound=MAX_COORDINATE)
+        rotation = None
+        if "rpy_deg" in spec and "quat_xyzw" in spec:
+            self.error(path, "give rpy_deg or quat_xyzw, not both")
+            return None
+        if "rpy_deg" in spec:
+            rpy = self.numbers(spec["rpy_deg"], path + ("rpy_deg",), 3, "roll, pitch, yaw [deg]")
+            if rpy is None:
+                return None
+            rotation = pin.rpy.rpyToMatrix(*np.radians(rpy))
+        elif "quat_xyzw" in spec:
+            quat = self.numbers(spec["quat_xyzw"], path + ("quat_xyzw",), 4, "quaternion x y z w")
+            if quat is None:
+                return None
+            with np.errstate(over="ignore"):
+                norm = float(np.linalg.norm(quat))
+            if not math.isfinite(norm):
+                self.error(path + ("quat_xyzw",), "the quaternion is too large; give a unit one")
+                return None
+            if norm < 1e-9:
+                self.error(path + ("quat_xyzw",), "the quaternion is zero; give a unit quaternion")
+                return None
+            if abs(norm - 1.0) > 1e-3:
+                self.warn(path + ("quat_xyzw",), f"quaternion of norm {norm:.4g} normalised")
+            x, y, z, w = np.asarray(quat, dtype=float) / norm
+            rotation = pin.Quaternion(w, x, y, z).toRotationMatrix()
+        return None if position is None else (position, rotation)
 
     def start(self, data: dict) -> np.ndarray | None:
         spec = data.get("start")
@@ -634,36 +834,10 @@ class _Validator:
     def cartesian_point(
         self, name: str, spec: dict, path: KeyPath, start: np.ndarray | None
     ) -> Point | None:
-        position = self.numbers(
-            spec["xyz"], path + ("xyz",), 3, "tool position [m]", bound=MAX_COORDINATE
-        )
-        rotation = None
-        if "rpy_deg" in spec and "quat_xyzw" in spec:
-            self.error(path, "give rpy_deg or quat_xyzw, not both")
+        pose = self.cartesian_pose(spec, path)
+        if pose is None:
             return None
-        if "rpy_deg" in spec:
-            rpy = self.numbers(spec["rpy_deg"], path + ("rpy_deg",), 3, "roll, pitch, yaw [deg]")
-            if rpy is None:
-                return None
-            rotation = pin.rpy.rpyToMatrix(*np.radians(rpy))
-        elif "quat_xyzw" in spec:
-            quat = self.numbers(spec["quat_xyzw"], path + ("quat_xyzw",), 4, "quaternion x y z w")
-            if quat is None:
-                return None
-            with np.errstate(over="ignore"):
-                norm = float(np.linalg.norm(quat))
-            if not math.isfinite(norm):
-                self.error(path + ("quat_xyzw",), "the quaternion is too large; give a unit one")
-                return None
-            if norm < 1e-9:
-                self.error(path + ("quat_xyzw",), "the quaternion is zero; give a unit quaternion")
-                return None
-            if abs(norm - 1.0) > 1e-3:
-                self.warn(path + ("quat_xyzw",), f"quaternion of norm {norm:.4g} normalised")
-            x, y, z, w = np.asarray(quat, dtype=float) / norm
-            rotation = pin.Quaternion(w, x, y, z).toRotationMatrix()
-        if position is None:
-            return None
+        position, rotation = pose
         robot = self.robot
         if robot is not None and rotation is not None and robot.default_position_only():
             self.warn(
@@ -815,10 +989,23 @@ def resolve_robot_source(source: str, base_dir: Path) -> str:
 _ROBOT_CACHE: dict[tuple[str, str | None], Robot] = {}
 
 
-def _load_robot(source: str, tip: str | None) -> Robot:
-    """load_robot, cached for named robots (loading parses the URDF)."""
-    if source not in known_names():
-        return load_robot(source, tip=tip)
+def _load_robot(
+    source: str,
+    tip: str | None,
+    locked_joints: Mapping[str, float] | None = None,
+    limits: Mapping[str, Mapping[str, float]] | None = None,
+    package_dirs: Sequence[Path] | None = None,
+    base_pose: pin.SE3 | None = None,
+) -> Robot:
+    """load_robot, cached for named robots without options (loading parses the URDF)."""
+    options = {
+        "locked_joints": locked_joints,
+        "limits": limits,
+        "package_dirs": package_dirs,
+        "base_pose": base_pose,
+    }
+    if source not in known_names() or any(value is not None for value in options.values()):
+        return load_robot(source, tip=tip, **options)
     key = (source, tip)
     if key not in _ROBOT_CACHE:
         _ROBOT_CACHE[key] = load_robot(source, tip=tip)

@@ -28,6 +28,7 @@ from kinplan.urdf_model import build_chain, frame_id
 logger = logging.getLogger(__name__)
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+_WORLD = pin.ReferenceFrame.WORLD
 _ONES3 = np.ones(3)
 _TAU = 2.0 * math.pi
 
@@ -414,7 +415,10 @@ class Robot:
 
         Without mimic joints: :func:`jacobian_time_variation` from the Jacobians alone (no
         kinematics pass). A mimic joint makes a Jacobian column the sum of two joints' columns,
-        which that formula cannot split: then Pinocchio computes it sample by sample.
+        which that formula cannot split: then Pinocchio computes the joint's J̇ in the WORLD
+        frame sample by sample, moved to the tool point here (Pinocchio 3.4–4.1's
+        ``getFrameJacobianTimeVariation`` in ``LOCAL_WORLD_ALIGNED`` is wrong for mimic models:
+        its columns past the mimic joint are off by up to 0.3 m/s per rad/s).
 
         Args:
             q: Joint positions (N, nq) [rad or m].
@@ -430,10 +434,23 @@ class Robot:
             return jacobian_time_variation(jacobians, qd)
         out = np.empty((len(q), 6, self.nq))
         model, data = self.model, self.data
+        joint = model.frames[self.tip_id].parentJoint
         for k, (row, rate) in enumerate(zip(q, qd)):
             pin.computeJointJacobiansTimeVariation(model, data, row, rate)
-            pin.updateFramePlacement(model, data, self.tip_id)
-            out[k] = pin.getFrameJacobianTimeVariation(model, data, self.tip_id, _LWA)
+            p = pin.updateFramePlacement(model, data, self.tip_id).translation
+            J = pin.getJointJacobian(model, data, joint, _WORLD).reshape(6, self.nq)
+            J_dot = pin.getJointJacobianTimeVariation(model, data, joint, _WORLD)
+            J_dot = J_dot.reshape(6, self.nq)
+            # WORLD gives the velocity of the point at the world origin; the tool point p moves
+            # at v − p × ω: J_lin = J_w,lin − p × J_w,ang, J̇_lin = J̇_w,lin − p × J̇_w,ang − ṗ × J_ang
+            linear = J[:3] - np.cross(p, J[3:], axisb=0, axisc=0)
+            p_dot = linear @ rate
+            out[k, 3:] = J_dot[3:]
+            out[k, :3] = (
+                J_dot[:3]
+                - np.cross(p, J_dot[3:], axisb=0, axisc=0)
+                - np.cross(p_dot, J[3:], axisb=0, axisc=0)
+            )
         return out
 
     @property

@@ -407,6 +407,7 @@ class TeachPendant:
             "# Points are the recorded joint values; run with `kinplan run <this file>`.",
             f"robot: {_yaml_scalar(self._robot_entry(output))}",
             f"tip: {_yaml_scalar(self.robot.tip_frame)}",
+            *self._locked_lines(),
             f"start: {{joints_deg: {_degrees(self.start)}}}",
             "points:",
         ]
@@ -416,6 +417,16 @@ class TeachPendant:
         lines.append("moves:")
         lines += [f"  - {{ptp: {name}}}" for name in self.points]
         return "\n".join(lines) + "\n"
+
+    def _locked_lines(self) -> list[str]:
+        """The program's ``locked_joints:`` line (none when no joint is locked)."""
+        locked = self.robot.locked_joints
+        if not locked:
+            return []
+        entries = ", ".join(
+            f"{_yaml_scalar(name)}: {float(value)!r}" for name, value in locked.items()
+        )
+        return [f"locked_joints: {{{entries}}}  # [rad or m]"]
 
     def _robot_entry(self, output: str | os.PathLike[str] | None) -> str:
         source = self.robot_source

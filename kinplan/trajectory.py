@@ -59,6 +59,7 @@ __all__ = [
     "quintic",
     "scurve",
     "time_grid",
+    "time_optimal",
     "trapezoid",
     "trapezoid_via",
 ]
@@ -801,6 +802,67 @@ def scurve(
     zero = np.zeros(n)
     return _from_pieces(
         knots, coefficients, end=qf, end_velocity=zero, end_acceleration=zero
+    )
+
+
+def time_optimal(
+    points: ArrayLike,
+    max_velocity: ArrayLike,
+    max_acceleration: ArrayLike,
+    max_deviation: float = 0.0,
+    duration: float | None = None,
+) -> Trajectory:
+    """Time-optimal motion along a joint-space path through waypoints (TOTG), rest to rest.
+
+    The path (Kunz & Stilman 2012) is made of straight lines between the points, each corner
+    replaced by a circular blend that passes within ``max_deviation`` of it (Euclidean norm over
+    the joints); with ``max_deviation=0`` the path goes exactly through every point and the
+    motion stops at each corner (a corner that reverses the direction stops too; points on a
+    straight line are passed without stopping). The timing is the fastest one that keeps every
+    joint within its velocity and acceleration limits; see :mod:`kinplan.time_optimal` for the
+    method, the representation and its accuracy (lines exact; blends as quintics that keep the
+    path to 1e-12 rad, planned 1e-4 below the limits and checked on dense samples).
+
+    Args:
+        points: Joint-space points, shape (m, n), or (m,) for one joint, m ≥ 2 [rad].
+            Consecutive duplicates (closer than 1e-12 rad) are dropped; when every point is the
+            same, the result is a motion of zero duration (or of ``duration``, standing still).
+        max_velocity: Velocity limit, scalar or per joint, > 0 [rad/s].
+        max_acceleration: Acceleration limit, scalar or per joint, > 0 [rad/s²].
+        max_deviation: Largest distance of the path from a corner, ≥ 0 [rad].
+        duration: Motion time [s]; default the minimum. A longer duration plays the optimal
+            timing uniformly slower.
+
+    Returns:
+        A trajectory of quadratic (lines) and quintic (blends) segments; its waypoints are the
+        points at the times the motion is nearest them.
+
+    Raises:
+        InputError: bad shapes or values, non-positive or NaN limits, a negative or NaN
+            ``max_deviation``.
+        InfeasibleError: ``duration`` shorter than the limits allow (the message states the
+            minimum time).
+    """
+    from kinplan import time_optimal as totg  # builds on this module's profiles
+
+    points = _points(points, "points")
+    n = points.shape[1]
+    max_velocity = _magnitudes(max_velocity, "max_velocity", n)
+    max_acceleration = _magnitudes(max_acceleration, "max_acceleration", n)
+    deviation = _scalar(max_deviation, "max_deviation")
+    if deviation < 0.0:
+        raise InputError(f"max_deviation must be >= 0 rad, got {deviation}")
+    _check_magnitudes(np.asarray(deviation), "max_deviation")
+    requested = None if duration is None else _duration(duration, "duration")
+    plan = totg.plan(points, max_velocity, max_acceleration, deviation, requested)
+    zero = np.zeros(n)
+    return _from_pieces(
+        plan.knots,
+        plan.coefficients,
+        waypoints=Waypoints(plan.waypoint_times(), plan.path.points),
+        end=plan.path.points[-1],
+        end_velocity=zero,
+        end_acceleration=zero,
     )
 
 

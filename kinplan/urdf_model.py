@@ -463,6 +463,81 @@ def tip_candidates(model: pin.Model) -> list[str]:
     return list(dict.fromkeys(names))
 
 
+@dataclass(frozen=True)
+class FrameRow:
+    """One frame of a URDF, as ``kinplan info ROBOT --frames`` lists it.
+
+    Attributes:
+        name: The frame's name (a link, a joint, or a frame a fixed joint leaves).
+        kind: "link", "joint", "fixed joint" or "frame".
+        parent_joint: The movable joint that carries it ("(root)": none, it is fixed to the
+            root link).
+        joint_type: That joint's URDF type ("revolute", "continuous", "prismatic", "floating",
+            "planar"), with "mimic: multiplier × master + offset" for a mimic joint.
+    """
+
+    name: str
+    kind: str
+    parent_joint: str
+    joint_type: str
+
+
+_FRAME_KINDS = {
+    pin.FrameType.BODY: "link",
+    pin.FrameType.JOINT: "joint",
+    pin.FrameType.FIXED_JOINT: "fixed joint",
+    pin.FrameType.OP_FRAME: "frame",
+    pin.FrameType.SENSOR: "sensor",
+}
+
+
+def frame_table(urdf_path: Path) -> list[FrameRow]:
+    """Every frame of the URDF (links, joints, fixed joints), in the tree's order, with the
+    movable joint that carries it: what a tool frame (``tip``) can be chosen from.
+
+    Raises:
+        URDFError: a file that is not a usable URDF.
+    """
+    urdf_path = Path(urdf_path)
+    root = read_urdf(urdf_path)
+    joints = _joints(root)
+    xml, _ = _edited_xml(root, joints, {})
+    xml, _ = _uncouple_mimics(root, joints, xml, urdf_path)
+    model = _parse_model(xml, urdf_path)
+    rows = []
+    for frame in model.frames:
+        if frame.name == "universe":
+            continue
+        parent = model.names[frame.parentJoint] if frame.parentJoint else "(root)"
+        joint_type = "-"
+        if parent in joints:
+            joint = joints[parent]
+            joint_type = joint.kind
+            if joint.mimic is not None:
+                master, multiplier, offset = joint.mimic
+                joint_type += f", mimic: {multiplier:g} × {master} {offset:+g}"
+        kind = _FRAME_KINDS.get(frame.type, "frame")
+        rows.append(FrameRow(frame.name, kind, parent, joint_type))
+    return rows
+
+
+def full_model(urdf_path: Path) -> pin.Model:
+    """The whole URDF as kinplan reads it, before :func:`build_chain` reduces it to the chain:
+    every joint movable, continuous joints as revolute ones, mimic joints coupled where
+    Pinocchio can, every link a BODY frame under its URDF name (what
+    ``pin.buildGeomFromUrdf`` needs to attach the URDF's geometry).
+
+    Raises:
+        URDFError: a file that is not a usable URDF.
+    """
+    urdf_path = Path(urdf_path)
+    root = read_urdf(urdf_path)
+    joints = _joints(root)
+    xml, _ = _edited_xml(root, joints, {})
+    xml, _ = _uncouple_mimics(root, joints, xml, urdf_path)
+    return _parse_model(xml, urdf_path)
+
+
 def frame_id(model: pin.Model, name: str, urdf_path: Path) -> int:
     """Index of the frame ``name``: a link first (a link and a joint may share a name), then
     any other frame; a FrameError listing the candidate tool frames if there is none."""

@@ -68,6 +68,30 @@ def smooth_samples(plan: cartesian.CartesianPlan, timing, path: cartesian.Path) 
     return keep
 
 
+def assert_event_describes_its_sample(
+    robot, plan, path, timing, same_sample: bool = True
+) -> cartesian.Event:
+    """The plan's one event describes its offending sample k = event.index: the time law's t[k]
+    and s[k], the path's position there, the plan's status, a message and a remedy (text), a
+    joint of the arm (or none) and finite numbers; the plan holds the k samples before it."""
+    assert not plan.ok and len(plan.events) == 1
+    event = plan.events[0]
+    k = event.index
+    assert event.kind == plan.status and len(plan.q) == len(plan.t) == k
+    assert event.t == timing.t[k]
+    assert plan.fraction == (timing.s[k - 1] if k else 0.0)
+    if same_sample:  # (see test_joint_limit_event_t_and_s_are_those_of_one_sample)
+        assert event.s == timing.s[k]
+        np.testing.assert_allclose(event.position, path.position(timing.s[k : k + 1])[0],
+                                   atol=1e-12)  # fmt: skip
+    assert isinstance(event.message, str) and len(event.message) > 20
+    assert isinstance(event.remedy, str) and len(event.remedy) > 10
+    assert event.joint is None or event.joint in robot.joint_names
+    for number in (event.value, event.limit):
+        assert number is None or (isinstance(number, float) and np.isfinite(number))
+    return event
+
+
 # ------------------------------------------------------------------------------ derivatives
 @pytest.mark.parametrize("profile", ["trapezoid", "quintic", "cubic"])
 @pytest.mark.parametrize("name", ["ur5", "panda", "planar_2r"])
@@ -179,8 +203,10 @@ def test_a_flip_of_a_fraction_of_a_turn_is_a_jump(planar_2r, offset, dt, duratio
         singular_threshold=0.0, velocity_scale=1e9,
     )  # fmt: skip
     assert plan.status == "jump", plan
-    event = plan.events[0]
+    timing = time_path(line.length, duration=duration, dt=dt)
+    event = assert_event_describes_its_sample(planar_2r, plan, line, timing)
     assert event.joint == "joint1" and JUMP_TOLERANCE < abs(event.value) < np.pi - 0.3
+    assert event.limit == JUMP_TOLERANCE
     assert len(plan.q) == event.index and plan.fraction < event.s < 0.55
     assert unexplained_steps(plan).max() <= JUMP_TOLERANCE
     # the achieved part stays on the start branch (elbow up, θ2 > 0) and on the line
@@ -229,7 +255,9 @@ def test_velocity_event_names_the_first_fast_sample_its_joint_speed_and_limit(ur
     j = int(np.argmax(np.abs(free.qd[k]) / limit))
     plan = cartesian.follow(ur5, line, speed=0.1, dt=0.002, q_seed=qa, singular_threshold=0.0)
     assert plan.status == "velocity_limit" and len(plan.events) == 1
-    event = plan.events[0]
+    event = assert_event_describes_its_sample(
+        ur5, plan, line, time_path(line.length, speed=0.1, dt=0.002)
+    )
     assert event.index == k and len(plan.q) == k
     assert event.s == free.s[k] and plan.fraction == free.s[k - 1]
     assert event.joint == ur5.joint_names[j]
@@ -270,6 +298,9 @@ def test_an_earlier_velocity_violation_is_reported_before_a_later_singularity(ur
         velocity_scale=1e9,
     )  # fmt: skip
     assert slow_check.status == "singular" and slow_check.events[0].index == k_singular
+    timing = time_path(line.length, speed=0.1, dt=0.002)
+    assert_event_describes_its_sample(ur5, plan, line, timing)
+    assert_event_describes_its_sample(ur5, slow_check, line, timing)
     assert slow_check.events[0].value < threshold == slow_check.events[0].limit
 
 
@@ -286,7 +317,8 @@ def test_lower_limit_event_names_the_joint_its_value_and_its_lower_limit():
     )
     plan = cartesian.follow(arm, arc, duration=1.0, dt=0.01, q_seed=q_start)
     assert plan.status == "joint_limit", plan
-    event = plan.events[0]
+    timing = time_path(arc.length, 1.0, dt=0.01)
+    event = assert_event_describes_its_sample(arm, plan, arc, timing, same_sample=False)
     assert event.joint == "joint2" and event.limit == -0.6
     step = np.abs(np.diff(plan.q[:, 1])).max()
     assert -0.6 - 2 * step < event.value < -0.6
@@ -300,7 +332,8 @@ def test_lower_limit_event_names_the_joint_its_value_and_its_lower_limit():
     )
     plan = cartesian.follow(arm, arc_up, duration=1.0, dt=0.01, q_seed=[0.9, 0.5])
     assert plan.status == "joint_limit", plan
-    event = plan.events[0]
+    timing = time_path(arc_up.length, 1.0, dt=0.01)
+    event = assert_event_describes_its_sample(arm, plan, arc_up, timing, same_sample=False)
     assert event.joint == "joint1" and event.limit == 1.2 and 1.2 < event.value < 1.25
 
 
@@ -328,7 +361,42 @@ def test_a_path_starting_at_the_stretched_arm_is_singular_at_its_first_sample(le
         arm, cartesian.Line(start, inward), duration=1.0, q_seed=q_seed, singular_threshold=0.0
     )
     assert plan.status == "singular" and not plan.ok
-    event = plan.events[0]
+    line = cartesian.Line(start, inward)
+    event = assert_event_describes_its_sample(arm, plan, line, time_path(line.length, 1.0))
     assert event.index == 0 and event.s == 0.0 and plan.fraction == 0.0 and len(plan.q) == 0
     # zero up to the rounding of √det(JJᵀ), √ε‖J‖² ≈ 1e-7 for a 3 m arm
     assert event.value < 1e-6
+
+
+def test_unreachable_event_says_where_and_how_far(planar_2r):
+    """A line leaving the 2 m reach of the lecture's 2R (singularity and speed checks off, so
+    that the rim itself is the reason): the first sample beyond 2 m is unreachable; the event
+    gives that sample's time, fraction and position, and the message its distance and the reach;
+    every sample kept is within the reach and on the line."""
+    line = cartesian.Line([1.0, 1.0, 0.0], [2.2, 1.0, 0.0])
+    plan = cartesian.follow(
+        planar_2r, line, duration=1.0, dt=0.01, q_seed=[0.0, 1.5],
+        singular_threshold=0.0, velocity_scale=1e9,
+    )  # fmt: skip
+    assert plan.status == "unreachable", plan
+    timing = time_path(line.length, 1.0, dt=0.01)
+    event = assert_event_describes_its_sample(planar_2r, plan, line, timing)
+    distance = np.linalg.norm(event.position)
+    assert distance > 2.0 and np.linalg.norm(line.position(timing.s[event.index - 1])) <= 2.0
+    assert f"{distance:.4f} m" in event.message and "2.0000 m" in event.message
+    assert np.all(np.linalg.norm(plan.tool_positions, axis=1) <= 2.0 + 1e-9)
+    assert plan.max_deviation < 1e-6
+
+
+def test_joint_limit_event_t_and_s_are_those_of_one_sample():
+    """The event of the elbow-down arc beyond joint2's lower limit: its t, s and position are
+    those of one sample, the offending one (as for every other kind of event)."""
+    arm = kinplan.planar_arm([1.0, 1.0], lower=[-1.0, -0.6], upper=[1.2, 1.5])
+    arc = cartesian.Arc(
+        arm.fk([0.3, -0.2]).translation,
+        arm.fk([0.4, -0.5]).translation,
+        arm.fk([0.5, -0.9]).translation,
+    )
+    plan = cartesian.follow(arm, arc, duration=1.0, dt=0.01, q_seed=[0.3, -0.2])
+    assert plan.status == "joint_limit"
+    assert_event_describes_its_sample(arm, plan, arc, time_path(arc.length, 1.0, dt=0.01))

@@ -514,7 +514,9 @@ def test_parse_program_from_text():
     np.testing.assert_allclose(program.start, np.radians([0, -90, 90, -90, -90, 0]))
 
 
-@pytest.mark.parametrize("name", ["ur5_pick_place", "weld_seam", "lecture_2r", "weld_unreachable"])
+@pytest.mark.parametrize(
+    "name", ["ur5_pick_place", "weld_seam", "lecture_2r", "weld_unreachable", "panda_on_table"]
+)
 def test_example_programs(name):
     plan = plan_program(load_program(EXAMPLES / f"{name}.yaml"))
     if name == "weld_unreachable":

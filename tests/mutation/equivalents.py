@@ -36,7 +36,101 @@ _HALTON_CACHE = "unit = np.array([halton(i, self.nq) for i in range(1, count + 1
 _POLISH = "if perr > position_tolerance or rerr > rotation_tolerance:"
 _POLISHED = "if perr <= position_tolerance and rerr <= rotation_tolerance:"
 
+
+def _module(module: str):
+    def entry(original: str, mutant: str, reason: str) -> dict[str, str]:
+        return {"module": module, "original": original, "mutant": mutant, "reason": reason}
+
+    return entry
+
+
+_paths = _module("cartesian/paths.py")
+_analytic = _module("kinplan/analytic_ik.py")
+_AS_S = "if type(s) is np.ndarray and s.dtype == np.float64 and s.ndim == 1:  # the common case"
+_RODRIGUES = "cos = np.where(small, 0.0, 1.0 - np.cos(theta))[:, None, None]"
+_FLOAT_INPUT = (
+    "the limits and poses reach the solver as float arrays (from Robot and its checks), so the "
+    "conversion to float is a no-op"
+)
+
 EQUIVALENTS: list[dict[str, str]] = [
+    _paths(
+        _AS_S,
+        _AS_S.replace("s.ndim == 1", "s.ndim != 1"),
+        "both branches end in the "
+        "same shape and finiteness checks: only the fast path's use changes",
+    ),
+    _paths(
+        _RODRIGUES,
+        _RODRIGUES.replace("np.where(small,", "np.where(None,"),
+        "where θ = 0 the axis k is 0, so K and the cos term vanish whatever the factor",
+    ),
+    _paths(
+        'return self._gather(s, "position", 0)[0]',
+        'return self._gather(s, "position", None)[0]',
+        "chain 0 and None are both falsy",
+    ),
+    _paths(
+        'with np.errstate(over="ignore", invalid="ignore"):',
+        'with np.errstate(over="ignore", invalid=None):',
+        "numpy's error state only decides "
+        "whether a warning is printed; the checks that follow refuse the value either way",
+    ),
+    _analytic(
+        "return point + _rotate(x - point, axis, angle, cross_t)",
+        "return point + _rotate(x - point, axis, angle, None)",
+        "_rotate computes _skew(axis).T itself when cross_t is None: the same matrix",
+    ),
+    _analytic(
+        "return point + _rotate(x - point, axis, angle, cross_t)",
+        "return point + _rotate(x - point, axis, angle, )",
+        "_rotate computes _skew(axis).T itself when cross_t is None: the same matrix",
+    ),
+    _analytic(
+        "self.lower = np.asarray(lower, dtype=float)",
+        "self.lower = np.asarray(lower, dtype=None)",
+        _FLOAT_INPUT,
+    ),
+    _analytic(
+        "self.lower = np.asarray(lower, dtype=float)",
+        "self.lower = np.asarray(lower, )",
+        _FLOAT_INPUT,
+    ),
+    _analytic(
+        "rotations = np.asarray(rotations, dtype=float)",
+        "rotations = np.asarray(rotations, dtype=None)",
+        _FLOAT_INPUT,
+    ),
+    _analytic(
+        "rotations = None if rotation is None else np.asarray(rotation, dtype=float)[None]",
+        "rotations = None if rotation is None else np.asarray(rotation, )[None]",
+        _FLOAT_INPUT,
+    ),
+    _analytic(
+        "singular = free6.reshape(count, -1).any(axis=1) | free2.reshape(count, -1).any(axis=1)",
+        "singular = free6.reshape(count, -1).any(axis=1) | free2.reshape(count, -2).any(axis=1)",
+        "numpy's reshape takes any negative size as 'the rest'",
+    ),
+    _analytic(
+        "repeated = np.triu(gap <= 1e-9, k=1).any(axis=0)  # equal to an earlier row",
+        "repeated = np.triu(gap < 1e-9, k=1).any(axis=0)  # equal to an earlier row",
+        _NEVER_EQUAL,
+    ),
+    _analytic(
+        "return bool(abs(u @ v) < _STRUCTURE_TOL)",
+        "return bool(abs(u @ v) <= _STRUCTURE_TOL)",
+        _NEVER_EQUAL,
+    ),
+    _analytic(
+        "if cost < best_cost or (cost == best_cost and index < best_index):",
+        "if cost < best_cost or (cost == best_cost and index <= best_index):",
+        "each branch index is visited once, so index never equals best_index",
+    ),
+    _analytic(
+        'logger.debug("closed-form IK of %s disagrees with its forward kinematics", robot.name)',
+        'logger.debug("closed-form IK of %s disagrees with its forward kinematics", None)',
+        "an argument of a debug log line",
+    ),
     _ik(_FROB, _FROB.replace("type(rotation_tolerance)", "type(None)"), _FAST_PATH),
     _ik(_FROB, _FROB.replace("0.0 <=", "1.0 <="), _FAST_PATH),
     _ik(_FROB, _FROB.replace("0.0 <=", "0.0 <"), _FAST_PATH),
