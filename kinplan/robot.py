@@ -250,11 +250,12 @@ class Robot:
         """Reach [m]: the largest distance of the tool from the first joint's origin within the
         joint limits (cached).
 
-        Planar arms: r_max of :meth:`planar_reach`, exact. Other arms: the tool is driven, with
-        the limits respected, toward points far away in 128 directions spread over the sphere;
-        the farthest result is then pushed further along its own direction until it stops
-        (a local maximum of the distance, which the spread of starts makes the global one in
-        practice; never more than the true reach).
+        Planar arms: r_max of :meth:`planar_reach`, exact. Other arms: from the best of 128
+        configurations (the tool driven toward far points in directions spread over the
+        sphere), the tool is pushed outward along its own direction, a step δ at a time (the
+        limits respected; δ halved whenever the step cannot be taken), until δ < 1e-7 m: a
+        local maximum of the distance, which the spread of starts makes the global one in
+        practice (never more than the true reach).
         """
         cached = self.__dict__.get("_reach")
         if cached is not None:
@@ -268,9 +269,8 @@ class Robot:
         # a distance no configuration exceeds: the chain's offsets laid end to end
         far = 10.0 * (self._chain_length() + 1.0)
 
-        def push(q: np.ndarray, direction: np.ndarray) -> tuple[np.ndarray, float]:
-            q, *_ = solver.descend(q, origin + far * direction, None, 1e-12, 1.0, 30)
-            return q, self.shoulder_distance(self.tool_positions(q[None])[0])
+        def distance_of(q: np.ndarray) -> float:
+            return self.shoulder_distance(self.tool_positions(q[None])[0])
 
         count = 128
         k = np.arange(count) + 0.5
@@ -279,13 +279,28 @@ class Robot:
             [np.sin(polar) * np.cos(azimuth), np.sin(polar) * np.sin(azimuth), np.cos(polar)], 1
         )
         start = self.neutral()
-        q, best = max((push(start, u) for u in directions), key=lambda pair: pair[1])
-        for _ in range(20):
-            tool = self.tool_positions(q[None])[0] - origin
-            q_next, distance = push(q, tool / max(np.linalg.norm(tool), 1e-12))
-            if distance <= best * (1 + 1e-12):
-                break
-            q, best = q_next, distance
+        candidates = []
+        for u in directions:
+            q, *_ = solver.descend(start, origin + far * u, None, 1e-12, 1.0, 30)
+            candidates.append((distance_of(q), q))
+        candidates.sort(key=lambda pair: -pair[0])
+        best = 0.0
+        for distance, q in candidates[:4]:  # the best few basins
+            step = 0.05
+            for _ in range(400):
+                if step < 1e-7:
+                    break
+                tool = self.tool_positions(q[None])[0] - origin
+                direction = tool / max(float(np.linalg.norm(tool)), 1e-12)
+                target = origin + (distance + step) * direction
+                q_next, *_ = solver.descend(q, target, None, 1e-12, 1.0, 20)
+                reached = distance_of(q_next)
+                if reached > distance + 1e-12:
+                    q, distance = q_next, reached
+                    step = min(2.0 * step, 0.05)
+                else:
+                    step *= 0.5
+            best = max(best, distance)
         self._reach = float(best)
         return self._reach
 

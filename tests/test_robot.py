@@ -338,11 +338,6 @@ def test_a_zero_link_length_is_refused():
         kinplan.planar_arm([1.0, 0.0])
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="Robot.reach() stops at a local maximum 1.5 mm (ur5) / 2.2 mm (panda) short of "
-    "distances random configurations reach; fix in kinplan/robot.py, then drop this mark",
-)
 @pytest.mark.parametrize("name", ["ur5", "panda"])
 def test_reach_bounds_every_configuration_and_is_attained(name):
     """The reach (farthest tool distance from the first joint's origin within the limits): no
