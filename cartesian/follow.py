@@ -25,7 +25,7 @@ from cartesian.tracker import (
     Tracker,
     adams_bashforth_weights,
     path_targets,
-    resolve_position_only,
+    resolve_task,
 )
 from kinplan import checks
 from kinplan._profiles import PROFILES
@@ -130,7 +130,8 @@ def follow(
         dt: Sampling period [s]; samples at 0, dt, ..., the last exactly at the end.
         q_seed: Start configuration guess (the IK of the path start stays on its branch).
         position_only: Ignore the tool orientation; default: when the arm has fewer than 6
-            joints or the path was built from 3-vectors.
+            joints. On an arm with 6 or more joints a path built from 3-vectors keeps the tool
+            orientation of ``q_seed`` (its FK) all along, as programs do; ``True`` opts out.
         acceleration: Tool acceleration of the trapezoid [m/s²] (default: cruise in 0.25 s).
         singular_threshold: Manipulability under which a sample is singular; default 5 % of
             the arm's median manipulability over its joint space.
@@ -152,8 +153,10 @@ def follow(
         CartesianPlan; an event stops it at the first offending sample.
     """
     _check_robot_and_path(robot, path)
-    position_only = resolve_position_only(robot, path, position_only)
     seed = robot.neutral() if q_seed is None else robot.check_q(q_seed, "q_seed")
+    if position_only is not None:
+        position_only = checks.flag(position_only, "position_only")
+    path, position_only = resolve_task(robot, path, position_only, seed)
     duration = checks.optional_number(duration, "duration", positive=True, unit="s")
     speed = checks.optional_number(speed, "speed", positive=True, unit="m/s")
     acceleration = checks.optional_number(acceleration, "acceleration", positive=True, unit="m/s²")

@@ -14,7 +14,7 @@ import numpy as np
 
 from cartesian.events import Event, Status, where
 from cartesian.paths import Path
-from cartesian.tracker import SINGULAR_FRACTION, Tracker, path_targets, resolve_position_only
+from cartesian.tracker import SINGULAR_FRACTION, Tracker, path_targets, resolve_task
 from kinplan.robot import Robot
 
 
@@ -203,7 +203,8 @@ def check_reachability(
         resolution: Spacing of the checked points along the path [m].
         singular_threshold: As in :func:`follow`.
     """
-    position_only = resolve_position_only(robot, path, position_only)
+    seed = robot.neutral() if q_seed is None else robot.check_q(q_seed, "q_seed")
+    path, position_only = resolve_task(robot, path, position_only, seed)
     count = max(50, int(np.ceil(path.length / resolution)) + 1)
     s = np.linspace(0.0, 1.0, count)
     reach = robot.planar_reach()
@@ -211,7 +212,6 @@ def check_reachability(
         annulus = _planar_check(robot, path, s, reach)
         if not annulus.ok:  # the analytic answer, with its exact reason
             return annulus
-    seed = robot.neutral() if q_seed is None else robot.check_q(q_seed, "q_seed")
     if singular_threshold is None:
         singular_threshold = SINGULAR_FRACTION * robot.reference_manipulability(position_only)
     tracker = Tracker(robot, position_only, 1e-7, 1e-7, singular_threshold, 1.0, 0.1)

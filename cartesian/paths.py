@@ -468,6 +468,39 @@ def Polyline(points: Sequence) -> PathSequence:
     return PathSequence(lines)
 
 
+class HeldOrientation(Path):
+    """A position-only path (built from 3-vectors) with the tool held at one rotation along it.
+
+    What :func:`cartesian.follow` makes of a 3-vector path on an arm with 6 or more joints: the
+    tool keeps the orientation it starts with.
+
+    Args:
+        path: A path without orientation.
+        rotation: The tool rotation (3×3 or SE3) in the world frame.
+    """
+
+    def __init__(self, path: Path, rotation):
+        if not isinstance(path, Path) or path.has_orientation:
+            raise InputError(
+                f"HeldOrientation needs a path without orientation, got {checks.describe(path)}"
+            )
+        fixed = checks.rotation(rotation, "rotation")
+        self.path = path
+        self.length = path.length
+        self.has_orientation = True
+        self._fd_step = path._fd_step
+        self.slerp = Slerp(fixed, fixed)  # constant: vectorised, exact zero angular rates
+
+    def __repr__(self) -> str:
+        return f"HeldOrientation({self.path!r})"
+
+    def position(self, s) -> np.ndarray:
+        return self.path.position(s)
+
+    def position_derivatives(self, s):
+        return self.path.position_derivatives(s)
+
+
 class FunctionPath(Path):
     """Any continuous curve p(u), u ∈ [0, 1], re-parametrised by arc length.
 

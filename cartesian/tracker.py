@@ -16,7 +16,7 @@ import numpy as np
 import pinocchio as pin
 
 from cartesian.events import Event, Status, joint_units, out_of_reach, where
-from cartesian.paths import Path
+from cartesian.paths import HeldOrientation, Path
 from kinplan.errors import InputError
 from kinplan.ik import frobenius_tolerance
 from kinplan.robot import Robot, manipulability_of
@@ -398,12 +398,29 @@ def adams_bashforth_weights(steps: np.ndarray) -> list[tuple[float, float]]:
     return list(zip((h * (1.0 + ratio)).tolist(), (-h * ratio).tolist()))
 
 
-def resolve_position_only(robot: Robot, path: Path, position_only: bool | None) -> bool:
+def resolve_task(
+    robot: Robot, path: Path, position_only: bool | None, seed: np.ndarray
+) -> tuple[Path, bool]:
+    """The path the tool follows and whether its orientation is ignored.
+
+    ``position_only=None``: position only on arms with fewer than 6 joints; otherwise the path's
+    orientation, and a path built from 3-vectors keeps the tool orientation the arm starts with
+    (the seed's FK: :class:`~cartesian.paths.HeldOrientation`). ``True`` ignores the
+    orientation; ``False`` on a 3-vector path also holds the start orientation (an InputError on
+    an arm with fewer than 6 joints).
+    """
     if position_only is None:
-        return robot.default_position_only() or not path.has_orientation
-    if not position_only and not path.has_orientation:
-        raise InputError("the path has no orientation (built from 3-vectors); use position_only")
-    return bool(position_only)
+        position_only = robot.default_position_only()
+    if position_only:
+        return path, True
+    if not path.has_orientation:
+        if robot.default_position_only():
+            raise InputError(
+                f"the path has no orientation (built from 3-vectors) and {robot.name} has "
+                f"{robot.nq} joints (fewer than 6, so it cannot hold one): use position_only=True"
+            )
+        path = HeldOrientation(path, robot.fk(seed).rotation)
+    return path, False
 
 
 @dataclass

@@ -18,6 +18,7 @@ from kinplan.errors import (
     URDFError,
     ViewerError,
 )
+from kinplan.cell import Body, CellError, MotionCheck, WorkCell
 from kinplan.ik import IKResult
 from kinplan.robot import Robot, load_robot, planar_arm
 
@@ -26,15 +27,19 @@ logging.getLogger(__name__).addHandler(logging.NullHandler())
 __version__ = "0.1.0"
 
 __all__ = [
+    "Body",
+    "CellError",
     "FrameError",
     "IKResult",
     "InfeasibleError",
     "InputError",
     "KinplanError",
+    "MotionCheck",
     "Robot",
     "RobotNotFoundError",
     "URDFError",
     "ViewerError",
+    "WorkCell",
     "load_robot",
     "planar_arm",
 ]

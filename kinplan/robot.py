@@ -500,6 +500,29 @@ class Robot:
             self._closed_form = analytic_solver_for(self)
         return self._closed_form
 
+    def with_tool(self, pose: pin.SE3 | np.ndarray | Sequence[float], body=None) -> Robot:
+        """This robot with a tool on its flange (the current tip frame): a new Robot whose tip
+        is the tool centre point, so FK, IK, Jacobians and paths all work at the TCP, and whose
+        tool body (if given) collides like a link in a :class:`kinplan.WorkCell` and is drawn
+        by the viewer (see :mod:`kinplan.tool`).
+
+        Args:
+            pose: The TCP in the flange frame: ``pin.SE3``, 4×4 matrix or position 3-vector [m]
+                (e.g. ``kinplan.cell.xyz_rpy((0, 0, 0.3), (0, -45, 0))``).
+            body: The tool's collision body in the flange frame, a :class:`kinplan.cell.Body`
+                (``Body.cylinder(0.012, 0.3, pose)``, ``Body.mesh("torch.stl", scale=0.001)``),
+                or None.
+
+        Returns:
+            The new robot; ``robot.tool`` describes the tool (:class:`kinplan.tool.Tool`).
+
+        Raises:
+            CellError: a pose that is not a pose, a body that is not a ``Body``.
+        """
+        from kinplan.tool import attach_tool
+
+        return attach_tool(self, pose, body)
+
 
 def manipulability_of(J: np.ndarray, rank: int) -> float | np.ndarray:
     """Product of the ``rank`` largest singular values of ``J`` (0 when rank is 0).

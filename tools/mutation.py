@@ -79,6 +79,7 @@ MODULES: dict[str, list[str]] = {
     "kinplan/ik.py": [
         "tests/test_ik.py",
         "tests/test_robot.py",
+        "tests/test_urdf*.py",
         "tests/test_validation.py",
         "tests/test_errors.py",
     ],

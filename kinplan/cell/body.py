@@ -197,8 +197,7 @@ class Body:
         bvh.endModel()
         if not self.convex:
             return bvh
-        bvh.buildConvexRepresentation(False)
-        return bvh.convex
+        return convex_hull(bvh, f"the mesh {self.path}")
 
     def describe(self) -> str:
         """A short description: "box 1.2 × 0.8 × 0.04 m", "mesh part.stl (scale 0.001)"."""
@@ -286,6 +285,24 @@ def _read_mesh(path: str, size: int, mtime_ns: int) -> tuple[np.ndarray, np.ndar
     vertices.setflags(write=False)
     faces.setflags(write=False)
     return vertices, faces
+
+
+def convex_hull(mesh: coal.BVHModelBase, what: str) -> coal.ConvexBase:
+    """The convex hull of a coal mesh (qhull through coal's ``buildConvexHull``).
+
+    (coal's ``buildConvexRepresentation`` is not a hull: it takes the mesh's own triangles as a
+    convex polytope, and GJK on a mesh that is not convex then returns wrong distances.)
+
+    Raises:
+        CellError: qhull cannot build it (a flat or degenerate mesh).
+    """
+    try:
+        mesh.buildConvexHull(False, "Qt")  # returns whether every vertex is on the hull
+    except Exception as exc:  # qhull errors come through as RuntimeError
+        raise CellError(f"cannot build the convex hull of {what}: {exc}") from None
+    if mesh.convex is None or mesh.convex.num_points < 4:
+        raise CellError(f"cannot build the convex hull of {what} (a flat or degenerate mesh?)")
+    return mesh.convex
 
 
 def bounding_radius(geometry: coal.CollisionGeometry, placement: pin.SE3) -> float:

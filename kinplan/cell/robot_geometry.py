@@ -5,7 +5,7 @@ no ``<collision>`` at all, said in the log), read by ``pin.buildGeomFromUrdfStri
 URDF's whole model (:func:`kinplan.urdf_model.full_model`) and moved onto the robot's reduced
 model: each element keeps its pose in its link's frame, and the link's frame in the reduced model
 carries the held joints' values and the base pose. Meshes become their convex hulls (coal's
-``buildConvexRepresentation``, qhull): a solid that covers the mesh, with penetration depths.
+``buildConvexHull``, qhull): a solid that covers the mesh, with penetration depths.
 
 Self-collision pairs (:func:`self_pairs`): every two bodies of the robot except
 
@@ -20,7 +20,10 @@ Self-collision pairs (:func:`self_pairs`): every two bodies of the robot except
   said in the log.
 
 A tool body (:meth:`kinplan.Robot.with_tool`) is checked against every link except those
-rigidly attached to it (the flange) and those it touches at the zero configuration.
+rigidly attached to it (the flange's link and what is fixed to it) and, when they are in
+contact at the zero configuration, the links one joint away from the flange (a tool mount
+overlapping the last wrist link); a tool that touches another link there is reported, not
+hidden.
 """
 
 from __future__ import annotations
@@ -35,7 +38,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from kinplan.cell.body import CellError
+from kinplan.cell.body import CellError, convex_hull
 from kinplan.errors import KinplanError
 from kinplan.urdf_model import full_model, read_urdf
 
@@ -125,8 +128,7 @@ def robot_geometry(robot) -> RobotGeometry:
         in_link = full.frames[source.parentFrame].placement.inverse() * source.placement
         shape = source.geometry
         if isinstance(shape, coal.BVHModelBase):
-            shape.buildConvexRepresentation(False)
-            shape = shape.convex
+            shape = convex_hull(shape, f"the {kind} mesh of link {link!r}")
         count = counts.get(link, 0)
         counts[link] = count + 1
         objects.append(
@@ -271,9 +273,17 @@ def self_pairs(
             names = (links[a], links[b])
             key = frozenset(names)
             reason = None
-            if objects[a].parentJoint == objects[b].parentJoint:
+            joint_a, joint_b = objects[a].parentJoint, objects[b].parentJoint
+            if joint_a == joint_b:
                 reason = "rigidly attached to each other"
-            elif not tools & key:
+            elif tools & key:
+                parents = robot.model.parents
+                if parents[joint_a] == joint_b or parents[joint_b] == joint_a:
+                    touching.append((a, b))  # a tool next to the flange's neighbour
+                else:
+                    checked.append((a, b))
+                continue
+            else:
                 groups = tuple(sorted((geometry.group[names[0]], geometry.group[names[1]])))
                 joint = geometry.adjacent.get(groups)  # type: ignore[arg-type]
                 if joint is not None:
@@ -282,7 +292,7 @@ def self_pairs(
                     reason = disabled[key]
             if reason is not None:
                 excluded.setdefault(key, ExcludedPair(names, reason))
-            elif srdf is None or tools & key:
+            elif srdf is None:
                 touching.append((a, b))
             else:
                 checked.append((a, b))

@@ -367,7 +367,9 @@ class WorkCell:
         problem.place(self._robot.check_q(q))
         return pin.SE3(problem.geometry_data.oMg[self._geometry.links.index(name)])
 
-    def check_motion(self, q: np.ndarray, clearance: float = 0.0) -> MotionCheck:
+    def check_motion(
+        self, q: np.ndarray, clearance: float = 0.0, *, full: bool = False
+    ) -> MotionCheck:
         """Check joint samples against the cell, at the samples and between them.
 
         Between two samples the joints move linearly; a collision (or a distance below
@@ -380,6 +382,8 @@ class WorkCell:
         Args:
             q: Joint samples, shape (N, nq) [rad or m] (a plan's ``q``).
             clearance: Margin [m] ≥ 0: a pair closer than this fails (touching always fails).
+            full: Compute the per-sample distances after a failure too (by default the check
+                stops at the first failure and they are nan there).
 
         Returns:
             :class:`MotionCheck`: the first failing sample (``index``, ``between``, ``bodies``,
@@ -390,7 +394,7 @@ class WorkCell:
         """
         rows = checks.rows(q, f"q (joint samples of {self._robot.name})", self._robot.nq, "rad")
         clearance = checks.number(clearance, "clearance", minimum=0.0, unit="m")
-        return check(self._compiled(), rows, clearance)
+        return check(self._compiled(), rows, clearance, checks.flag(full, "full"))
 
     # ------------------------------------------------------------------ compiling
     def _compiled(self) -> Problem:
