@@ -30,8 +30,10 @@ from cartesian.tracker import (
 from kinplan import checks
 from kinplan._profiles import PROFILES
 from kinplan.errors import InputError
+from kinplan.motion import MotionKind, MoveSpan, PlannedPath, no_waypoints
 from kinplan.robot import Robot
 from kinplan.sampling import joint_speeds
+from kinplan.trajectory import Waypoints
 
 
 @dataclass
@@ -84,6 +86,33 @@ class CartesianPlan:
     retimed: bool = False
     retime_duration: float | None = None
     peak_speed_ratio: float = 0.0
+    robot: Robot | None = None  # the robot it was planned for
+
+    # -- kinplan.motion.SampledMotion: what viewers, plots and exports read --------------------
+    @property
+    def kind(self) -> MotionKind:
+        """Always "cartesian": an event's ``s`` is a fraction of :attr:`path`."""
+        return "cartesian"
+
+    @property
+    def description(self) -> str:
+        """The path and its length, for captions."""
+        return f"Cartesian path {float(self.path.length):.3f} m"
+
+    @property
+    def planned_paths(self) -> list[PlannedPath]:
+        """The path, reached up to the first event's path fraction (all of it when ok)."""
+        return [PlannedPath(self.path, self.events[0].s if self.events else 1.0)]
+
+    @property
+    def waypoints(self) -> Waypoints:
+        """None: a Cartesian plan is planned through no joint positions."""
+        return no_waypoints(self.q.shape[1])
+
+    @property
+    def moves(self) -> tuple[MoveSpan, ...]:
+        """None: a single motion."""
+        return ()
 
     def __repr__(self) -> str:
         text = (
@@ -369,4 +398,5 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
         singular_threshold=float(tracker.singular_threshold),
         tool_positions=tool,
         manipulability=manip,
+        robot=robot,
     )

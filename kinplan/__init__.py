@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import logging
 
+from kinplan.cell import Body, CellError, MotionCheck, WorkCell
 from kinplan.errors import (
     FrameError,
     InfeasibleError,
@@ -18,7 +19,6 @@ from kinplan.errors import (
     URDFError,
     ViewerError,
 )
-from kinplan.cell import Body, CellError, MotionCheck, WorkCell
 from kinplan.ik import IKResult
 from kinplan.robot import Robot, load_robot, planar_arm
 

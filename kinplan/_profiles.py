@@ -19,6 +19,9 @@ from kinplan.errors import InfeasibleError
 
 #: The 1-D time laws every planner offers.
 PROFILES = ("trapezoid", "quintic", "cubic")
+#: The time laws of joint-space point-to-point moves: the 1-D ones, the jerk-limited S-curve and
+#: the time-optimal timing under velocity and acceleration limits.
+PTP_PROFILES = (*PROFILES, "scurve", "time_optimal")
 #: Peaks of a rest-to-rest cubic / quintic over |Δ| in time T: speed k_v |Δ|/T and acceleration
 #: k_a |Δ|/T², as (k_v, k_a).
 REST_TO_REST_PEAKS = {"cubic": (1.5, 6.0), "quintic": (15.0 / 8.0, 10.0 / math.sqrt(3.0))}
@@ -205,7 +208,11 @@ def merged_knots(breaks: np.ndarray) -> np.ndarray:
 
 
 def constant_derivative_pieces(
-    q0: np.ndarray, breaks: np.ndarray, values: np.ndarray, order: int
+    q0: np.ndarray,
+    breaks: np.ndarray,
+    values: np.ndarray,
+    order: int,
+    spans: np.ndarray | None = None,
 ) -> Pieces:
     """Polynomial segments of a motion whose ``order``-th derivative is piecewise constant.
 
@@ -221,11 +228,15 @@ def constant_derivative_pieces(
         breaks: Non-decreasing phase boundaries, shape (n, K + 1), from 0 to the duration [s].
         values: The ``order``-th derivative in each phase, shape (n, K) [rad/s^order].
         order: 2 for piecewise-constant acceleration, 3 for piecewise-constant jerk.
+        spans: The phase durations, shape (n, K) [s]; default ``diff(breaks)``. Give them when
+            they are known: the difference of two rounded boundaries loses the digits of a
+            short phase after a long one (a jerk phase of 1e-6 s after 100 s of constant
+            acceleration keeps only 8 of them), and the motion would not come to rest.
 
     Returns:
         Knots and coefficient arrays of shape (n, order + 1).
     """
-    spans = np.diff(breaks, axis=1)
+    spans = np.diff(breaks, axis=1) if spans is None else spans
     starts: list[np.ndarray] = [np.empty(0)] * order  # derivative d at each phase start
     for d in range(order - 1, -1, -1):
         increment = np.zeros_like(spans)
@@ -582,9 +593,7 @@ def scurve_peaks(distance: np.ndarray, phase_times: np.ndarray) -> tuple[np.ndar
     t_j, t_a, t_v = phase_times.T
     moving = distance > 0.0
     half = 2.0 * t_j + t_a + t_v
-    jerk = np.divide(
-        distance, t_j * (t_j + t_a) * half, out=np.zeros_like(distance), where=moving
-    )
+    jerk = np.divide(distance, t_j * (t_j + t_a) * half, out=np.zeros_like(distance), where=moving)
     speed = np.divide(distance, half, out=np.zeros_like(distance), where=moving)
     return speed, jerk * t_j, jerk
 
@@ -611,7 +620,7 @@ def scurve_pieces(
     breaks = np.hstack([np.zeros((q0.size, 1)), np.cumsum(spans, axis=1)])
     breaks[:, -1] = max(duration, float(breaks[:, -2].max()))  # one common end
     jerks = (np.sign(delta) * jerk)[:, None] * SCURVE_JERK_SIGNS[None, :]
-    return constant_derivative_pieces(q0, breaks, jerks, 3)
+    return constant_derivative_pieces(q0, breaks, jerks, 3, spans)
 
 
 def cubic_peak_rates(
@@ -656,9 +665,7 @@ def scurve_minimum_times(
     max_jerk: np.ndarray,
 ) -> np.ndarray:
     """Each joint's own minimum time of a rest-to-rest seven-phase move, shape (n,) [s]."""
-    return scurve_durations(
-        scurve_phase_times(distance, max_velocity, max_acceleration, max_jerk)
-    )
+    return scurve_durations(scurve_phase_times(distance, max_velocity, max_acceleration, max_jerk))
 
 
 def synchronised_scurve(

@@ -20,8 +20,13 @@ Moves and their options:
   cruises within ``speed`` × its velocity limit (``speed`` is a fraction in (0, 1], default
   :data:`DEFAULT_PTP_SPEED`) and reaches its cruise speed in :data:`PTP_RAMP_TIME`; with a
   ``duration`` [s] the move takes that long (and must stay within the velocity limits).
-  ``profile``: ``trapezoid`` (default), ``quintic`` or ``cubic``. A ``ptp`` to a Cartesian point
-  solves IK seeded from the current configuration, so the arm stays on its branch.
+  ``profile``: ``trapezoid`` (default), ``quintic``, ``cubic``, ``scurve`` (jerk-limited, jerk
+  ramps of :data:`PTP_JERK_TIME`) or ``time_optimal`` (fastest within the velocity and
+  acceleration limits); ``scurve`` and ``time_optimal`` use the robot's acceleration limits
+  where it has them (else the :data:`PTP_RAMP_TIME` ramp), and with a ``duration`` the full
+  limits, refusing a duration they cannot meet with the minimum it needs. A ``ptp`` to a
+  Cartesian point solves IK seeded from the current configuration, so the arm stays on its
+  branch.
 - ``lin``: the tool moves on a straight line from its current pose, at a tool ``speed`` [m/s]
   (default :data:`DEFAULT_TOOL_SPEED`) or in a ``duration`` [s], with the 1-D ``profile``.
 - ``circ``: the tool moves on the arc through ``via`` to the target, as ``lin``.
@@ -61,9 +66,9 @@ import yaml
 
 import cartesian
 from kinplan import checks, trajectory
-from kinplan._meshcat_scene import pose_to_track
-from kinplan._profiles import PROFILES, REST_TO_REST_PEAKS, quintic_coefficients
-from kinplan.errors import InputError, KinplanError
+from kinplan._profiles import PROFILES, PTP_PROFILES, REST_TO_REST_PEAKS, quintic_coefficients
+from kinplan.errors import InfeasibleError, InputError, KinplanError
+from kinplan.motion import MotionKind, PlannedPath, pose_to_track
 from kinplan.robot import Robot, load_robot, manipulability_of
 from kinplan.sampling import joint_speeds, motion_step
 from kinplan.sources import bundled_robots, known_names
@@ -82,6 +87,7 @@ __all__ = [
     "MoveReport",
     "MotionBuilder",
     "PROFILES",
+    "PTP_JERK_TIME",
     "PTP_RAMP_TIME",
     "Point",
     "Program",
@@ -100,6 +106,8 @@ DEFAULT_PTP_SPEED = 0.5
 """Cruise speed of a ``ptp`` move without ``speed``/``duration``, share of the joint limits [-]."""
 PTP_RAMP_TIME = 0.5
 """Time a ``ptp`` joint takes to reach its cruise speed (sets the joint acceleration) [s]."""
+PTP_JERK_TIME = 0.1
+"""Time an ``scurve`` ``ptp`` joint takes to build up its acceleration (sets the jerk) [s]."""
 FALLBACK_JOINT_SPEED = 1.0
 """Velocity limit assumed for joints whose URDF gives none [rad/s]."""
 DEFAULT_TOOL_SPEED = 0.05
@@ -947,10 +955,12 @@ class _Validator:
             self.error(path, "give duration or speed, not both")
             ok = False
         profile = spec.get("profile", "trapezoid")
-        if profile not in PROFILES:
+        profiles = PTP_PROFILES if kind == "ptp" else PROFILES
+        if profile not in profiles:
             self.error(
                 path + ("profile",),
-                f"unknown profile {_describe(profile)}; expected one of {', '.join(PROFILES)}",
+                f"unknown profile {_describe(profile)} for a {kind} move; expected one of "
+                f"{', '.join(profiles)}",
             )
             ok = False
         name = spec.get("name")
@@ -1147,6 +1157,23 @@ class ProgramPlan(Trajectory):
                 [[0.0, self.duration], [m.t0 for m in self.moves], [m.t1 for m in self.moves]]
             )
         )
+
+    # -- kinplan.motion.SampledMotion: what viewers, plots and exports read --------------------
+    @property
+    def kind(self) -> MotionKind:
+        """Always "program": an event's ``s`` is the share of the failed move achieved."""
+        return "program"
+
+    @property
+    def description(self) -> str:
+        """The number of moves, for captions."""
+        return f"{len(self.moves)} moves"
+
+    @property
+    def planned_paths(self) -> list[PlannedPath]:
+        """The paths of the Cartesian moves, in order, each reached as far as its move got."""
+        plans = [m.cartesian_plan for m in self.moves if m.cartesian_plan is not None]
+        return [piece for plan in plans for piece in plan.planned_paths]
 
     def _tool_states(self, robot: Robot) -> None:
         n = len(self.t)
@@ -1352,13 +1379,16 @@ class MotionBuilder:
             duration: Duration [s]; default the minimum time within the scaled limits. A given
                 duration must keep every joint within its velocity limit.
             speed: Share of the joint velocity limits (0, 1]; default :data:`DEFAULT_PTP_SPEED`.
-            profile: ``trapezoid``, ``quintic`` or ``cubic``.
+            profile: ``trapezoid``, ``quintic``, ``cubic``, ``scurve`` or ``time_optimal``.
             label: Description for reports.
             key: Key path in a program, for messages.
         """
         self._check_open()
         q_goal = self.robot.check_q(q_goal, "ptp goal")
-        traj = self._joint_trajectory(q_goal, duration, speed, profile)
+        try:
+            traj = self._joint_trajectory(q_goal, duration, speed, profile)
+        except InfeasibleError as exc:  # a duration the limits cannot meet: states the minimum
+            self._record("ptp", label, key, status="invalid", why=f"invalid: {exc}")
         t = traj.time_grid(motion_step(traj.duration, self.dt))
         q, qd, qdd = traj.sample(t)
         ratio = _peak_speed_ratio(self.robot, t, q, qd)
@@ -1554,8 +1584,10 @@ class MotionBuilder:
     def _joint_trajectory(
         self, q_goal: np.ndarray, duration: float | None, speed: float | None, profile: str
     ) -> Trajectory:
-        if profile not in PROFILES:
-            raise KinplanError(f"unknown profile {profile!r}; choose one of {', '.join(PROFILES)}")
+        if profile not in PTP_PROFILES:
+            raise KinplanError(
+                f"unknown profile {profile!r}; choose one of {', '.join(PTP_PROFILES)}"
+            )
         if speed is not None and not (0 < speed <= 1):
             raise KinplanError(f"ptp speed is a share of the joint limits in (0, 1], got {speed}")
         limit = self.robot.velocity_limit
@@ -1563,6 +1595,19 @@ class MotionBuilder:
         max_velocity = limit * (DEFAULT_PTP_SPEED if speed is None else float(speed))
         max_acceleration = max_velocity / PTP_RAMP_TIME
         q0 = self.q
+        if profile in ("scurve", "time_optimal"):
+            # The robot's limits (all of them when a duration is given), the trapezoid's ramp
+            # where it has no acceleration limit, jerk from the acceleration ramp time.
+            share = DEFAULT_PTP_SPEED if speed is None else float(speed)
+            share = 1.0 if duration is not None else share
+            velocity = limit * share
+            known = self.robot.acceleration_limit
+            acceleration = np.where(np.isfinite(known), known * share, velocity / PTP_RAMP_TIME)
+            if profile == "scurve":
+                return trajectory.scurve(
+                    q0, q_goal, velocity, acceleration, acceleration / PTP_JERK_TIME, duration
+                )
+            return trajectory.time_optimal([q0, q_goal], velocity, acceleration, 0.0, duration)
         if profile == "trapezoid":
             if duration is None:
                 return trajectory.trapezoid(

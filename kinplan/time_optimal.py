@@ -86,6 +86,9 @@ CHECK_SAMPLES = 16
 _REFINEMENTS = 6
 """Times the blend intervals that the dense check finds over a limit are cut finer [-]."""
 
+_MAX_INTERVALS = 200_000
+"""Most intervals the refinement may reach (about 0.2 s of planning) [-]."""
+
 _SPLIT = 8
 """Parts each such interval is cut into (the variation between its ends falls 64-fold) [-]."""
 
@@ -194,6 +197,31 @@ class JointPath:
             curvature = -(np.cos(theta) * normal + np.sin(theta) * tangent) / safe_radius
             return np.where(arc, curvature, 0.0)
         raise ValueError(f"order must be 0, 1 or 2, got {order}")
+
+    def chord(self, s0: np.ndarray, s1: np.ndarray, piece: np.ndarray) -> np.ndarray:
+        """q(s1) − q(s0) within one piece, without cancellation (however short the step).
+
+        On an arc, with Δθ = (s1 − s0)/r and θ_m the mean angle, the chord is
+        ``2 r sin(Δθ/2) (tangent cos θ_m − normal sin θ_m)``.
+
+        Args:
+            s0: Start parameters, shape (k,).
+            s1: End parameters, shape (k,), on the same pieces.
+            piece: The piece of each pair, shape (k,).
+
+        Returns:
+            Shape (k, n) [rad].
+        """
+        p = self._pieces
+        step = (np.asarray(s1, dtype=float) - s0)[:, None]
+        radius = p.radius[piece][:, None]
+        arc = np.isfinite(radius)
+        safe_radius = np.where(arc, radius, 1.0)
+        middle = (0.5 * (s0 + s1) - p.s0[piece])[:, None] / safe_radius
+        bend = (2.0 * safe_radius * np.sin(0.5 * step / safe_radius)) * (
+            np.cos(middle) * p.tangent[piece] - np.sin(middle) * p.normal[piece]
+        )
+        return np.where(arc, bend, step * p.tangent[piece])
 
 
 def _without_duplicates(points: np.ndarray) -> np.ndarray:
@@ -463,9 +491,7 @@ def _intervals(
         spread = np.abs(g[:, :, None] - g[:, None, :])
         pair = (w[:, :, None] + w[:, None, :]) / spread
     pair = np.where(spread > 0.0, pair, np.inf)
-    ceiling = np.minimum.reduce(
-        [pair.min(axis=(1, 2)), alone.min(axis=1), speed_bound.min(axis=1)]
-    )
+    ceiling = np.minimum.reduce([pair.min(axis=(1, 2)), alone.min(axis=1), speed_bound.min(axis=1)])
     stop = np.zeros(s.size, dtype=bool)
     stop[0] = stop[-1] = True
     if path.stops.size:
@@ -594,7 +620,6 @@ def _joint_pieces(path: JointPath, law: PathLaw) -> _profiles.Pieces:
     q0 = path.evaluate(law.s, 0, piece)
     d0 = path.evaluate(law.s, 1, piece)
     dd0 = path.evaluate(law.s, 2, piece)
-    q1 = path.evaluate(s_end, 0, piece)
     d1 = path.evaluate(s_end, 1, piece)
     dd1 = path.evaluate(s_end, 2, piece)
     sd0, sd1, sdd = law.sd[:, None], sd_end[:, None], law.sdd[:, None]
@@ -604,9 +629,13 @@ def _joint_pieces(path: JointPath, law: PathLaw) -> _profiles.Pieces:
     arc = path.is_arc(piece)
     coefficients: list[np.ndarray] = list(np.stack([q0, v0, 0.5 * a0], axis=2))  # lines
     if np.any(arc):
+        # The chord from the geometry, not q1 − q0: on a tiny blend the difference of two
+        # positions would lose its digits, and the quintic's acceleration with them.
+        chord = path.chord(law.s[arc], s_end[arc], piece[arc])
         quintic = _profiles.quintic_coefficients(
-            q0[arc], q1[arc], v0[arc], v1[arc], a0[arc], a1[arc], h[arc, None]
+            np.zeros_like(chord), chord, v0[arc], v1[arc], a0[arc], a1[arc], h[arc, None]
         )  # (A, 6, n): the formula is elementwise, so it takes every arc phase at once
+        quintic[:, 0, :] = q0[arc]
         for k, c in zip(np.flatnonzero(arc), np.transpose(quintic, (0, 2, 1)), strict=True):
             coefficients[k] = c
     knots = np.concatenate([[0.0], np.cumsum(h)])
@@ -688,6 +717,8 @@ def plan(
         # Arc phases are whole intervals: cut those that went over into finer ones.
         marked = np.searchsorted(starts, law.s[exceeded], side="right") - 1
         starts, piece = _split(starts, piece, path.length, np.unique(marked), _SPLIT)
+        if starts.size > _MAX_INTERVALS:
+            break
     raise InfeasibleError(  # not expected: each refinement divides the variation by 64
         "the blends of the time-optimal path could not be kept within the limits on a fine "
         "grid; give a larger max_deviation or slightly lower limits"

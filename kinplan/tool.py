@@ -132,10 +132,9 @@ def _flange_link(robot) -> tuple[str, pin.SE3]:
 
 
 def _unique(stem: str, taken: set[str]) -> str:
-    """``stem``, ``tool_stem``, ``stem_2``, … : the first name not in ``taken``."""
-    for name in (stem, f"tool_{stem}"):
-        if name not in taken:
-            return name
+    """``stem``, ``stem_2``, ``stem_3``, … : the first name not in ``taken``."""
+    if stem not in taken:
+        return stem
     k = 2
     while f"{stem}_{k}" in taken:
         k += 1
@@ -202,7 +201,7 @@ def _add_link(
 def _absolute_meshes(root: ET.Element, urdf_path: Path, package_dirs) -> None:
     """Write the absolute path of every mesh file found into ``root`` (the copy lives in a
     cache folder, where relative and ``package://`` names would not resolve)."""
-    from kinplan._robot_visuals import resolve_mesh, search_folders
+    from kinplan.mesh_files import resolve_mesh, search_folders
 
     folders = search_folders(urdf_path, package_dirs)
     for mesh in root.iter("mesh"):

@@ -800,9 +800,7 @@ def scurve(
     duration = minimum if requested is None else max(requested, minimum)
     knots, coefficients = _profiles.synchronised_scurve(q0, target, duration, *limits)
     zero = np.zeros(n)
-    return _from_pieces(
-        knots, coefficients, end=qf, end_velocity=zero, end_acceleration=zero
-    )
+    return _from_pieces(knots, coefficients, end=qf, end_velocity=zero, end_acceleration=zero)
 
 
 def time_optimal(
@@ -964,10 +962,11 @@ def _check_requested_duration(
         return
     names = ("max_velocity", "max_acceleration", "max_jerk")
     units = ("rad/s", "rad/s²", "rad/s³")
-    within = " and ".join(
+    parts = [
         f"{name} {limit[joint]:.6g} {unit}"
         for name, limit, unit in zip(names, limits, units, strict=False)
-    )
+    ]
+    within = ", ".join(parts[:-1]) + f" and {parts[-1]}"
     rounded = _profiles.round_up(float(least))
     raise InfeasibleError(
         f"duration {requested:.6g} s is too short: joint {joint} needs at least {rounded:.6g} s "

@@ -35,7 +35,7 @@ PROBE_URDF = """<?xml version="1.0"?>
     <collision><origin xyz="0.2 0 0"/><geometry><sphere radius="0.05"/></geometry></collision>
   </link>
   <link name="finger">
-    <collision><origin xyz="0 0 0"/><geometry><sphere radius="0.12"/></geometry></collision>
+    <collision><origin xyz="-0.2 0 0"/><geometry><sphere radius="0.12"/></geometry></collision>
   </link>
   <joint name="j1" type="revolute">
     <parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
@@ -47,15 +47,16 @@ PROBE_URDF = """<?xml version="1.0"?>
     <limit lower="-3" upper="3" velocity="1" effort="1"/>
   </joint>
   <joint name="j3" type="revolute">
-    <origin xyz="-0.45 0 0"/>
+    <origin xyz="0.2 0 0"/>
     <parent link="hand"/><child link="finger"/><axis xyz="0 0 1"/>
     <limit lower="-3" upper="3" velocity="1" effort="1"/>
   </joint>
 </robot>
 """
-"""Three spheres on a planar chain: arm (r 0.1 at 0.5 m from j1), hand (r 0.05, 0.2 m past
-j2 at the arm's end) and finger (r 0.12, 0.45 m back from j2, at j3): at q = 0 the finger sits
-on the arm's sphere, so without an SRDF that non-adjacent pair is left out."""
+"""Three spheres on a planar chain: arm (r 0.1 at 0.5 m from j1, where j2 is), hand (r 0.05,
+0.2 m past j2) and finger (r 0.12, 0.2 m back from j3, which is 0.2 m past j2): at q = 0 the
+finger's sphere is centred on the arm's, so without an SRDF that non-adjacent pair is left
+out."""
 
 
 @functools.cache
@@ -178,18 +179,25 @@ def test_distances_match_coal_on_the_full_model(name):
         for k, obj in enumerate(geometry.geometryObjects):
             link = model.frames[obj.parentFrame].name
             transforms.setdefault(link, []).append((shapes[k], geometry_data.oMg[k]))
-        for pair in cell.pair_distances(q):
-            first, second = pair.bodies
+        got: dict[tuple[str, str], float] = {}
+        for pair in cell.pair_distances(q):  # a link with several elements: its nearest
+            got[pair.bodies] = min(got.get(pair.bodies, np.inf), pair.distance)
+        for (first, second), distance in got.items():
             if second not in obstacles or first not in transforms:
                 continue
             shape, pose = obstacles[second]
             expected = min(
-                coal.distance(g, coal.Transform3s(T.rotation, T.translation), shape,
-                              coal.Transform3s(pose.rotation, pose.translation), request,
-                              coal.DistanceResult())  # fmt: skip
+                coal.distance(
+                    g,
+                    coal.Transform3s(T.rotation, T.translation),
+                    shape,
+                    coal.Transform3s(pose.rotation, pose.translation),
+                    request,
+                    coal.DistanceResult(),
+                )  # fmt: skip
                 for g, T in transforms[first]
             )
-            np.testing.assert_allclose(pair.distance, expected, atol=GJK, rtol=0)
+            np.testing.assert_allclose(distance, expected, atol=GJK, rtol=0)
             compared += 1
     assert compared >= 4 * 3 * 6
 
@@ -297,8 +305,8 @@ def test_sample_collision_and_clearance_shortfall():
     flagged = cell.check_motion(np.array([UR5_HOME, q_end]), clearance=margin + 0.01)
     assert flagged.index == 0 and not flagged.between
     assert flagged.bodies == result.min_pair
-    assert flagged.penetration == pytest.approx(0.01, abs=1e-9)
-    assert flagged.distance == pytest.approx(margin, abs=1e-9)
+    assert flagged.penetration == pytest.approx(0.01, abs=GJK)
+    assert flagged.distance == pytest.approx(margin, abs=GJK)
     del robot
 
 
@@ -331,11 +339,11 @@ def test_check_motion_agrees_with_dense_sampling(seed):
     q = np.cumsum(np.vstack([start, rng.uniform(-0.35, 0.35, (4, 6))]), axis=0)
     result = cell.check_motion(q, clearance=clearance)
     if result.index is not None:
-        assert cell.distance(result.q) < clearance or cell.distance(result.q) <= 0
-        np.testing.assert_allclose(
-            result.q, q[result.index - 1] + result.fraction * (q[result.index] - q[result.index - 1])
-            if result.between else q[result.index], atol=1e-12,
-        )  # fmt: skip
+        reached = cell.distance(result.q)
+        assert reached < clearance or reached <= 0.0
+        k = result.index
+        expected = q[k - 1] + result.fraction * (q[k] - q[k - 1]) if result.between else q[k]
+        np.testing.assert_allclose(result.q, expected, atol=1e-12)
     # dense sampling of every segment before the failing one finds nothing either (the
     # failing segment may hold earlier contacts of the failing pair, reported at its sample)
     last = len(q) - 1 if result.index is None else result.index - 1
@@ -345,12 +353,46 @@ def test_check_motion_agrees_with_dense_sampling(seed):
         assert worst >= clearance - TOLERANCE - GJK, (k, worst)
 
 
-def test_motion_bound_certifies_far_motions_without_bisection():
+@pytest.mark.parametrize("source", ["mimic_arm.urdf", "prismatic_gantry.urdf"])
+def test_motion_bounds_hold_for_prismatic_and_mimic_joints(source):
+    """The lever bounds take prismatic travel and mimic multipliers into account: dense
+    sampling finds nothing before a reported failure (these URDFs have visuals only, which then
+    serve as collision geometry)."""
+    robot = kinplan.load_robot(Path(__file__).parent / "urdf" / source)
+    cell = WorkCell(robot)
+    assert cell.geometry_source == "visual"
+    rng = np.random.default_rng(0)
+    for k in range(3):
+        cell.add_sphere(f"ball{k}", 0.05, robot.fk(robot.random_configuration(rng)).translation)
+        place = xyz_rpy(robot.fk(robot.random_configuration(rng)).translation, (0, 30 * k, 0))
+        cell.add_box(f"fin{k}", (0.1, 0.02, 0.1), place)
+    span = np.minimum(1.0, (robot.upper - robot.lower) / 2)
+    for seed in range(6):
+        rng = np.random.default_rng(seed)
+        clearance = [0.0, 0.01][seed % 2]
+        steps = rng.uniform(-0.3, 0.3, (3, robot.nq)) * span
+        q = np.cumsum(np.vstack([robot.random_configuration(rng), steps]), axis=0)
+        result = cell.check_motion(q, clearance=clearance)
+        if result.index is not None:
+            reached = cell.distance(result.q)
+            assert reached < clearance or reached <= 0.0
+        last = len(q) - 1 if result.index is None else result.index - 1
+        for k in range(last):
+            worst = min(cell.distance(row) for row in sweep(q[k], q[k + 1], 120))
+            assert worst >= clearance - TOLERANCE - GJK, (seed, k, worst)
+
+
+def test_distant_pairs_cost_no_coal_call():
     cell = ur5_cell()
-    q = sweep(UR5_HOME, UR5_HOME + [0.2, -0.1, 0.1, 0.2, 0.1, 0.3], 200)
+    start = UR5_HOME + [np.pi, 0, 0, 0, 0, 0]  # the arm turned away from the obstacles
+    q = sweep(start, start + [0.2, -0.1, 0.1, 0.2, 0.1, 0.3], 200)
     result = cell.check_motion(q)
-    assert result.ok
-    assert result.evaluations <= 200 * 2 + 3 * len(cell.checked_pairs)
+    assert result.ok and result.min_clearance > 0.02
+    assert result.min_clearance == np.min(result.distances)
+    n_pairs = len(cell.checked_pairs)
+    # all pairs at the first sample, the nearest obstacle and self pairs at every sample, and
+    # a few more: far from the ~51 pairs × 200 samples a sample-by-sample check computes
+    assert result.evaluations < n_pairs + 200 * 4
 
 
 def test_check_motion_input_errors():
@@ -394,6 +436,18 @@ def test_bad_obstacles_are_cell_errors_naming_the_argument(probe, tmp_path):
     assert list(cell.obstacles) == ["ok"]
     for error in (CellError("x"),):
         assert isinstance(error, kinplan.KinplanError)
+
+
+def test_robot_mesh_that_cannot_be_found_is_a_cell_error(tmp_path):
+    text = PROBE_URDF.replace(
+        '<sphere radius="0.05"/>', '<mesh filename="package://probe/meshes/hand.stl"/>'
+    )
+    path = tmp_path / "probe_mesh.urdf"
+    path.write_text(text)
+    robot = kinplan.load_robot(path, tip="finger")
+    message = r"collision mesh .*hand.stl.* of link 'hand'.*package_dirs"
+    with pytest.raises(CellError, match=message):
+        WorkCell(robot)
 
 
 def test_mesh_obstacles_surface_and_convex(probe, tmp_path):
@@ -447,6 +501,7 @@ def test_tool_body_collides_like_a_link(tmp_path):
     tooled = robot.with_tool(xyz_rpy((0, 0, 0.12)), Body.mesh(mesh, xyz_rpy((0, 0, 0.06)), 0.001))
     cell = WorkCell(tooled)
     assert "tool" in cell.robot_bodies
+    assert cell.srdf_path is not None and cell.srdf_path.name == "ur5.srdf"  # still found
     reasons = {p.bodies: p.reason for p in cell.excluded_pairs if "tool" in p.bodies}
     assert reasons[("wrist_3_link", "tool")] == "rigidly attached to each other"
     assert ("forearm_link", "tool") in cell.checked_pairs

@@ -21,6 +21,7 @@ import pytest
 
 from kinplan import InfeasibleError, InputError, trajectory
 from kinplan import time_optimal as totg
+from kinplan.program import PTP_RAMP_TIME, parse_program, plan_program
 
 SEED = 20_251_128
 PATH_TOL = 1e-9
@@ -219,3 +220,27 @@ def test_bad_deviation_raises_input_error(value):
 def test_too_few_points_raise_input_error():
     with pytest.raises(InputError, match="points"):
         trajectory.time_optimal([[0.0, 0.0]], 1.0, 1.0)
+
+
+def test_program_ptp_with_time_optimal_profile():
+    """A single-target ptp: the straight joint line, timed optimally within half the robot's
+    velocity limits (the default share) and the trapezoid's ramp (planar_2r has no
+    acceleration limits)."""
+    text = """\
+robot: planar_2r
+start: {joints: [0.0, 0.0]}
+points:
+  a: {joints: [1.0, -0.5]}
+moves:
+  - {ptp: a, profile: time_optimal}
+  - {ptp: a, profile: time_optimal}
+"""
+    plan = plan_program(parse_program(text))
+    assert plan.ok, plan.reason
+    velocity = 0.5 * 2 * np.pi
+    acceleration = velocity / PTP_RAMP_TIME
+    expected = trajectory.time_optimal([[0, 0], [1.0, -0.5]], velocity, acceleration)
+    np.testing.assert_allclose(plan.moves[0].duration, expected.duration, rtol=1e-12)
+    assert plan.moves[1].duration == 0.0  # already there
+    np.testing.assert_allclose(plan.q[-1], [1.0, -0.5], atol=1e-12)
+    assert np.all(np.abs(plan.qd) <= velocity)

@@ -229,9 +229,7 @@ def _flag(value: object, name: str) -> bool:
 def _scale(value: object) -> tuple[float, float, float]:
     """A mesh scale: one number or three, each > 0."""
     try:
-        if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(
-            value, bool
-        ):
+        if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
             scale = checks.number(value, "scale", positive=True)
             return (scale, scale, scale)
         array = checks.vector(value, "scale (one number or x, y, z)")

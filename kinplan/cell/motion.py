@@ -33,6 +33,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import pinocchio as pin
 
+from kinplan.cell.body import CellError
+from kinplan.cell.robot_geometry import ExcludedPair
+
 #: Largest clearance shortfall or penetration depth [m] that may go unseen between two samples.
 TOLERANCE = 1e-6
 
@@ -56,7 +59,7 @@ class MotionCheck:
             ``index`` (included; the between-sample failure included) [m]; inf without pairs.
         min_pair: The pair at ``min_clearance``, or None.
         distances: Smallest distance at each sample, over every checked pair, shape (N,) [m]
-            (computed for every sample, also after ``index``).
+            (nan after ``index``, where the check stopped, unless it was asked for ``full``).
         clearance: The margin the motion was checked with [m].
         distance: Signed distance of the failing pair at the failure [m] (nan when free).
         q: The configuration of the failure, shape (nq,), or None.
@@ -145,7 +148,7 @@ class Problem:
     names: list[tuple[str, str]]
     is_self: np.ndarray
     levers: np.ndarray
-    excluded: list = field(default_factory=list)
+    excluded: list[ExcludedPair] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         self.results = list(self.geometry_data.distanceResults)  # live views, one per pair
@@ -195,7 +198,10 @@ def joint_levers(
     for j in range(1, njoints):
         motion = np.asarray(data.joints[j].S, dtype=float).reshape(6, -1)
         if motion.shape[1] != 1:
-            raise ValueError(f"joint {model.names[j]} has {motion.shape[1]} dof; expected 1")
+            raise CellError(
+                f"joint {model.names[j]} has {motion.shape[1]} degrees of freedom; work cells "
+                "need 1-dof joints (revolute, prismatic) on the chain"
+            )
         linear[j] = np.linalg.norm(motion[:3, 0])
         angular[j] = np.linalg.norm(motion[3:, 0])
         index = model.joints[j].idx_q
@@ -239,6 +245,11 @@ def check(problem: Problem, q: np.ndarray, clearance: float, full: bool = False)
         return _result(problem, clearance, None, minima, 0)
     kinds = problem.is_self.astype(int)
     motion = np.abs(np.diff(q, axis=0)) @ problem.levers  # (N-1, P) [m]
+    carried = np.zeros((n_samples, n_pairs))  # Σ of the motion bounds from sample 0 [m]
+    np.cumsum(motion, axis=0, out=carried[1:])
+    place, compute = pin.updateGeometryPlacements, pin.computeDistance  # the hot loop's calls
+    model, data, results = problem.model, problem.data, problem.results
+    geometry, geometry_data = problem.geometry, problem.geometry_data
     problem.place(q[0])
     pin.computeDistances(problem.geometry, problem.geometry_data)
     previous = np.array([r.min_distance for r in problem.results])  # exact at sample 0
@@ -252,14 +263,13 @@ def check(problem: Problem, q: np.ndarray, clearance: float, full: bool = False)
         k1 = min(k0 + BLOCK, n_samples)
         seeds = minima.nearest(k0 - 1)
         block = np.full((k1 - k0, n_pairs), np.nan)  # exact distances, where computed
-        for r in range(k1 - k0):  # the nearest pairs of the previous sample, at every sample
-            problem.place(q[k0 + r])
-            row = block[r]
+        for row, q_k in zip(block, q[k0:k1]):  # the previous sample's nearest pairs, everywhere
+            place(model, data, geometry, geometry_data, q_k)
             for p in seeds:
-                row[p] = problem.distance(p)
+                compute(geometry, geometry_data, p)
+                row[p] = results[p].min_distance
         evaluations += block.shape[0] * len(seeds)
-        local = np.zeros((k1 - k0 + 1, n_pairs))  # motion bound from sample k0 − 1
-        np.cumsum(motion[k0 - 1 : k1 - 1], axis=0, out=local[1:])
+        local = carried[k0 - 1 : k1] - carried[k0 - 1]  # motion bound from sample k0 − 1
         bounds = base - shift - local  # lower bounds at samples k0 − 1 … k1 − 1
         threshold = np.full((k1 - k0, 2), clearance)
         for p in seeds:
@@ -315,21 +325,22 @@ class _Minima:
     """Per-sample smallest computed distance of each kind (obstacle, self) and its pair."""
 
     def __init__(self, n_samples: int, is_self: np.ndarray):
-        self.masks = (~is_self, is_self)
+        # added to a row of distances: inf on the pairs of the other kind
+        self.offsets = [np.where(is_self, np.inf, 0.0), np.where(is_self, 0.0, np.inf)]
         self.values = np.full((2, n_samples), np.inf)
         self.pairs = np.full((2, n_samples), -1)
 
     def record(self, k0: int, block: np.ndarray) -> None:
         """Record the rows of ``block`` (exact distances, nan where not computed) as samples
         k0, k0 + 1, …"""
-        known = ~np.isnan(block)
-        for kind, mask in enumerate(self.masks):
-            values = np.where(mask & known, block, np.inf)
+        known = np.where(np.isnan(block), np.inf, block)
+        rows = np.arange(len(block))
+        for kind, offset in enumerate(self.offsets):
+            values = known + offset
             pairs = values.argmin(axis=1)
-            self.values[kind, k0 : k0 + len(block)] = values[np.arange(len(block)), pairs]
-            self.pairs[kind, k0 : k0 + len(block)] = np.where(
-                np.isfinite(self.values[kind, k0 : k0 + len(block)]), pairs, -1
-            )
+            best = values[rows, pairs]
+            self.values[kind, k0 : k0 + len(block)] = best
+            self.pairs[kind, k0 : k0 + len(block)] = np.where(best < np.inf, pairs, -1)
 
     def nearest(self, k: int) -> list[int]:
         """The nearest pair of each kind at sample ``k`` (those that exist)."""
@@ -387,12 +398,15 @@ def _first_failure(
     exact distances where computed and the bounds elsewhere (a pair not computed at a sample
     has a bound above the clearance there, so it does not fail at the sample itself).
     """
-    lower = np.where(np.isnan(block), bounds, block)
+    lower = np.fmax(block, bounds)  # exact where computed (bounds ≤ exact, up to GJK noise)
+    with np.errstate(invalid="ignore"):  # nan: not computed, not failing
+        failing = block[1:] <= 0.0 if clearance == 0.0 else block[1:] < clearance
+    segment = motion[k0 - 1 : k0 - 1 + len(block) - 1]
+    uncertain = lower[:-1] + lower[1:] - segment < 2.0 * (clearance - TOLERANCE)
+    if not uncertain.any() and not failing.any():
+        return None, 0
+    uncertain &= ~failing
     start, end = lower[:-1], lower[1:]
-    with np.errstate(invalid="ignore"):
-        failing = (block[1:] < clearance) | (block[1:] <= 0.0)
-    segment = motion[k0 - 1 : k0 - 1 + len(end)]
-    uncertain = ~failing & (start + end - 2.0 * clearance < segment - 2.0 * TOLERANCE)
     flagged = np.flatnonzero(failing.any(axis=1) | uncertain.any(axis=1))
     count = 0
     for r in flagged.tolist():

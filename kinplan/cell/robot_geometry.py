@@ -1,11 +1,12 @@
 """The robot's own collision geometry, in its kinplan model, and which of its pairs are checked.
 
-The geometry comes from the URDF's ``<collision>`` elements (its ``<visual>`` ones when it has
-no ``<collision>`` at all, said in the log), read by ``pin.buildGeomFromUrdfString`` on the
-URDF's whole model (:func:`kinplan.urdf_model.full_model`) and moved onto the robot's reduced
-model: each element keeps its pose in its link's frame, and the link's frame in the reduced model
-carries the held joints' values and the base pose. Meshes become their convex hulls (coal's
-``buildConvexHull``, qhull): a solid that covers the mesh, with penetration depths.
+The geometry comes from the URDF's ``<collision>`` elements (its ``<visual>`` ones when its links
+have no ``<collision>`` at all, as kinplan's planar arms; said in the log), read by
+``pin.buildGeomFromUrdfString`` on the URDF's whole model (:func:`kinplan.urdf_model.full_model`)
+and moved onto the robot's reduced model: each element keeps its pose in its link's frame, and
+the link's frame in the reduced model carries the held joints' values and the base pose. Meshes
+become their convex hulls (coal's ``buildConvexHull``, qhull): a solid that covers the mesh, with
+penetration depths.
 
 Self-collision pairs (:func:`self_pairs`): every two bodies of the robot except
 
@@ -95,7 +96,9 @@ def robot_geometry(robot) -> RobotGeometry:
     """
     urdf_path = Path(robot.urdf_path)
     root = read_urdf(urdf_path)
-    kind = "collision" if root.find("link/collision") is not None else "visual"
+    tool_links = tuple(getattr(robot, "tool_links", ()))
+    own = [link for link in root.findall("link") if link.get("name") not in tool_links]
+    kind = "collision" if any(link.find("collision") is not None for link in own) else "visual"
     if kind == "visual" and root.find("link/visual") is not None:
         logger.info(
             "%s has no <collision> element: its <visual> geometry is used for collisions",
@@ -148,7 +151,7 @@ def robot_geometry(robot) -> RobotGeometry:
         urdf_links=urdf_links,
         group=group,
         adjacent=adjacent,
-        tool_links=tuple(getattr(robot, "tool_links", ())),
+        tool_links=tool_links,
     )
 
 
@@ -159,7 +162,7 @@ def _resolve_meshes(root: ET.Element, kind: str, urdf_path: Path, package_dirs) 
     Raises:
         CellError: a mesh file found nowhere.
     """
-    from kinplan._robot_visuals import resolve_mesh, search_folders
+    from kinplan.mesh_files import resolve_mesh, search_folders
 
     folders = search_folders(urdf_path, package_dirs)
     for link in root.findall("link"):

@@ -229,14 +229,14 @@ class WorkCell:
             CellError: a missing file, a file trimesh cannot read or without triangles, a scale
                 that is not > 0, and as :meth:`add_box`.
         """
-        return self._add(
-            name, lambda: Body.mesh(path, pose, scale, convex), "add_mesh", allowed
-        )
+        return self._add(name, lambda: Body.mesh(path, pose, scale, convex), "add_mesh", allowed)
 
     def add(self, name: str, body: Body, *, allowed: Iterable[str] = ()) -> Body:
         """Add an obstacle given as a :class:`Body` (posed in the world)."""
         if not isinstance(body, Body):
-            raise CellError(f"add({name!r}, body): body must be a Body, got {checks.describe(body)}")
+            raise CellError(
+                f"add({name!r}, body): body must be a Body, got {checks.describe(body)}"
+            )
         return self._add(name, lambda: body, "add", allowed)
 
     def remove(self, name: str) -> None:

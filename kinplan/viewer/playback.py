@@ -1,0 +1,226 @@
+"""A motion sampled for playback: key frames, the paths to draw and the caption.
+
+:func:`playback` reads any motion through :func:`kinplan.motion.as_sampled_motion` and gives a
+:class:`Playback`: the robot's joint positions at ``fps`` key frames per second of real time
+(a joint trajectory evaluated at them, a plan's samples interpolated), the tool paths planned
+(the part reached and the part not reached), the tool trace a plan achieved, the waypoints, the
+last good configuration of a plan stopped by an event, and the caption. :func:`marker_points`
+reads the taught points to mark.
+
+Frames and units: positions in the robot's base (world) frame [m], times [s], joints [rad or m].
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pinocchio as pin
+from numpy.typing import ArrayLike
+
+from kinplan.errors import InputError
+from kinplan.motion import MotionLike, SampledMotion, ToolPath, as_sampled_motion, joint_rows
+from kinplan.trajectory import time_grid
+
+if TYPE_CHECKING:
+    from kinplan.robot import Robot
+
+__all__ = [
+    "DEFAULT_FPS",
+    "PATH_SAMPLES",
+    "Markers",
+    "Playback",
+    "marker_points",
+    "playback",
+    "positive",
+]
+
+logger = logging.getLogger(__name__)
+
+DEFAULT_FPS = 30.0
+"""Key frames per second of the animation [1/s]; the browser interpolates between them."""
+
+PATH_SAMPLES = 400
+"""Points drawn along a whole tool path (a share of them for a part of it)."""
+
+Markers = Sequence[pin.SE3 | ArrayLike] | Mapping[str, pin.SE3 | ArrayLike] | None
+"""Points to mark [m], base frame: 3-vectors (or SE3 / 4×4 poses), in a list or by name."""
+
+
+@dataclass
+class Playback:
+    """A motion sampled for display (all positions in the base frame [m]).
+
+    Attributes:
+        t: Key times (F,) [s], from 0.
+        q: Joint positions at the key times (F, nq).
+        planned: Tool paths to draw (M, 3) each, blue.
+        achieved: Tool positions a plan reached (K, 3), green; None for a joint trajectory.
+        failed: Parts of the planned paths not reached (L, 3) each, red.
+        last_good: Joint positions of the last good sample of a plan stopped by an event.
+        via: Tool positions at the waypoints (V, 3).
+        caption: What the motion is, and where and why it failed (the first line in bold).
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    planned: list[np.ndarray] = field(default_factory=list)
+    achieved: np.ndarray | None = None
+    failed: list[np.ndarray] = field(default_factory=list)
+    last_good: np.ndarray | None = None
+    via: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    caption: list[str] = field(default_factory=list)
+
+    @property
+    def duration(self) -> float:
+        """Duration of the playback [s]."""
+        return float(self.t[-1])
+
+    def points(self) -> list[np.ndarray]:
+        """Every drawn point, shape (n, 3) each (for framing the camera)."""
+        extra = [self.achieved] if self.achieved is not None else []
+        return [*self.planned, *self.failed, *extra, self.via]
+
+
+def positive(name: str, value: object) -> float:
+    """``value`` as a positive finite float.
+
+    Raises:
+        InputError: naming ``name``, for anything else (booleans, text, 0, NaN, inf).
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"{name} must be a positive number, got {value!r}")
+    if not (math.isfinite(value) and value > 0):
+        raise InputError(f"{name} must be a positive number, got {value!r}")
+    return float(value)
+
+
+def playback(robot: Robot, motion: MotionLike, fps: float) -> Playback:
+    """Sample ``motion`` for playback at ``fps`` key frames per second.
+
+    Args:
+        robot: The robot that moves.
+        motion: A joint trajectory, a Cartesian plan or a program plan of this robot
+            (:func:`kinplan.motion.as_sampled_motion`).
+        fps: Key frames per second [1/s].
+
+    Raises:
+        InputError: not a motion, or not one of this robot (joint count, NaN, times).
+    """
+    fps = positive("fps", fps)
+    sampled = as_sampled_motion(motion, robot, 1.0 / fps, use="play")
+    joint = sampled.kind == "joint"
+    times = np.asarray(sampled.t, dtype=float).reshape(-1)
+    q = joint_rows(robot, sampled.q, "the trajectory's samples" if joint else "the plan's q")
+    if len(q) > len(times):
+        raise InputError(f"the plan has {len(q)} rows of q but only {len(times)} times t")
+    times = times[: len(q)]
+    if len(times) and (not np.all(np.isfinite(times)) or np.any(np.diff(times) < 0)):
+        raise InputError("the plan's times t must be finite and non-decreasing")
+    if len(q) == 0:
+        logger.warning("the plan has no achieved sample; showing the robot at its neutral pose")
+        t, frames = np.zeros(1), robot.neutral()[None, :]
+    else:
+        t, frames = _key_frames(times, q, fps)
+    achieved = None
+    if not joint and len(q):  # a plan: the tool positions it reached
+        achieved = sampled.tool_positions
+        if achieved is None:
+            achieved = robot.tool_positions(q[:: max(1, len(q) // 2000)])
+    planned, failed = [], []
+    for piece in sampled.planned_paths:
+        planned.append(_path_points(piece.path, 0.0, piece.reached))
+        failed.append(_path_points(piece.path, piece.reached, 1.0))
+    if not any(p is not None for p in planned) and achieved is not None:
+        planned = [achieved]  # no Cartesian path: the joint motion's tool path
+    return Playback(
+        t=t,
+        q=frames,
+        planned=[p for p in planned if p is not None],
+        achieved=achieved,
+        failed=[p for p in failed if p is not None],
+        last_good=q[-1] if (not sampled.ok and len(q)) else None,
+        via=_via_points(robot, sampled),
+        caption=_caption(robot, sampled, float(t[-1])),
+    )
+
+
+def _key_frames(times: np.ndarray, q: np.ndarray, fps: float) -> tuple[np.ndarray, np.ndarray]:
+    """Key times 0, 1/fps, ..., the last exactly at the end [s], and the joints there: the
+    samples themselves when they are the key frames, else interpolated between them."""
+    t = time_grid(float(times[-1] - times[0]), 1.0 / fps)
+    if len(t) == len(times) and np.array_equal(t + times[0], times):
+        return t, q
+    frames = np.column_stack([np.interp(t + times[0], times, q[:, j]) for j in range(q.shape[1])])
+    return t, frames
+
+
+def _via_points(robot: Robot, motion: SampledMotion) -> np.ndarray:
+    """Tool positions at the motion's waypoints, shape (V, 3) [m]."""
+    positions = motion.waypoints.positions
+    if len(positions) == 0:
+        return np.zeros((0, 3))
+    return robot.tool_positions(joint_rows(robot, positions, "the waypoints"))
+
+
+def _path_points(path: ToolPath, s0: float, s1: float) -> np.ndarray | None:
+    """Points of ``path`` for path fractions from s0 to s1, shape (n, 3) [m]; None if empty."""
+    if s1 <= s0:
+        return None
+    count = max(2, int(round(PATH_SAMPLES * (s1 - s0))))
+    points = np.asarray(path.position(np.linspace(s0, s1, count)), dtype=float)
+    if points.shape != (count, 3) or not np.all(np.isfinite(points)):
+        raise InputError(
+            f"path.position(s) must return finite (len(s), 3) points, got {points.shape}"
+        )
+    return points
+
+
+def _caption(robot: Robot, motion: SampledMotion, duration: float) -> list[str]:
+    """Caption lines: what the motion is, and where and why it failed."""
+    if motion.ok:
+        return [f"{robot.name} · {motion.description} · {duration:.2f} s"]
+    event = motion.events[0] if motion.events else None
+    status = motion.status or (event.kind if event is not None else "") or "failed"
+    where = ""
+    if event is not None:
+        of = "of the move" if motion.kind == "program" else "of the path"
+        where = f" at {100 * float(event.s):.0f} % {of} (t = {float(event.t):.2f} s)"
+    lines = [f"{robot.name} · {motion.description} · {status}{where}"]
+    if event is not None and event.message:
+        lines.append(str(event.message))
+    return lines
+
+
+def marker_points(markers: Markers) -> list[tuple[str, np.ndarray]]:
+    """Named positions [m] from a list of points or a dict name -> point (SE3, 4×4 or 3-vector).
+
+    Raises:
+        InputError: a marker that is not a finite position or pose.
+    """
+    if markers is None:
+        return []
+    if isinstance(markers, Mapping):
+        items: Iterable[tuple[object, object]] = markers.items()
+    elif isinstance(markers, np.ndarray) and markers.ndim == 1:
+        items = [("p0", markers)]
+    else:
+        items = ((f"p{k}", value) for k, value in enumerate(markers))
+    points = []
+    for name, value in items:
+        if isinstance(value, pin.SE3):
+            position = np.array(value.translation)
+        else:
+            arr = np.asarray(value, dtype=float)
+            position = arr[:3, 3] if arr.shape == (4, 4) else arr
+        if position.shape != (3,) or not np.all(np.isfinite(position)):
+            raise InputError(
+                f"marker {name!r} must be a position 3-vector [m] (or an SE3 / 4×4 pose), "
+                f"got {value!r}"
+            )
+        points.append((str(name).replace("/", "_"), position))
+    return points
