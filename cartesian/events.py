@@ -26,6 +26,7 @@ class Status(str, enum.Enum):
     VELOCITY_LIMIT = "velocity_limit"
     JUMP = "jump"
     ACCELERATION_LIMIT = "acceleration_limit"
+    COLLISION = "collision"
 
     def __str__(self) -> str:
         return self.value
@@ -37,7 +38,7 @@ class Event:
 
     Attributes:
         kind: "unreachable", "joint_limit", "jump", "singular", "velocity_limit" or
-            "acceleration_limit" (a :class:`Status`).
+            "acceleration_limit" or "collision" (a :class:`Status`).
         t: Time of the offending sample [s] (0 for a geometric check).
         s: Path fraction of the offending sample [-].
         index: Index of the offending sample.

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from cartesian.events import Event, Status
+from cartesian.events import Event, Status, where
 from cartesian.geometry import trace_between, trace_geometry
 from cartesian.paths import Path
 from cartesian.retime import grid_points, optimal_speeds, timing_from_speeds
@@ -29,6 +29,7 @@ from cartesian.tracker import (
 )
 from kinplan import checks
 from kinplan._profiles import PROFILES
+from kinplan.cell import MotionCheck, WorkCell
 from kinplan.errors import InputError
 from kinplan.motion import MotionKind, MoveSpan, PlannedPath, no_waypoints
 from kinplan.robot import Robot
@@ -64,6 +65,10 @@ class CartesianPlan:
         peak_speed_ratio: Largest joint speed over its (scaled) limit among the samples solved
             (:func:`kinplan.sampling.joint_speeds`), including those past a velocity event: the
             factor by which the motion is too fast (> 1) or has margin (< 1).
+        min_clearance: Smallest distance between the robot (and its tool body) and the cell's
+            obstacles over the samples achieved [m] (inf without a cell or obstacles).
+        min_self_clearance: Smallest distance between the robot's own checked link pairs [m]
+            (inf without a cell).
     """
 
     t: np.ndarray
@@ -86,6 +91,8 @@ class CartesianPlan:
     retimed: bool = False
     retime_duration: float | None = None
     peak_speed_ratio: float = 0.0
+    min_clearance: float = np.inf
+    min_self_clearance: float = np.inf
     robot: Robot | None = None  # the robot it was planned for
 
     # -- kinplan.motion.SampledMotion: what viewers, plots and exports read --------------------
@@ -147,6 +154,8 @@ def follow(
     rotation_tolerance: float = 1e-7,
     retime: bool = False,
     max_acceleration: float | np.ndarray | None = None,
+    cell: WorkCell | None = None,
+    clearance: float | None = None,
 ) -> CartesianPlan:
     """Plan the tool along ``path``: timed, IK at every sample, monitored.
 
@@ -177,6 +186,12 @@ def follow(
         max_acceleration: Joint acceleration limits [rad/s² or m/s²], one number for all joints
             or one per joint; default the robot's ``acceleration_limit`` (inf where unknown).
             Limited joints are checked at every sample (an "acceleration_limit" event).
+        cell: A :class:`kinplan.WorkCell`: the motion is checked against its obstacles and the
+            robot's own links, at the samples and between them
+            (:meth:`~kinplan.WorkCell.check_motion`, conservative advancement): a "collision"
+            event at the first colliding sample; ``min_clearance`` and ``min_self_clearance``
+            on the plan.
+        clearance: Margin [m] (≥ 0): a distance below it is a collision too (default 0).
 
     Returns:
         CartesianPlan; an event stops it at the first offending sample.
@@ -198,6 +213,12 @@ def follow(
         rotation_tolerance, "rotation_tolerance", positive=True, unit="rad"
     )
     retime = checks.flag(retime, "retime")
+    if cell is not None:
+        if not isinstance(cell, WorkCell):
+            raise InputError(f"cell must be a kinplan.WorkCell, got {checks.describe(cell)}")
+        if cell.robot is not robot:
+            cell = cell.for_robot(robot)
+    clearance = 0.0 if clearance is None else checks.number(clearance, "clearance", minimum=0.0)
     accel_limit = robot.acceleration_limit
     if max_acceleration is not None:
         if np.ndim(max_acceleration) == 0:
@@ -214,6 +235,7 @@ def follow(
         robot, position_only, tolerance, rotation_tolerance, singular_threshold,
         velocity_scale, jump_tolerance, accel_limit,
     )  # fmt: skip
+    tracker.cell, tracker.clearance = cell, clearance
     timing = time_path(path.length, duration, speed, acceleration, profile, dt)
     if retime:
         return _retimed_plan(tracker, path, timing, seed, dt)
@@ -255,6 +277,27 @@ def _retimed_plan(
     plan = _track(tracker, path, retimed, seed)
     plan.retimed = True
     return plan
+
+
+def collision_event(check: MotionCheck, t: np.ndarray, s: np.ndarray, position) -> Event:
+    """The "collision" event of a failed :meth:`~kinplan.WorkCell.check_motion`: the two bodies,
+    where (at sample ``check.index`` or between it and the one before) and how deep."""
+    k = check.index
+    first, second = check.bodies
+    when = f"between samples {k - 1} and {k}" if check.between else f"at sample {k}"
+    if check.clearance > 0 and check.distance >= 0:
+        what = (
+            f"{first} comes within {1e3 * check.distance:.1f} mm of {second}, "
+            f"{1e3 * check.penetration:.1f} mm inside the clearance {1e3 * check.clearance:.1f} mm"
+        )
+    else:
+        what = f"{first} collides with {second} ({1e3 * check.penetration:.1f} mm deep)"
+    point = "" if check.point is None else f" near {where(check.point)}"
+    return Event(
+        Status.COLLISION, float(t[k]), float(s[k]), k, f"{what} {when}{point}", position,
+        value=float(check.distance), limit=float(check.clearance),
+        remedy="move the path or the obstacle, or start from another configuration (q_seed)",
+    )  # fmt: skip
 
 
 def _check_robot_and_path(robot: object, path: object) -> None:
@@ -374,6 +417,15 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
             ]
             done = k
             q_out, qd_out, qdd_out = q_out[:done], qd_out[:done], qdd_out[:done]
+    min_clearance = min_self_clearance = np.inf
+    if tracker.cell is not None and done:
+        check = tracker.cell.check_motion(q_out, tracker.clearance)
+        min_clearance, min_self_clearance = check.min_obstacle_clearance, check.min_self_clearance
+        if check.index is not None:
+            k = check.index
+            events = [collision_event(check, t, s, positions[k])]
+            done = k
+            q_out, qd_out, qdd_out = q_out[:done], qd_out[:done], qdd_out[:done]
     tool = np.array(tools[:done]).reshape(done, 3)
     manip = np.array(manips[:done])
 
@@ -399,4 +451,6 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
         tool_positions=tool,
         manipulability=manip,
         robot=robot,
+        min_clearance=float(min_clearance),
+        min_self_clearance=float(min_self_clearance),
     )

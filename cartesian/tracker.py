@@ -45,6 +45,9 @@ class Tracker:
         acceleration_limit: np.ndarray | None = None,
     ):
         self.robot = robot
+        #: The work cell the motion is checked against (set by the caller), and the clearance [m].
+        self.cell = None
+        self.clearance = 0.0
         #: Joint acceleration limits [rad/s² or m/s²] (inf: none), default the robot's.
         self.acceleration_limit = (
             robot.acceleration_limit if acceleration_limit is None else acceleration_limit
