@@ -7,12 +7,13 @@
 
 Each seam is approached with a ``ptp`` move above its start and a ``lin`` move down, and left with
 a ``lin`` move up (:class:`kinplan.program.MotionBuilder`); the arm goes home at the end. Then the
-program ``examples/programs/weld_unreachable.yaml``, whose seam crosses the column above the
-robot's base, shows the one-line failure ``kinplan run`` reports.
+program ``weld_unreachable.yaml`` (kinplan's demo program, the same as
+``examples/programs/weld_unreachable.yaml``), whose seam crosses the column above the robot's
+base, shows the one-line failure ``kinplan run`` reports.
 
 Writes into the output folder: ``weld.html`` (MeshCat playback, works offline),
-``weld_motion.png`` (joint position/velocity/acceleration and tool speed), ``weld_tool_path.png``
-and ``weld.csv`` (every sample: t, q, qd, qdd, tool pose).
+``weld_motion.png`` (joint position/velocity/acceleration and tool speed), ``weld_tool_path.png``,
+``weld.csv`` (every sample: t, q, qd, qdd, tool pose) and ``weld_unreachable.yaml``.
 
 Run ``python examples/weld_demo.py --out out/weld`` (the same as ``kinplan demo weld``).
 """

@@ -8,8 +8,8 @@
 - :func:`weld`: a UR5 welds a rectangular seam with rounded corners (lines joined by arcs, one
   path at constant tool speed) and a circular seam on a horizontal plate, tool pointing down,
   with ptp and lin approach and retreat moves; writes the HTML playback, plots and CSV. Then the
-  program ``examples/programs/weld_unreachable.yaml`` shows the one-line failure of a seam the
-  arm cannot weld.
+  demo program ``weld_unreachable.yaml`` (shipped in ``kinplan/demo_programs/``, copied to
+  ``examples/programs/``) shows the one-line failure of a seam the arm cannot weld.
 
 Each demo returns a :class:`DemoResult` (summary lines to print, the files written); the
 library itself prints nothing.
@@ -20,6 +20,7 @@ from __future__ import annotations
 import logging
 import time
 from dataclasses import dataclass, field
+from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -43,10 +44,23 @@ from kinplan.trajectory import Trajectory, Waypoints
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["DEMOS", "DemoResult", "lecture", "rounded_rectangle", "weld"]
+__all__ = ["DEMOS", "DemoResult", "demo_program", "lecture", "rounded_rectangle", "weld"]
 
-REPOSITORY = Path(__file__).resolve().parents[1]
-EXAMPLES = REPOSITORY / "examples"
+DEMO_PROGRAMS = "demo_programs"
+"""Folder of the demo programs inside the ``kinplan`` package (package data, so they are there
+in an installed wheel too; ``examples/programs/`` holds the same files for users to read)."""
+
+
+def demo_program(name: str) -> str:
+    """The text of a demo program shipped with kinplan.
+
+    Args:
+        name: File name, e.g. ``"weld_unreachable.yaml"``.
+
+    Raises:
+        FileNotFoundError: kinplan ships no such program.
+    """
+    return (resources.files("kinplan") / DEMO_PROGRAMS / name).read_text(encoding="utf-8")
 
 
 @dataclass
@@ -353,8 +367,8 @@ def weld(
 
     Writes ``weld.html`` (MeshCat playback), ``weld_motion.png`` (joints and tool speed),
     ``weld_tool_path.png`` (tool path and seams, 3-D) and ``weld.csv`` (samples) into
-    ``out_dir``; then plans ``examples/programs/weld_unreachable.yaml`` to show its one-line
-    failure.
+    ``out_dir``; then writes the demo program ``weld_unreachable.yaml`` there and plans it to
+    show its one-line failure.
 
     Args:
         out_dir: Output folder (created).
@@ -421,7 +435,8 @@ def weld(
     figure.axes[0].legend(fontsize="small", loc="upper right")
     figure.savefig(files["tool path"], dpi=120)
     export.write_csv(files["samples (CSV)"], plan, robot.joint_names)
-    lines += [""] + _unreachable_program(out)
+    files["unreachable seam"] = out / "weld_unreachable.yaml"
+    lines += [""] + _unreachable_program(files["unreachable seam"], out)
     result.seconds = time.perf_counter() - began
     return result
 
@@ -466,11 +481,10 @@ def _weld_summary(plan) -> list[str]:
     return lines
 
 
-def _unreachable_program(out: Path) -> list[str]:
-    """Plan examples/programs/weld_unreachable.yaml and report its expected failure."""
-    program_file = EXAMPLES / "programs" / "weld_unreachable.yaml"
-    if not program_file.is_file():
-        return [f"({program_file} not found: the unreachable-seam example is skipped)"]
+def _unreachable_program(program_file: Path, out: Path) -> list[str]:
+    """Write the demo program weld_unreachable.yaml to ``program_file``, plan it and report its
+    expected failure."""
+    program_file.write_text(demo_program("weld_unreachable.yaml"), encoding="utf-8")
     try:
         plan = plan_program(load_program(program_file))
     except ProgramError as exc:
@@ -478,11 +492,10 @@ def _unreachable_program(out: Path) -> list[str]:
     if plan.ok:
         return [f"{program_file.name}: planned ok (unexpected: its seam should be unreachable)"]
     return [
-        f"A seam the UR5 cannot weld ({program_file.relative_to(REPOSITORY)}), as "
-        "`kinplan run` reports it (exit status 1):",
+        f"A seam the UR5 cannot weld ({program_file}), as `kinplan run` reports it (exit "
+        "status 1):",
         f"  {plan.reason}",
-        f"  inspect it: kinplan run {program_file.relative_to(REPOSITORY)} --html "
-        f"{out / 'weld_unreachable.html'}",
+        f"  inspect it: kinplan run {program_file} --html {out / 'weld_unreachable.html'}",
     ]
 
 

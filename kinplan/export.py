@@ -2,9 +2,11 @@
 
 :func:`write_csv` writes one row per sample (time, joint positions, velocities, accelerations and
 the tool pose); :func:`plot_motion` draws joint position, velocity, acceleration and the tool
-speed against time, with the move boundaries. Both take a :class:`kinplan.program.ProgramPlan`
-or any object with the same sample arrays (``t``, ``q``, ``qd``, ``qdd``, ``tool_positions``,
-``tool_quaternions``, ``tool_speed``).
+speed against time, with the move boundaries. Both take any planned motion with a robot
+(:class:`kinplan.motion.SampledMotion`: a :class:`kinplan.program.ProgramPlan`, a
+:class:`cartesian.CartesianPlan`, or a joint trajectory sampled by
+:func:`kinplan.motion.sampled` with its robot); the tool poses and speeds come from the robot's
+kinematics at the samples (:func:`kinplan.motion.tool_track`).
 """
 
 from __future__ import annotations
@@ -13,13 +15,15 @@ import logging
 import os
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from kinplan.errors import KinplanError
+from kinplan.errors import InputError, KinplanError
+from kinplan.motion import MoveSpan, SampledMotion, ToolTrack, tool_track
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 logger = logging.getLogger(__name__)
@@ -36,26 +40,28 @@ def csv_header(joint_names: Sequence[str]) -> list[str]:
     return columns + ["x", "y", "z", "qx", "qy", "qz", "qw"]
 
 
-def write_csv(path: str | os.PathLike[str], plan: Any, joint_names: Sequence[str]) -> Path:
+def write_csv(
+    path: str | os.PathLike[str], plan: SampledMotion, joint_names: Sequence[str]
+) -> Path:
     """Write the samples of a plan as CSV, one row per sample, with a header line.
 
     Units: s, rad (or m for prismatic joints), rad/s, rad/s², m; the quaternion is (x, y, z, w).
 
     Args:
         path: File to write (its folder is created).
-        plan: A :class:`~kinplan.program.ProgramPlan` (or an object with the same arrays).
+        plan: The motion, with its robot (:class:`~kinplan.motion.SampledMotion`).
         joint_names: Names of the joints, for the header.
 
     Returns:
         The written path.
 
     Raises:
+        InputError: not a motion with a robot.
         KinplanError: the file cannot be written.
     """
     target = Path(path)
-    table = np.column_stack(
-        [plan.t, plan.q, plan.qd, plan.qdd, plan.tool_positions, plan.tool_quaternions]
-    )
+    track = _tool_track(plan, "write_csv")
+    table = np.column_stack([plan.t, plan.q, plan.qd, plan.qdd, track.positions, track.quaternions])
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
         np.savetxt(
@@ -73,7 +79,7 @@ def write_csv(path: str | os.PathLike[str], plan: Any, joint_names: Sequence[str
 
 
 def plot_motion(
-    plan: Any,
+    plan: SampledMotion,
     path: str | os.PathLike[str] | None = None,
     joint_names: Sequence[str] | None = None,
     title: str | None = None,
@@ -85,8 +91,8 @@ def plot_motion(
     numbered at the top; a failed move is shaded red.
 
     Args:
-        plan: A :class:`~kinplan.program.ProgramPlan` (or an object with ``t``, ``q``, ``qd``,
-            ``qdd``, ``tool_speed`` and optionally ``moves``).
+        plan: The motion, with its robot (:class:`~kinplan.motion.SampledMotion`); a program's
+            moves are marked.
         path: Image file to save to (format from the suffix); None: don't save.
         joint_names: One name per joint (default ``joint 0``, ...).
         title: Figure title.
@@ -94,9 +100,13 @@ def plot_motion(
 
     Returns:
         The figure (four stacked axes).
+
+    Raises:
+        InputError: not a motion with a robot.
     """
     from matplotlib.figure import Figure
 
+    track = _tool_track(plan, "plot_motion")
     n = plan.q.shape[1]
     names = list(joint_names) if joint_names is not None else [f"joint {j}" for j in range(n)]
     figure = Figure(figsize=(9.0, 9.0), layout="constrained")
@@ -104,7 +114,7 @@ def plot_motion(
     for j in range(n):
         for ax, values in zip(axes[:3], (plan.q, plan.qd, plan.qdd)):
             ax.plot(plan.t, values[:, j], color=f"C{j % 10}", label=names[j], linewidth=1.2)
-    axes[3].plot(plan.t, 1000.0 * np.asarray(plan.tool_speed), color="k", linewidth=1.2)
+    axes[3].plot(plan.t, 1000.0 * track.speed, color="k", linewidth=1.2)
     labels = (
         f"position [{unit}]",
         f"velocity [{unit}/s]",
@@ -114,7 +124,7 @@ def plot_motion(
     for ax, label in zip(axes, labels):
         ax.set_ylabel(label)
         ax.grid(True, alpha=0.3)
-    _mark_moves(axes, getattr(plan, "moves", []))
+    _mark_moves(axes, plan.moves)
     axes[-1].set_xlabel("time [s]")
     axes[0].legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.0, 1.0))
     if title:
@@ -126,16 +136,31 @@ def plot_motion(
     return figure
 
 
-def _mark_moves(axes: Sequence[Any], moves: Sequence[Any]) -> None:
+def _tool_track(plan: SampledMotion, what: str) -> ToolTrack:
+    """The tool along ``plan`` from its robot's kinematics; InputError without a robot."""
+    if not isinstance(plan, SampledMotion):
+        raise InputError(
+            f"{what} takes a planned motion (kinplan.motion.SampledMotion: a program or Cartesian "
+            f"plan, or kinplan.motion.sampled(trajectory, robot)), got {type(plan).__name__}"
+        )
+    if plan.robot is None:
+        raise InputError(
+            f"{what} needs the motion's robot for the tool poses: sample the trajectory with it, "
+            "kinplan.motion.sampled(trajectory, robot)"
+        )
+    return tool_track(plan.robot, plan.q, plan.qd)
+
+
+def _mark_moves(axes: Sequence[Axes], moves: Sequence[MoveSpan]) -> None:
     for move in moves:
-        failed = getattr(move, "status", "ok") != "ok"
+        failed = move.status != "ok"
         for ax in axes:
             ax.axvline(move.t0, color="0.8", linewidth=0.6, zorder=0)
             if failed:
                 ax.axvspan(move.t0, max(move.t1, move.t0 + 1e-9), color="C3", alpha=0.12)
         middle = 0.5 * (move.t0 + move.t1)
         axes[0].annotate(
-            str(getattr(move, "number", "")),
+            str(move.number),
             (middle, 1.0),
             xycoords=("data", "axes fraction"),
             ha="center",

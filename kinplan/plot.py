@@ -1,9 +1,11 @@
-"""Plots of joint trajectories and tool paths.
+"""Plots of joint trajectories, planned motions and tool paths.
 
 matplotlib is imported only inside these functions. They return stand-alone
 ``matplotlib.figure.Figure`` objects that do not touch pyplot's global state, so they work
 without a display (saving renders with Agg) and need no closing; :func:`show` puts figures on
-screen.
+screen. Besides joint :class:`~kinplan.trajectory.Trajectory` objects (evaluated exactly on a
+fine grid), both plots take any planned motion (:class:`kinplan.motion.SampledMotion`: a
+Cartesian or program plan) and draw its samples and tool positions.
 
 Example:
     >>> from kinplan import plot, trajectory
@@ -13,14 +15,22 @@ Example:
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from kinplan.errors import InputError
-from kinplan.trajectory import Trajectory
+from kinplan.motion import (
+    DEFAULT_DT,
+    JointTrajectory,
+    MotionLike,
+    SampledMotion,
+    as_sampled_motion,
+)
+from kinplan.trajectory import Trajectory, Waypoints
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -33,7 +43,7 @@ _SAMPLES = 1000
 
 
 def plot_trajectory(
-    trajectory: Trajectory | Sequence[Trajectory],
+    trajectory: MotionLike | Sequence[MotionLike],
     path: str | os.PathLike[str] | None = None,
     dt: float | None = None,
     title: str | None = None,
@@ -46,12 +56,15 @@ def plot_trajectory(
 
     Several trajectories (for example the same motion planned two ways) share the axes: a
     joint keeps its colour, each trajectory has its own line style. Waypoints (start, via
-    points, end) are marked on the position axis, segment knots drawn as faint vertical lines.
+    points, end) are marked on the position axis, segment knots (a program's moves) drawn as
+    faint vertical lines.
 
     Args:
-        trajectory: One trajectory or several with the same number of joints.
+        trajectory: One trajectory or several with the same number of joints: joint
+            trajectories, or planned motions (:class:`kinplan.motion.SampledMotion`, drawn at
+            their own samples).
         path: Image file to save to (format from the suffix, e.g. ``.png``); None: don't save.
-        dt: Sampling step [s]; default duration / 1000.
+        dt: Sampling step of a joint trajectory [s]; default duration / 1000.
         title: Figure title.
         labels: One legend label per trajectory.
         joint_names: One name per joint; default "joint 0", "joint 1", ...
@@ -62,38 +75,37 @@ def plot_trajectory(
         The figure (three stacked axes).
 
     Raises:
-        InputError: no trajectory, mismatched joint counts or label counts.
+        InputError: no trajectory, not a motion, mismatched joint counts or label counts.
     """
-    trajectories = [trajectory] if isinstance(trajectory, Trajectory) else list(trajectory)
-    if not trajectories:
+    single = isinstance(trajectory, (Trajectory, SampledMotion, JointTrajectory))
+    items = [trajectory] if single or not isinstance(trajectory, Iterable) else list(trajectory)
+    curves = [_curve(item, dt) for item in items]
+    if not curves:
         raise InputError("plot_trajectory needs at least one trajectory")
-    n = trajectories[0].n
-    counts = [t.n for t in trajectories]
+    n = curves[0].values[0].shape[1]
+    counts = [curve.values[0].shape[1] for curve in curves]
     if any(count != n for count in counts):
         raise InputError(f"all trajectories must have the same number of joints, got {counts}")
     names = _names(joint_names, n, "joint_names", "joint")
-    labels = _names(labels, len(trajectories), "labels", "trajectory")
+    labels = _names(labels, len(curves), "labels", "trajectory")
     figure = _new_figure((8.0, 7.5))
     axes = figure.subplots(3, 1, sharex=True)
-    for k, traj in enumerate(trajectories):
+    for k, curve in enumerate(curves):
         style = _LINE_STYLES[k % len(_LINE_STYLES)]
-        step = dt if dt is not None else max(traj.duration, 1e-9) / _SAMPLES
-        t = traj.time_grid(step)
-        values = traj.sample(t)
         for j in range(n):
-            label = names[j] if len(trajectories) == 1 else f"{names[j]} ({labels[k]})"
-            for ax, value in zip(axes, values, strict=True):
-                ax.plot(t, value[:, j], style, color=f"C{j % 10}", label=label)
+            label = names[j] if len(curves) == 1 else f"{names[j]} ({labels[k]})"
+            for ax, value in zip(axes, curve.values, strict=True):
+                ax.plot(curve.t, value[:, j], style, color=f"C{j % 10}", label=label)
             axes[0].plot(
-                traj.waypoints.times,
-                traj.waypoints.positions[:, j],
+                curve.waypoints.times,
+                curve.waypoints.positions[:, j],
                 "o",
                 color=f"C{j % 10}",
                 markerfacecolor="none",
             )
         if show_knots:
             for ax in axes:
-                for knot in traj.knots[1:-1]:
+                for knot in curve.knots[1:-1]:
                     ax.axvline(knot, color="0.85", linewidth=0.6, zorder=0)
     for ax, quantity, suffix in zip(
         axes, ("position", "velocity", "acceleration"), ("", "/s", "/s²"), strict=True
@@ -109,7 +121,10 @@ def plot_trajectory(
 
 
 def plot_tip_path(
-    tip_paths: ArrayLike | Sequence[ArrayLike] | Mapping[str, ArrayLike],
+    tip_paths: ArrayLike
+    | SampledMotion
+    | Sequence[ArrayLike | SampledMotion]
+    | Mapping[str, ArrayLike | SampledMotion],
     path: str | os.PathLike[str] | None = None,
     labels: Sequence[str] | None = None,
     reference: tuple[ArrayLike, ArrayLike] | None = None,
@@ -121,7 +136,8 @@ def plot_tip_path(
 
     Args:
         tip_paths: One path of shape (k, 2) or (k, 3), a sequence of them, or a mapping from
-            label to path [m].
+            label to path [m]; a planned motion (:class:`kinplan.motion.SampledMotion`) stands
+            for the tool positions it achieved.
         path: Image file to save to; None: don't save.
         labels: One legend label per path (ignored for a mapping).
         reference: A straight line ``(start, end)`` drawn dashed, e.g. the desired path [m].
@@ -135,16 +151,20 @@ def plot_tip_path(
     Raises:
         InputError: paths of the wrong shape or of mixed dimension.
     """
+    given: list[ArrayLike | SampledMotion]
     if isinstance(tip_paths, Mapping):
         labels = list(tip_paths.keys())
-        arrays = list(tip_paths.values())
+        given = list(tip_paths.values())
+    elif isinstance(tip_paths, SampledMotion):
+        given = [tip_paths]
     else:
         try:
             single = np.asarray(tip_paths, dtype=float)
         except ValueError:  # ragged: several paths of different lengths
             single = None
-        arrays = [single] if single is not None and single.ndim == 2 else list(tip_paths)
-    arrays = [_path_array(a, f"tip path {k}") for k, a in enumerate(arrays)]
+        several = cast("Sequence[ArrayLike | SampledMotion]", tip_paths)
+        given = [single] if single is not None and single.ndim == 2 else list(several)
+    arrays = [_path_array(a, f"tip path {k}") for k, a in enumerate(given)]
     if not arrays:
         raise InputError("plot_tip_path needs at least one path")
     dimension = arrays[0].shape[1]
@@ -187,6 +207,8 @@ def show(*figures: Figure) -> None:
             plt.figure(figure)  # matplotlib >= 3.10 adopts a stand-alone figure
         except (TypeError, ValueError):
             manager = plt.figure().canvas.manager
+            if manager is None:  # a backend without windows: nothing to show the figure in
+                continue
             manager.canvas.figure = figure
             figure.set_canvas(manager.canvas)
     plt.show()
@@ -212,7 +234,35 @@ def _names(names: Sequence[str] | None, count: int, what: str, default: str) -> 
     return names
 
 
-def _path_array(value: ArrayLike, name: str) -> np.ndarray:
+@dataclass(frozen=True)
+class _Curve:
+    """What :func:`plot_trajectory` draws of one motion."""
+
+    t: np.ndarray  # (k,) [s]
+    values: tuple[np.ndarray, np.ndarray, np.ndarray]  # q, qd, qdd, (k, n) each
+    waypoints: Waypoints
+    knots: np.ndarray  # segment or move boundaries [s], the first and last included
+
+
+def _curve(item: object, dt: float | None) -> _Curve:
+    """A joint trajectory evaluated on a grid of ``dt`` (default duration / 1000), or the
+    samples of a planned motion."""
+    if isinstance(item, Trajectory):
+        step = dt if dt is not None else max(item.duration, 1e-9) / _SAMPLES
+        t = item.time_grid(step)
+        return _Curve(t, item.sample(t), item.waypoints, item.knots)
+    motion = as_sampled_motion(item, None, DEFAULT_DT if dt is None else dt, use="plot")
+    t = np.asarray(motion.t, dtype=float)
+    moves = [m.t0 for m in motion.moves] + [m.t1 for m in motion.moves]
+    knots = np.unique(np.concatenate([t[:1], t[-1:], moves]))
+    return _Curve(t, (motion.q, motion.qd, motion.qdd), motion.waypoints, knots)
+
+
+def _path_array(value: ArrayLike | SampledMotion, name: str) -> np.ndarray:
+    if isinstance(value, SampledMotion):
+        if value.tool_positions is None:
+            raise InputError(f"{name} is a motion without a robot: it has no tool positions")
+        value = value.tool_positions
     array = np.asarray(value, dtype=float)
     if array.ndim != 2 or array.shape[1] not in (2, 3) or array.shape[0] == 0:
         raise InputError(f"{name} must have shape (k, 2) or (k, 3), got {array.shape}")

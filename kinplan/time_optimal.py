@@ -217,7 +217,8 @@ class JointPath:
         radius = p.radius[piece][:, None]
         arc = np.isfinite(radius)
         safe_radius = np.where(arc, radius, 1.0)
-        middle = (0.5 * (s0 + s1) - p.s0[piece])[:, None] / safe_radius
+        # (s0 − piece start) is exact near the piece start, (s0 + s1)/2 would not be.
+        middle = ((s0 - p.s0[piece])[:, None] + 0.5 * step) / safe_radius
         bend = (2.0 * safe_radius * np.sin(0.5 * step / safe_radius)) * (
             np.cos(middle) * p.tangent[piece] - np.sin(middle) * p.normal[piece]
         )

@@ -11,7 +11,12 @@ function, :meth:`Trajectory.sample`. Every profile is built as such a list:
   joint synchronised to the slowest;
 - :func:`trapezoid_via`: linear segments with parabolic blends through via points (Craig), or
   passing exactly through them with pseudo via points;
-- :func:`four_three_four`: the 4-3-4 lift-off / set-down profile.
+- :func:`four_three_four`: the 4-3-4 lift-off / set-down profile;
+- :func:`scurve`: jerk-limited seven-phase point-to-point motion, minimum time, every joint
+  synchronised to the slowest (the same duration as ruckig's);
+- :func:`time_optimal`: the fastest motion along straight lines through waypoints with circular
+  blends at the corners under per-joint velocity and acceleration limits (TOTG; the method is
+  in :mod:`kinplan.time_optimal`).
 
 Constructors take joint vectors (or scalars for one joint; scalars broadcast to every joint where
 a vector is expected). Units are rad, rad/s, rad/s² and s; a 1-D profile of any other quantity
@@ -853,15 +858,13 @@ def time_optimal(
     _check_magnitudes(np.asarray(deviation), "max_deviation")
     requested = None if duration is None else _duration(duration, "duration")
     plan = totg.plan(points, max_velocity, max_acceleration, deviation, requested)
-    zero = np.zeros(n)
     return _from_pieces(
         plan.knots,
         plan.coefficients,
         waypoints=Waypoints(plan.waypoint_times(), plan.path.points),
-        end=plan.path.points[-1],
-        end_velocity=zero,
-        end_acceleration=zero,
-    )
+        end=points[-1],
+        end_velocity=np.zeros(n),
+    )  # the end acceleration is the braking one, as for the minimum-time trapezoid
 
 
 # ----------------------------------------------------------------------------------------------

@@ -87,6 +87,10 @@ def assert_event_describes_its_sample(
     assert isinstance(event.message, str) and len(event.message) > 20
     assert isinstance(event.remedy, str) and len(event.remedy) > 10
     assert event.joint is None or event.joint in robot.joint_names
+    assert plan.q.shape == plan.qd.shape == plan.qdd.shape == (k, robot.nq)
+    if k == 0:  # nothing achieved: no deviation, no manipulability, no tool positions
+        assert plan.max_deviation == 0.0 and plan.min_manipulability == 0.0
+        assert plan.tool_positions.shape == (0, 3)
     for number in (event.value, event.limit):
         assert number is None or (isinstance(number, float) and np.isfinite(number))
     return event

@@ -211,6 +211,20 @@ def test_random_moves_keep_limits_boundary_conditions_and_continuity():
         assert max(s.degree for s in traj.segments) == 3
 
 
+@pytest.mark.slow
+def test_soak_extreme_magnitudes_keep_every_property():
+    """2,000 moves with distances from 1e-9 to 100 rad and limits over eight decades."""
+    rng = generator("soak")
+    for _ in range(2000):
+        n = int(rng.integers(1, 7))
+        q0 = rng.uniform(-3.0, 3.0, n)
+        qf = q0 + 10.0 ** rng.uniform(-9.0, 2.0, n) * rng.choice([-1.0, 1.0], n)
+        still = rng.uniform(size=n) < 0.2
+        qf[still] = q0[still]
+        v, a, j = (10.0 ** rng.uniform(-4.0, 4.0, n) for _ in range(3))
+        check_profile(trajectory.scurve(q0, qf, v, a, j), q0, qf, v, a, j)
+
+
 def test_equal_limits_move_on_the_straight_line():
     """With the same limits on every joint the joints share the slowest one's phases, so the
     motion stays on the straight line from q0 to qf."""
@@ -305,5 +319,5 @@ def test_program_scurve_duration_too_short_states_the_minimum():
 
 
 def test_program_rejects_scurve_on_cartesian_moves():
-    with pytest.raises(ProgramError, match="unknown profile 'scurve' for a lin move"):
+    with pytest.raises(ProgramError, match=r"unknown profile 'scurve'.*ptp moves only"):
         parse_program(PROGRAM + "  - {lin: b, profile: scurve}\n")

@@ -113,6 +113,25 @@ def test_random_ur5_like_paths_keep_every_property():
         check_motion(*random_case(rng))
 
 
+@pytest.mark.slow
+def test_soak_random_paths_with_tiny_segments_and_blends():
+    """300 paths of 1-7 joints and 2-11 points with limits over two to three decades, blends
+    from 1e-6 to 1 rad, some near-duplicate points and near-collinear corners."""
+    rng = generator("soak")
+    for k in range(300):
+        n, m = int(rng.integers(1, 8)), int(rng.integers(2, 12))
+        points = rng.uniform(-3.0, 3.0, (m, n))
+        if k % 7 == 0:
+            points[1] = points[0] + 1e-7 * rng.normal(size=n)
+        if k % 5 == 0 and m > 2:
+            points[2] = points[1] + (points[1] - points[0]) * rng.uniform(0.1, 2.0)
+            points[2] += 1e-9 * rng.normal(size=n)
+        velocity = 10.0 ** rng.uniform(-1.0, 1.0, n)
+        acceleration = 10.0 ** rng.uniform(-1.0, 2.0, n)
+        deviation = float(10.0 ** rng.uniform(-6.0, 0.0)) if k % 3 else 0.0
+        check_motion(points, velocity, acceleration, deviation)
+
+
 def test_a_single_straight_move_is_the_synchronised_trapezoid_on_the_line():
     """Two points: the optimal motion along the straight line accelerates at the largest rate
     every joint allows along the line, cruises at the largest speed, and brakes."""
@@ -159,6 +178,15 @@ def test_short_legs_limit_the_blend_to_half_a_segment():
     # ℓ = 0.1 (half of each leg), radius ℓ / tan(π/4) = 0.1: half of each leg is still a line.
     np.testing.assert_allclose(path.length, 0.2 + 0.1 * np.pi / 2, rtol=1e-14)
     np.testing.assert_allclose(path.corner_deviation[1], 0.1 * (np.sqrt(2) - 1), rtol=1e-12)
+
+
+@pytest.mark.parametrize("scale", [1.0, 1e6])
+def test_blends_tiny_next_to_the_positions_keep_the_limits(scale):
+    """A blend of radius ~2e-12 scale on a path ~scale long: its geometry is resolved by only a
+    few thousand units of rounding of the path parameter, which the timing must not amplify
+    into the accelerations (regression: the chord's mid-angle lost 1e-4 rad)."""
+    points = scale * np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
+    check_motion(points, np.array([1.0, 2.0]), np.array([1.0, 3.0]), 1e-12 * scale)
 
 
 def test_points_on_a_line_are_passed_without_stopping_and_reversals_stop():

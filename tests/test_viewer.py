@@ -20,9 +20,10 @@ import pytest
 import yourdfpy
 
 import kinplan
-from kinplan import _meshcat_scene as ms
 from kinplan import viewer
 from kinplan.errors import InputError, KinplanError
+from kinplan.motion import PlannedPath, no_waypoints, pose_to_track
+from kinplan.viewer import commands as ms
 
 UR5_Q0 = np.array([0.0, -1.2, 1.5, -1.9, -1.57, 0.0])
 UR5_Q1 = np.array([1.2, -1.0, 1.0, -1.5, -1.57, 0.5])
@@ -51,7 +52,11 @@ def cubic_stand_in(q0, q1, duration: float, waypoints=None) -> types.SimpleNames
 
 
 def line_plan_stand_in(robot, q0, delta, duration: float, fail_at: float | None, dt=0.01):
-    """A CartesianPlan stand-in: a straight tool line, stopped by an event at ``fail_at``."""
+    """A CartesianPlan stand-in: a straight tool line, stopped by an event at ``fail_at``.
+
+    It has exactly what :class:`kinplan.motion.SampledMotion` asks of a plan (no tool positions:
+    the viewer computes them).
+    """
     start = robot.fk(q0)
     p0, p1 = start.translation.copy(), start.translation + np.asarray(delta, float)
     path = types.SimpleNamespace(
@@ -76,12 +81,21 @@ def line_plan_stand_in(robot, q0, delta, duration: float, fail_at: float | None,
                 message=f"no IK solution at s = {s[n]:.2f}",
             )
         )
+    q = np.array(qs).reshape(-1, robot.nq)
     return types.SimpleNamespace(
+        kind="cartesian",
+        description=f"Cartesian path {path.length:.3f} m",
         t=t[:n],
-        q=np.array(qs).reshape(-1, robot.nq),
+        q=q,
+        qd=np.zeros_like(q),
+        qdd=np.zeros_like(q),
+        robot=robot,
+        tool_positions=None,
+        planned_paths=[PlannedPath(path, events[0].s if events else 1.0)],
+        waypoints=no_waypoints(robot.nq),
+        moves=(),
         ok=not events,
         status=events[0].kind if events else "ok",
-        fraction=float(s[n - 1]),
         events=events,
         path=path,
     )
@@ -407,7 +421,7 @@ def test_pose_track_quaternions_match_pinocchio_and_are_continuous():
     rng = np.random.default_rng(3)
     rotations = [pin.exp3(rng.normal(size=3)) for _ in range(50)]
     poses = np.array([pin.SE3(r, rng.normal(size=3)).homogeneous for r in rotations])
-    positions, quaternions = ms.pose_to_track(poses)
+    positions, quaternions = pose_to_track(poses)
     np.testing.assert_allclose(positions, poses[:, :3, 3])
     for quaternion, rotation in zip(quaternions, rotations):
         np.testing.assert_allclose(quaternion_matrix(quaternion), rotation, atol=1e-12)
@@ -455,9 +469,10 @@ def test_live_viewer_reports_a_missing_server(planar_2r):
         viewer.Viewer(planar_2r, zmq_url="tcp://127.0.0.1:9", timeout=0.5)
 
 
-def test_module_has_no_print_calls():
-    source = Path(viewer.__file__).read_text(encoding="utf-8")
-    assert not re.search(r"^\s*print\(", source, re.M)
+def test_modules_have_no_print_calls():
+    for module in Path(viewer.__file__).parent.glob("*.py"):
+        source = module.read_text(encoding="utf-8")
+        assert not re.search(r"^\s*print\(", source, re.M), module.name
 
 
 def test_simplified_polyline_stays_within_tolerance():
@@ -479,20 +494,20 @@ def test_meshes_trimesh_cannot_read_are_embedded_as_files(monkeypatch):
     """Without a DAE reader (pycollada) the arm is still drawn: MeshCat parses the files."""
     import trimesh
 
-    from kinplan import _robot_visuals
+    from kinplan.viewer import meshes, visuals
 
     def unreadable(*args, **kwargs):
         raise ImportError("no pycollada")
 
     robot = kinplan.load_robot("ur5")  # a new object: no cached visuals
-    normal = _robot_visuals.RobotVisuals(robot)
+    normal = visuals.RobotVisuals(robot)
     monkeypatch.setattr(trimesh, "load", unreadable)
-    _robot_visuals.clear_mesh_caches()
+    meshes.clear_mesh_caches()
     try:
-        fallback = _robot_visuals.RobotVisuals(robot)
+        fallback = visuals.RobotVisuals(robot)
     finally:
         monkeypatch.undo()
-        _robot_visuals.clear_mesh_caches()
+        meshes.clear_mesh_caches()
     assert [p.name for p in fallback.parts] == [p.name for p in normal.parts]
     for a, b in zip(fallback.parts, normal.parts):
         geometry = a.obj["geometries"][0]

@@ -23,9 +23,10 @@ import trimesh
 from test_viewer import animation, cubic_stand_in, objects, page_parts, transforms
 
 import kinplan
-from kinplan import _meshcat_scene as ms
-from kinplan import _robot_visuals, viewer
+from kinplan import mesh_files, viewer
 from kinplan.sources import example_robot_data_dir
+from kinplan.viewer import commands as ms
+from kinplan.viewer import elements, meshes, visuals
 
 MB = 1_000_000
 PAGE_LIMIT = 10 * MB  # issue 13: every example-robot-data robot's page
@@ -96,7 +97,7 @@ def warnings_of(caplog: pytest.LogCaptureFixture) -> list[str]:
     return [
         r.getMessage()
         for r in caplog.records
-        if r.levelno == logging.WARNING and r.name == _robot_visuals.__name__
+        if r.levelno == logging.WARNING and r.name == visuals.__name__
     ]
 
 
@@ -145,7 +146,7 @@ def test_missing_meshes_are_placeholders_and_one_warning_per_file(tmp_path, capl
     for name in ("lower_0", "hand_0"):
         geometry = parts[name]["geometries"][0]
         size = [geometry["width"], geometry["height"], geometry["depth"]]
-        np.testing.assert_allclose(size, [_robot_visuals.PLACEHOLDER_SIZE] * 3)
+        np.testing.assert_allclose(size, [visuals.PLACEHOLDER_SIZE] * 3)
     # the placeholder cylinder sits where the collision element is, in the visual's colour
     assert parts["upper_0"]["materials"][0]["color"] == ms.rgb_int((0.1, 0.2, 0.8))
     data = robot.model.createData()
@@ -189,7 +190,7 @@ def assert_visuals_match_pinocchio(urdf: Path) -> None:
     geometry = pin.buildGeomFromUrdf(
         model, str(urdf), pin.GeometryType.VISUAL, package_dirs=[str(example_robot_data_dir())]
     )
-    visuals = {v.name: v for v in _robot_visuals.read_urdf_elements(urdf)[0]}
+    visuals = {v.name: v for v in elements.read_urdf_elements(urdf)[0]}
     references = {o.name.replace("/", "_"): o for o in geometry.geometryObjects}
     assert sorted(visuals) == sorted(references)  # Pinocchio orders them along the tree
     for name, reference in references.items():
@@ -222,7 +223,7 @@ def test_visuals_and_colours_are_read_as_urdfdom_reads_them(tmp_path):
     joints = [revolute("ja", "base", "a"), revolute("jb", "a", "b", "0 0 0.3")]
     urdf = write_urdf(tmp_path / "colours.urdf", links, joints)
     assert_visuals_match_pinocchio(urdf)
-    colours = {v.name: v.rgba for v in _robot_visuals.read_urdf_elements(urdf)[0]}
+    colours = {v.name: v.rgba for v in elements.read_urdf_elements(urdf)[0]}
     assert colours["a_0"] == (0.3, 0.3, 0.3, 1.0)  # carbon's first colour
     assert colours["a_1"] == colours["b_0"] == (0.1, 0.2, 0.8, 1.0)  # the top-level "blue"
     assert colours["a_2"] == (0.0, 1.0, 0.0, 0.5) and colours["a_3"] is None
@@ -267,21 +268,21 @@ def test_mesh_paths_resolve_as_ros_does(tmp_path, caplog):
         np.testing.assert_allclose(drawn.max(axis=0), shapes[shape].bounds[1], atol=1e-6)
         assert drawn_triangles(parts[f"{link}_0"]) == len(shapes[shape].faces)
 
-    folders = _robot_visuals.search_folders(urdf)  # without the vendor folder
-    found, _ = _robot_visuals.resolve_mesh("package://ext_pkg/meshes/sphere.stl", urdf, folders)
+    folders = mesh_files.search_folders(urdf)  # without the vendor folder
+    found, _ = mesh_files.resolve_mesh("package://ext_pkg/meshes/sphere.stl", urdf, folders)
     assert found is None
-    found, _ = _robot_visuals.resolve_mesh("package://my_pkg/meshes/box.stl", urdf, folders)
+    found, _ = mesh_files.resolve_mesh("package://my_pkg/meshes/box.stl", urdf, folders)
     assert found == package / "meshes" / "box.stl"
 
 
 def test_example_robot_data_meshes_resolve(ur5):
     urdf = Path(ur5.urdf_path)
-    visuals, _ = _robot_visuals.read_urdf_elements(urdf)
-    folders = _robot_visuals.search_folders(urdf, ur5.package_dirs)
+    visuals, _ = elements.read_urdf_elements(urdf)
+    folders = mesh_files.search_folders(urdf, ur5.package_dirs)
     files = [v.geometry.filename for v in visuals if v.geometry and v.geometry.kind == "mesh"]
     assert files and all(f.startswith("package://") for f in files)
     for filename in files:
-        found, _ = _robot_visuals.resolve_mesh(filename, urdf, folders)
+        found, _ = mesh_files.resolve_mesh(filename, urdf, folders)
         assert found is not None and found.is_file(), filename
         assert found.is_relative_to(example_robot_data_dir())
 
@@ -333,12 +334,12 @@ def test_meshes_are_simplified_to_the_budget_and_keep_their_shape(tmp_path, sphe
 
 def test_default_budget_keeps_the_sphere_whole_and_a_bigger_budget_draws_more(sphere_robot):
     robot, sphere = sphere_robot
-    default = viewer._visuals_for(robot)
+    default = visuals.visuals_for(robot)
     assert default.triangles == 2 * len(sphere.faces) + 12  # within TRIANGLE_BUDGET
-    small = viewer._visuals_for(robot, 2000)
-    assert small.triangles <= 2100 and small is viewer._visuals_for(robot, 2000)  # cached
+    small = visuals.visuals_for(robot, 2000)
+    assert small.triangles <= 2100 and small is visuals.visuals_for(robot, 2000)  # cached
     with pytest.raises(kinplan.KinplanError, match="max_triangles"):
-        viewer._visuals_for(robot, 0)
+        visuals.visuals_for(robot, 0)
 
 
 def test_a_mesh_drawn_twice_is_stored_once(tmp_path, sphere_robot):
@@ -362,20 +363,20 @@ def test_a_mesh_drawn_twice_is_stored_once(tmp_path, sphere_robot):
 
 def test_triangle_caps_share_the_budget_by_size():
     sizes = {
-        "trunk": _robot_visuals.MeshSize(250_000, 1, 2.0),
-        "leg": _robot_visuals.MeshSize(50_000, 4, 0.4),
-        "screw": _robot_visuals.MeshSize(50, 8, 1e-4),
-        "flat": _robot_visuals.MeshSize(0, 1, 0.0),
+        "trunk": meshes.MeshSize(250_000, 1, 2.0),
+        "leg": meshes.MeshSize(50_000, 4, 0.4),
+        "screw": meshes.MeshSize(50, 8, 1e-4),
+        "flat": meshes.MeshSize(0, 1, 0.0),
     }
-    caps = _robot_visuals.triangle_caps(sizes, 60_000)
+    caps = meshes.triangle_caps(sizes, 60_000)
     drawn = sum(caps[k] * s.copies for k, s in sizes.items())
     assert drawn == pytest.approx(60_000, rel=1e-3)
     assert caps["screw"] == 50 and caps["flat"] == 0  # coarser than the rate: whole
     # the same rate per square root of area for the meshes that are cut
     assert caps["trunk"] / 2.0**0.5 == pytest.approx(caps["leg"] / 0.4**0.5, rel=1e-3)
-    assert _robot_visuals.triangle_caps(sizes, 10**7) == {k: s.triangles for k, s in sizes.items()}
-    tight = _robot_visuals.triangle_caps(sizes, 100)  # never below the floor
-    assert tight["trunk"] == tight["leg"] == _robot_visuals.MIN_TRIANGLES
+    assert meshes.triangle_caps(sizes, 10**7) == {k: s.triangles for k, s in sizes.items()}
+    tight = meshes.triangle_caps(sizes, 100)  # never below the floor
+    assert tight["trunk"] == tight["leg"] == meshes.MIN_TRIANGLES
 
 
 def test_parts_that_do_not_move_get_no_animation_track(tmp_path, ur5):
@@ -424,7 +425,7 @@ def test_big_robot_pages_are_small(tmp_path, relative_urdf, tip):
     robot = kinplan.load_robot(robots_dir() / relative_urdf, tip=tip)
     size = page_size(robot, tmp_path / "page.html")
     assert size <= PAGE_LIMIT / 2, f"{size / MB:.1f} MB"
-    assert 100_000 <= viewer._visuals_for(robot).triangles <= 200_000
+    assert 100_000 <= visuals.visuals_for(robot).triangles <= 200_000
 
 
 def leaf_links(urdf: Path) -> list[str]:

@@ -160,7 +160,10 @@ def copy_repository(root: Path, target: Path) -> None:
     for name in repository_files(root):
         destination = target / name
         destination.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy2(root / name, destination)
+        try:
+            shutil.copy2(root / name, destination)
+        except FileNotFoundError:  # removed since it was listed (a working tree being edited)
+            continue
 
 
 def write_config(copy: Path, module: str, tests: list[str]) -> None:

@@ -121,7 +121,7 @@ def mesh_geometry(
     }
 
 
-def box_geometry(name: str, size: Sequence[float]) -> dict[str, Any]:
+def box_geometry(name: str, size: Sequence[float] | np.ndarray) -> dict[str, Any]:
     """Box centred at the origin with edge lengths ``size`` (x, y, z) [m]."""
     return {
         "uuid": scene_uuid(name, "geometry"),

@@ -28,7 +28,7 @@ class Geometry:
     kind: str  # "box", "cylinder", "sphere" or "mesh"
     size: tuple[float, ...] = ()  # box (x, y, z); cylinder (radius, length); sphere (radius,) [m]
     filename: str = ""  # the URDF's mesh file name, as written
-    scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    scale: tuple[float, ...] = (1.0, 1.0, 1.0)  # (x, y, z)
 
 
 @dataclass(frozen=True)

@@ -39,6 +39,8 @@ from kinplan.viewer.scene import (
 from kinplan.viewer.visuals import visuals_for
 
 if TYPE_CHECKING:
+    import zmq
+
     from kinplan.robot import Robot
 
 __all__ = ["Viewer"]
@@ -55,13 +57,13 @@ class _Connection:
         self._zmq = zmq
         self.zmq_url = zmq_url
         self._timeout_ms = int(1000 * timeout)
-        self._socket = None
+        self._socket: zmq.Socket | None = None
         self._connect()
 
     def _connect(self) -> None:
         if self._socket is not None:
             self._socket.close(linger=0)
-        socket = self._zmq.Context.instance().socket(self._zmq.REQ)
+        socket: zmq.Socket = self._zmq.Context.instance().socket(self._zmq.REQ)
         socket.setsockopt(self._zmq.RCVTIMEO, self._timeout_ms)
         socket.setsockopt(self._zmq.SNDTIMEO, self._timeout_ms)
         socket.setsockopt(self._zmq.LINGER, 0)
@@ -109,7 +111,7 @@ def _start_server(timeout: float) -> tuple[subprocess.Popen, str]:
     lines: queue.Queue[str | None] = queue.Queue()
 
     def drain() -> None:  # read every line, so the server never blocks on a full pipe
-        for line in process.stdout:
+        for line in process.stdout or ():
             lines.put(line.strip())
         lines.put(None)
 

@@ -17,9 +17,12 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, TypeVar, cast
 
 import numpy as np
+
+if TYPE_CHECKING:
+    import trimesh
 
 __all__ = [
     "AGGRESSION",
@@ -94,7 +97,7 @@ def read_mesh(path: Path) -> tuple[ColourGroup, ...] | None:
     import trimesh
 
     try:
-        scene = trimesh.load(str(path), force="scene")
+        scene = cast("trimesh.Scene", trimesh.load(str(path), force="scene"))
     except Exception as exc:  # trimesh raises many types (and ImportError without pycollada)
         logger.info("trimesh cannot read the mesh %s (%s)", path, exc)
         return None
@@ -266,7 +269,7 @@ def shaded_mesh(path: Path, max_triangles: int) -> ShadedMesh | None:
     return _merged(pieces)
 
 
-def _smooth_shaded(vertices: np.ndarray, faces: np.ndarray) -> Any:
+def _smooth_shaded(vertices: np.ndarray, faces: np.ndarray) -> trimesh.Trimesh | None:
     """An indexed trimesh split at sharp edges (so vertex normals shade well); None if empty."""
     import trimesh
 
@@ -276,7 +279,7 @@ def _smooth_shaded(vertices: np.ndarray, faces: np.ndarray) -> Any:
     return trimesh.graph.smooth_shade(mesh, angle=SMOOTHING_ANGLE)
 
 
-def _merged(pieces: list[tuple[Any, tuple[float, ...] | None]]) -> ShadedMesh | None:
+def _merged(pieces: list[tuple[trimesh.Trimesh, tuple[float, ...] | None]]) -> ShadedMesh | None:
     """One mesh from (trimesh, RGBA or None) pieces: a single colour or per-vertex colours."""
     if not pieces:
         return None
@@ -295,13 +298,13 @@ def _merged(pieces: list[tuple[Any, tuple[float, ...] | None]]) -> ShadedMesh | 
     return ShadedMesh(vertices, normals, faces, colors, None)
 
 
-def _piece_rgba(mesh: Any) -> tuple[float, ...] | None:
+def _piece_rgba(mesh: trimesh.Trimesh) -> tuple[float, ...] | None:
     """The colour of a mesh file's piece (its material's main colour), RGBA in [0, 1]."""
     visual = mesh.visual
     material = getattr(visual, "material", None)
     color = getattr(material, "main_color", None) if material is not None else None
     if color is None and getattr(visual, "kind", None) in ("vertex", "face"):
-        color = visual.main_color
+        color = getattr(visual, "main_color", None)
     if color is None:
         return None
     return tuple(float(c) / 255.0 for c in np.asarray(color)[:4])

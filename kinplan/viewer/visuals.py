@@ -242,14 +242,14 @@ def _items(
         entry = problems.setdefault(geometry.filename, (why, [], []))
         entry[1].append(element.link)
         entry[2].append(drawn)
-    for filename, (why, links, drawn) in problems.items():
+    for filename, (why, links, stand_ins) in problems.items():
         logger.warning(
             "mesh %s of link%s %s: %s; drawn as %s",
             filename,
             "s" if len(set(links)) > 1 else "",
             ", ".join(dict.fromkeys(links)),
             why,
-            " / ".join(dict.fromkeys(drawn)),
+            " / ".join(dict.fromkeys(stand_ins)),
         )
     return items
 

@@ -21,6 +21,7 @@ SCRIPTS = [
     ("Closed-form IK (UR family)", ["bench_analytic_ik.py", "--robots", "ur5"]),
     ("Cartesian following", ["bench_cartesian.py"]),
     ("Trajectory sampling", ["bench_trajectory.py"]),
+    ("Joint timing: S-curve and time-optimal", ["bench_timing.py"]),
 ]
 
 

@@ -1,0 +1,233 @@
+"""A planned motion and what each move did: :class:`ProgramPlan` and :class:`MoveReport`.
+
+A :class:`ProgramPlan` is the whole motion of a program (or of a
+:class:`~kinplan.program.MotionBuilder`) as samples and as a
+:class:`~kinplan.trajectory.Trajectory`, with the tool states of every sample and one
+:class:`MoveReport` per move.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+import cartesian
+from kinplan.motion import MotionKind, PlannedPath, pose_to_track
+from kinplan.program.schema import DEFAULT_DT, Program
+from kinplan.program.segments import hermite_segments
+from kinplan.robot import Robot, manipulability_of
+from kinplan.trajectory import Trajectory, Waypoints
+
+__all__ = ["MoveReport", "ProgramPlan"]
+
+
+@dataclass
+class MoveReport:
+    """What one move did.
+
+    Attributes:
+        number: 1-based move number.
+        kind: ``ptp``, ``lin``, ``circ`` or ``path``.
+        label: Short description (``lin to b``).
+        key: Key path in the program (``moves[2]``), or None for moves built in Python.
+        status: ``ok``, or why the move failed (``unreachable``, ``singular``, ``joint_limit``,
+            ``velocity_limit``, ``jump``, ``ik``, ``invalid``).
+        t0: Start time in the program [s].
+        t1: End time in the program [s] (where it stopped, for a failed move).
+        first: Index of the move's first sample in the plan's arrays.
+        last: Index of its last sample (the next move's first).
+        min_manipulability: Smallest manipulability over its samples.
+        peak_speed_ratio: Largest |joint speed| / velocity limit over its samples [-].
+        fraction: Share of the move achieved (1.0 when ok) [-].
+        message: One-line reason when it failed, else "".
+        cartesian_plan: The :class:`cartesian.CartesianPlan` of a Cartesian move.
+    """
+
+    number: int
+    kind: str
+    label: str
+    key: str | None
+    status: str
+    t0: float
+    t1: float
+    first: int
+    last: int
+    min_manipulability: float = math.nan
+    peak_speed_ratio: float = 0.0
+    fraction: float = 1.0
+    message: str = ""
+    cartesian_plan: cartesian.CartesianPlan | None = None
+
+    @property
+    def ok(self) -> bool:
+        """Whether the move was done."""
+        return self.status == "ok"
+
+    @property
+    def duration(self) -> float:
+        """Duration of the move [s]."""
+        return self.t1 - self.t0
+
+
+class ProgramPlan(Trajectory):
+    """A planned program: the whole motion as one timed joint motion, plus reports.
+
+    It is a :class:`~kinplan.trajectory.Trajectory` (quintic Hermite pieces through the samples,
+    exact in position, velocity and acceleration at every sample), so ``sample``, ``duration``
+    and :func:`kinplan.plot.plot_trajectory` work on it; its :attr:`knots` are the move
+    boundaries. The samples themselves are ``t``, ``q``, ``qd``, ``qdd``, as on a
+    :class:`cartesian.CartesianPlan`.
+
+    Args:
+        robot: The robot.
+        t: Sample times [s], shape (N,).
+        q: Joint positions [rad], shape (N, nq).
+        qd: Joint velocities [rad/s], shape (N, nq).
+        qdd: Joint accelerations [rad/s²], shape (N, nq).
+        moves: One report per move planned (the failed one last).
+        reason: One-line reason of the failure, or "" when every move was planned.
+        points: Taught points: name → tool position [m].
+        paths: The Cartesian paths of the lin/circ/path moves, in order.
+        program: The program planned, or None for a motion built in Python.
+        dt: Sampling period [s].
+
+    Attributes:
+        robot: The robot.
+        t: Sample times [s], shape (N,), every move appended in time.
+        q: Joint positions [rad], shape (N, nq).
+        qd: Joint velocities [rad/s], shape (N, nq).
+        qdd: Joint accelerations [rad/s²], shape (N, nq).
+        tool_positions: Tool positions by forward kinematics [m], shape (N, 3).
+        tool_quaternions: Tool orientations as quaternions (x, y, z, w), shape (N, 4), sign-
+            continuous.
+        tool_speed: Tool linear speed [m/s], shape (N,).
+        manipulability: Manipulability of every sample, shape (N,).
+        moves: One :class:`MoveReport` per move planned (the failed one last).
+        ok: Whether every move was planned.
+        status: ``ok`` or the failed move's status.
+        reason: One-line reason of the failure, or "".
+        events: The failure as one :class:`cartesian.Event` (``s`` is the share of the failed
+            move achieved, ``t`` the program time), or empty when ok.
+        points: Taught points: name → tool position [m] (markers for the viewer).
+        paths: The Cartesian paths of the lin/circ/path moves, in order.
+        program: The program planned, or None for a motion built in Python.
+        dt: Sampling period [s].
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        t: np.ndarray,
+        q: np.ndarray,
+        qd: np.ndarray,
+        qdd: np.ndarray,
+        moves: list[MoveReport],
+        reason: str = "",
+        points: dict[str, np.ndarray] | None = None,
+        paths: list[cartesian.Path] | None = None,
+        program: Program | None = None,
+        dt: float = DEFAULT_DT,
+    ) -> None:
+        self.robot = robot
+        self.t, self.q, self.qd, self.qdd = t, q, qd, qdd
+        self.moves = moves
+        self.reason = reason
+        self.ok = not reason
+        failed = [m for m in moves if not m.ok]
+        self.status = failed[0].status if failed else ("ok" if self.ok else "failed")
+        self.points = dict(points or {})
+        self.paths = list(paths or [])
+        self.program = program
+        self.dt = dt
+        boundaries = sorted({0} | {m.first for m in moves} | {m.last for m in moves})
+        super().__init__(
+            hermite_segments(t, q, qd, qdd),
+            waypoints=Waypoints(t[boundaries], q[boundaries]),
+            end=q[-1],
+            end_velocity=qd[-1],
+            end_acceleration=qdd[-1],
+        )
+        self._tool_states(robot)
+        self.events = self._failure_events(failed[0] if failed else None)
+
+    def __repr__(self) -> str:
+        state = "ok" if self.ok else f"failed: {self.reason}"
+        return (
+            f"ProgramPlan({self.robot.name}, {len(self.moves)} moves, {self.duration:.3f} s, "
+            f"{len(self.t)} samples, {state})"
+        )
+
+    @property
+    def knots(self) -> np.ndarray:
+        """Move boundaries [s] (not the sample pieces), so plots mark the moves."""
+        return np.unique(
+            np.concatenate(
+                [[0.0, self.duration], [m.t0 for m in self.moves], [m.t1 for m in self.moves]]
+            )
+        )
+
+    # -- kinplan.motion.SampledMotion: what viewers, plots and exports read --------------------
+    @property
+    def kind(self) -> MotionKind:
+        """Always "program": an event's ``s`` is the share of the failed move achieved."""
+        return "program"
+
+    @property
+    def description(self) -> str:
+        """The number of moves, for captions."""
+        return f"{len(self.moves)} moves"
+
+    @property
+    def planned_paths(self) -> list[PlannedPath]:
+        """The paths of the Cartesian moves, in order, each reached as far as its move got."""
+        plans = [m.cartesian_plan for m in self.moves if m.cartesian_plan is not None]
+        return [piece for plan in plans for piece in plan.planned_paths]
+
+    def _tool_states(self, robot: Robot) -> None:
+        n = len(self.t)
+        poses, jacobians = np.empty((n, 4, 4)), np.empty((n, 6, robot.nq))
+        for k in range(n):
+            pose, jacobians[k] = robot.pose_and_jacobian(self.q[k])
+            poses[k] = pose.homogeneous
+        self.tool_positions, self.tool_quaternions = pose_to_track(poses)
+        self.tool_speed = np.linalg.norm(np.einsum("nij,nj->ni", jacobians[:, :3], self.qd), axis=1)
+        position_only = robot.default_position_only()
+        rows, rank = robot.task_rows(position_only), robot.task_rank(position_only)
+        self.manipulability = manipulability_of(jacobians[:, rows], rank)
+        for move in self.moves:
+            window = slice(move.first, move.last + 1)
+            if math.isnan(move.min_manipulability):
+                move.min_manipulability = float(self.manipulability[window].min())
+
+    def _failure_events(self, move: MoveReport | None) -> list[cartesian.Event]:
+        """The failure as a :class:`cartesian.Event` in program time (for viewers and plots)."""
+        if move is None:
+            return []
+        return [
+            cartesian.Event(
+                kind=move.status,
+                t=move.t1,
+                s=move.fraction,
+                index=move.last,
+                message=self.reason,
+                position=self.tool_positions[move.last].copy(),
+            )
+        ]
+
+    def summary_rows(self) -> list[dict[str, object]]:
+        """One dict per move: number, move, key, duration [s], min manipulability, peak joint
+        speed / limit, status."""
+        return [
+            {
+                "number": m.number,
+                "move": m.label,
+                "key": m.key or "",
+                "duration": m.duration,
+                "min_manipulability": m.min_manipulability,
+                "peak_speed_ratio": m.peak_speed_ratio,
+                "status": m.status,
+            }
+            for m in self.moves
+        ]

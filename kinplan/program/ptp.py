@@ -1,0 +1,130 @@
+"""Timing of joint-interpolated (``ptp``) moves within the joint velocity limits."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from kinplan import trajectory
+from kinplan._profiles import PTP_PROFILES, REST_TO_REST_PEAKS
+from kinplan.errors import KinplanError
+from kinplan.program.schema import (
+    DEFAULT_PTP_SPEED,
+    FALLBACK_JOINT_SPEED,
+    PTP_JERK_TIME,
+    PTP_RAMP_TIME,
+)
+from kinplan.robot import Robot
+from kinplan.sampling import joint_speeds
+from kinplan.trajectory import Trajectory
+
+__all__ = ["peak_speed_ratio", "polynomial_duration", "ptp_trajectory"]
+
+
+def ptp_trajectory(
+    robot: Robot,
+    q_start: np.ndarray,
+    q_goal: np.ndarray,
+    duration: float | None,
+    speed: float | None,
+    profile: str,
+) -> Trajectory:
+    """The joint trajectory of a ``ptp`` move.
+
+    Every joint cruises within ``speed`` × its velocity limit (a joint without a limit at
+    :data:`~kinplan.program.FALLBACK_JOINT_SPEED`) and reaches it in
+    :data:`~kinplan.program.PTP_RAMP_TIME`. ``scurve`` and ``time_optimal`` use the robot's
+    acceleration limits where it has them (scaled by ``speed``; all of them with a
+    ``duration``), ``scurve`` with jerk ramps of :data:`~kinplan.program.PTP_JERK_TIME`.
+
+    Args:
+        robot: The arm.
+        q_start: Start configuration [rad], shape (nq,).
+        q_goal: Goal configuration [rad], shape (nq,).
+        duration: Duration [s], or None for the minimum time within the scaled limits.
+        speed: Share of the joint velocity limits in (0, 1], or None for
+            :data:`~kinplan.program.DEFAULT_PTP_SPEED`.
+        profile: ``trapezoid``, ``quintic``, ``cubic``, ``scurve`` or ``time_optimal``.
+
+    Raises:
+        InfeasibleError: an ``scurve`` or ``time_optimal`` ``duration`` the limits cannot meet
+            (the message states the minimum).
+        KinplanError: an unknown profile or a speed outside (0, 1].
+    """
+    if profile not in PTP_PROFILES:
+        raise KinplanError(f"unknown profile {profile!r}; choose one of {', '.join(PTP_PROFILES)}")
+    if speed is not None and not (0 < speed <= 1):
+        raise KinplanError(f"ptp speed is a share of the joint limits in (0, 1], got {speed}")
+    limit = robot.velocity_limit
+    limit = np.where(np.isfinite(limit), limit, FALLBACK_JOINT_SPEED)
+    max_velocity = limit * (DEFAULT_PTP_SPEED if speed is None else float(speed))
+    max_acceleration = max_velocity / PTP_RAMP_TIME
+    q0 = q_start
+    if profile in ("scurve", "time_optimal"):
+        # The robot's limits (all of them when a duration is given), the trapezoid's ramp
+        # where it has no acceleration limit, jerk from the acceleration ramp time.
+        share = DEFAULT_PTP_SPEED if speed is None else float(speed)
+        share = 1.0 if duration is not None else share
+        velocity = limit * share
+        known = robot.acceleration_limit
+        acceleration = np.where(np.isfinite(known), known * share, velocity / PTP_RAMP_TIME)
+        if profile == "scurve":
+            return trajectory.scurve(
+                q0, q_goal, velocity, acceleration, acceleration / PTP_JERK_TIME, duration
+            )
+        return trajectory.time_optimal([q0, q_goal], velocity, acceleration, 0.0, duration)
+    if profile == "trapezoid":
+        if duration is None:
+            return trajectory.trapezoid(
+                q0, q_goal, max_velocity=max_velocity, max_acceleration=max_acceleration
+            )
+        return trajectory.trapezoid(q0, q_goal, duration=duration)
+    if duration is None:
+        distance = np.abs(q_goal - q0)
+        duration = polynomial_duration(distance, max_velocity, max_acceleration, profile)
+    if duration == 0.0:  # nothing moves
+        return trajectory.trapezoid(q0, q_goal, max_velocity=1.0, max_acceleration=1.0)
+    build = trajectory.quintic if profile == "quintic" else trajectory.cubic
+    return build(q0, q_goal, duration)
+
+
+def polynomial_duration(
+    distance: np.ndarray, max_velocity: np.ndarray, max_acceleration: np.ndarray, profile: str
+) -> float:
+    """Shortest duration of a rest-to-rest cubic/quintic within the speed and acceleration
+    limits: peak speed k_v Δ/T, peak acceleration k_a Δ/T².
+
+    Args:
+        distance: |Δq| per joint [rad].
+        max_velocity: Speed limit per joint [rad/s].
+        max_acceleration: Acceleration limit per joint [rad/s²].
+        profile: ``cubic`` or ``quintic``.
+
+    Returns:
+        The duration [s] (0 when nothing moves).
+    """
+    k_v, k_a = REST_TO_REST_PEAKS[profile]
+    times = np.maximum(k_v * distance / max_velocity, np.sqrt(k_a * distance / max_acceleration))
+    return float(times.max(initial=0.0))
+
+
+def peak_speed_ratio(robot: Robot, t: np.ndarray, q: np.ndarray, qd: np.ndarray) -> float:
+    """Largest joint speed over its limit: the rates at the samples and the mean speeds
+    between them (:func:`kinplan.sampling.joint_speeds`).
+
+    Args:
+        robot: The arm (its velocity limits; joints without one are left out).
+        t: Sample times [s], shape (N,).
+        q: Joint positions [rad], shape (N, nq).
+        qd: Joint velocities [rad/s], shape (N, nq).
+
+    Returns:
+        The ratio [-] (0 without samples or limits).
+    """
+    if qd.size == 0:
+        return 0.0
+    limit = robot.velocity_limit
+    finite = np.isfinite(limit)
+    if not finite.any():
+        return 0.0
+    speeds = joint_speeds(q, qd, t)
+    return float(np.max(speeds[:, finite] / limit[finite]))

@@ -1,0 +1,159 @@
+"""The motion planned so far: samples of every move appended in time, and one report per move.
+
+A :class:`MotionRecord` is what a :class:`~kinplan.program.MotionBuilder` writes into: each move
+appends its samples (in the move's local time) and its :class:`~kinplan.program.MoveReport`
+(:meth:`MotionRecord.append`); a failed move is recorded, then raised as a
+:class:`~kinplan.program.MoveError` (:meth:`MotionRecord.fail`).
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import NoReturn
+
+import numpy as np
+
+import cartesian
+from kinplan.program.errors import MoveError
+from kinplan.program.plan import MoveReport
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["MotionRecord"]
+
+
+class MotionRecord:
+    """Samples and reports of the moves planned so far, from a start configuration at t = 0.
+
+    Args:
+        q_start: Start configuration [rad], shape (nq,).
+
+    Attributes:
+        reports: One report per move recorded (a failed one last).
+        reason: The failed move's one-line message, or "" while every move was done.
+    """
+
+    def __init__(self, q_start: np.ndarray) -> None:
+        nq = len(q_start)
+        self.reports: list[MoveReport] = []
+        self.reason = ""
+        self._t = [np.zeros(1)]
+        self._q = [np.array(q_start, dtype=float)[None, :]]
+        self._qd = [np.zeros((1, nq))]
+        self._qdd = [np.zeros((1, nq))]
+        self._time = 0.0
+        self._count = 1
+
+    @property
+    def time(self) -> float:
+        """End time of the motion so far [s]."""
+        return self._time
+
+    def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The samples so far: t [s] (N,), q [rad], qd [rad/s], qdd [rad/s²] (N, nq)."""
+        return (
+            np.concatenate(self._t),
+            np.vstack(self._q),
+            np.vstack(self._qd),
+            np.vstack(self._qdd),
+        )
+
+    def append(
+        self,
+        kind: str,
+        label: str,
+        key: str | None,
+        samples: tuple[np.ndarray, ...] | None = None,
+        *,
+        ratio: float = 0.0,
+        plan: cartesian.CartesianPlan | None = None,
+    ) -> MoveReport:
+        """Append a move that was done: its samples and its report.
+
+        Args:
+            kind: Kind shown in reports (``ptp``, ``lin``, ``circ``, ``path``, ...).
+            label: Description for reports.
+            key: Key path in a program, or None.
+            samples: (t [s] from 0, q, qd, qdd) of the move, the first sample being the end of
+                the motion so far; or None when the move produced none.
+            ratio: Peak joint speed over its limit [-].
+            plan: The move's :class:`cartesian.CartesianPlan`, if any.
+
+        Returns:
+            The move's report.
+        """
+        return self._add(kind, label, key, samples, "ok", "", ratio, 1.0, plan)
+
+    def fail(
+        self,
+        kind: str,
+        label: str,
+        key: str | None,
+        samples: tuple[np.ndarray, ...] | None = None,
+        *,
+        status: str,
+        why: str,
+        ratio: float = 0.0,
+        fraction: float = 0.0,
+        plan: cartesian.CartesianPlan | None = None,
+    ) -> NoReturn:
+        """Record a move that failed (the samples are the part achieved) and raise.
+
+        Args:
+            kind, label, key, samples, ratio, plan: As in :meth:`append`.
+            status: Why the move failed (``unreachable``, ``velocity_limit``, ``ik``, ...).
+            why: What went wrong and what to do, after the status.
+            fraction: Share of the move achieved [-].
+
+        Raises:
+            MoveError: always; its message is one line naming the move (number, label, key)
+                and ``why``, also kept in :attr:`reason`.
+        """
+        report = self._add(kind, label, key, samples, status, why, ratio, fraction, plan)
+        self.reason = report.message
+        logger.info("planning stopped: %s", report.message)
+        raise MoveError(report.message, report)
+
+    def _add(
+        self,
+        kind: str,
+        label: str,
+        key: str | None,
+        samples: tuple[np.ndarray, ...] | None,
+        status: str,
+        why: str,
+        ratio: float,
+        fraction: float,
+        plan: cartesian.CartesianPlan | None,
+    ) -> MoveReport:
+        number = len(self.reports) + 1
+        first, t0 = self._count - 1, self._time
+        if samples is not None:
+            t, q, qd, qdd = samples
+            self._t.append(np.asarray(t[1:], dtype=float) + self._time)
+            self._q.append(q[1:])
+            self._qd.append(qd[1:])
+            self._qdd.append(qdd[1:])
+            self._count += len(t) - 1
+            self._time += float(t[-1])
+        message = ""
+        if status != "ok":
+            where = f"{label}, {key}" if key else label
+            message = f"move {number} ({where}): {why}"
+        report = MoveReport(
+            number=number,
+            kind=kind,
+            label=label,
+            key=key,
+            status=status,
+            t0=t0,
+            t1=self._time,
+            first=first,
+            last=self._count - 1,
+            peak_speed_ratio=ratio,
+            fraction=fraction,
+            message=message,
+            cartesian_plan=plan,
+        )
+        self.reports.append(report)
+        return report

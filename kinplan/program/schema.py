@@ -1,0 +1,216 @@
+"""What a motion program contains: its keys, defaults, the validated dataclasses, the YAML loader.
+
+:class:`Program` holds a validated program: the robot, the start configuration, the taught
+:class:`Point` s and the :class:`Move` s. The constants are the defaults of the moves and the
+keys a program file may use; :class:`ProgramLoader` reads YAML with YAML 1.2 floats.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+import numpy as np
+import pinocchio as pin
+import yaml
+
+from kinplan.robot import Robot
+
+__all__ = [
+    "DEFAULT_DT",
+    "DEFAULT_PTP_SPEED",
+    "DEFAULT_TOOL_SPEED",
+    "FALLBACK_JOINT_SPEED",
+    "JOIN_TOLERANCE",
+    "MAX_COORDINATE",
+    "MOVE_KINDS",
+    "MOVE_OPTIONS",
+    "NAME_PATTERN",
+    "POINT_KEYS",
+    "POSE_KEYS",
+    "PTP_JERK_TIME",
+    "PTP_RAMP_TIME",
+    "TOP_KEYS",
+    "KeyPath",
+    "Move",
+    "Point",
+    "Program",
+    "ProgramLoader",
+]
+
+MOVE_KINDS = ("ptp", "lin", "circ")
+"""The kinds of move a program may use."""
+DEFAULT_DT = 0.01
+"""Sampling period of planned programs [s]."""
+DEFAULT_PTP_SPEED = 0.5
+"""Cruise speed of a ``ptp`` move without ``speed``/``duration``, share of the joint limits [-]."""
+PTP_RAMP_TIME = 0.5
+"""Time a ``ptp`` joint takes to reach its cruise speed (sets the joint acceleration) [s]."""
+PTP_JERK_TIME = 0.1
+"""Time an ``scurve`` ``ptp`` joint takes to build up its acceleration (sets the jerk) [s]."""
+FALLBACK_JOINT_SPEED = 1.0
+"""Velocity limit assumed for joints whose URDF gives none [rad/s]."""
+DEFAULT_TOOL_SPEED = 0.05
+"""Tool cruise speed of ``lin``/``circ`` moves without ``speed``/``duration`` [m/s]."""
+JOIN_TOLERANCE = 1e-6
+"""Largest joint gap accepted where a Cartesian move starts from the previous end [rad]."""
+MAX_COORDINATE = 1e6
+"""Largest |x|, |y|, |z| of a taught tool position [m]: anything beyond is a typo in a program
+(and out of reach of any arm)."""
+
+TOP_KEYS = (
+    "robot",
+    "tip",
+    "locked_joints",
+    "limits",
+    "package_dirs",
+    "base_pose",
+    "start",
+    "points",
+    "moves",
+    "description",
+)
+"""The keys a program may have at its top level."""
+POSE_KEYS = ("xyz", "rpy_deg", "quat_xyzw")
+"""The keys of a Cartesian pose (``base_pose:``)."""
+POINT_KEYS = ("joints", "joints_deg", "xyz", "rpy_deg", "quat_xyzw")
+"""The keys of a taught point."""
+MOVE_OPTIONS = ("via", "duration", "speed", "profile", "name")
+"""The keys of a move besides its kind."""
+NAME_PATTERN = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
+"""What a point name looks like."""
+
+KeyPath = tuple[str | int, ...]
+"""A key path in a program file, e.g. ``("moves", 2, "lin")``."""
+
+
+@dataclass
+class Point:
+    """A taught point: joint values, or a tool position with an optional orientation.
+
+    Attributes:
+        name: Point name.
+        joints: Joint values [rad], shape (nq,), or None for a Cartesian point.
+        position: Tool position [m], shape (3,), or None for a joint point.
+        rotation: Tool rotation (3×3) or None (keep the move's start orientation / position only).
+        key: Key path in the program (``points.a``).
+    """
+
+    name: str
+    joints: np.ndarray | None = None
+    position: np.ndarray | None = None
+    rotation: np.ndarray | None = None
+    key: str = ""
+
+    def tool_position(self, robot: Robot) -> np.ndarray:
+        """Tool position of the point [m] (by forward kinematics for a joint point).
+
+        Args:
+            robot: The arm the point is taught for.
+
+        Returns:
+            The position [m], shape (3,).
+        """
+        if self.joints is not None:
+            return np.array(robot.fk(self.joints).translation)
+        return np.array(self.position)
+
+    def goal(self, robot: Robot) -> np.ndarray | pin.SE3:
+        """The point as a Cartesian goal.
+
+        Args:
+            robot: The arm the point is taught for.
+
+        Returns:
+            A pose in the base frame, or a position [m] when no orientation is given (a joint
+            point's pose by forward kinematics).
+        """
+        if self.joints is not None:
+            return robot.fk(self.joints)
+        if self.rotation is None:
+            return self.position.copy()
+        return pin.SE3(self.rotation, self.position)
+
+
+@dataclass
+class Move:
+    """One move of a program.
+
+    Attributes:
+        index: Position in the ``moves`` list (0-based).
+        kind: ``ptp``, ``lin`` or ``circ``.
+        target: Name of the target point.
+        via: Name of the via point (``circ`` only).
+        duration: Requested duration [s] or None.
+        speed: Tool speed [m/s] (lin, circ) or share of the joint velocity limits (ptp), or None.
+        profile: ``trapezoid``, ``quintic`` or ``cubic``; for ``ptp`` also ``scurve`` or
+            ``time_optimal``.
+        name: Optional label given in the file.
+    """
+
+    index: int
+    kind: str
+    target: str
+    via: str | None = None
+    duration: float | None = None
+    speed: float | None = None
+    profile: str = "trapezoid"
+    name: str | None = None
+
+    @property
+    def key(self) -> str:
+        """Key path in the program, e.g. ``moves[2]``."""
+        return f"moves[{self.index}]"
+
+    @property
+    def label(self) -> str:
+        """Short description, e.g. ``lin to b`` or ``circ to a via c``."""
+        text = f"{self.kind} to {self.target}"
+        if self.via is not None:
+            text += f" via {self.via}"
+        return f"{self.name}: {text}" if self.name else text
+
+
+@dataclass
+class Program:
+    """A validated program, ready to plan.
+
+    Attributes:
+        source: File name (or ``<string>``).
+        robot: The loaded robot.
+        robot_source: The ``robot`` entry as written.
+        start: Start configuration [rad], shape (nq,).
+        points: Taught points by name, in file order.
+        moves: The moves, in order.
+        description: Free text from the file.
+        warnings: Non-fatal remarks (e.g. an orientation ignored by a planar arm).
+    """
+
+    source: str
+    robot: Robot
+    robot_source: str
+    start: np.ndarray
+    points: dict[str, Point]
+    moves: list[Move]
+    description: str = ""
+    warnings: list[str] = field(default_factory=list)
+
+
+class ProgramLoader(yaml.SafeLoader):
+    """PyYAML's safe loader with YAML 1.2 floats.
+
+    YAML 1.1 (PyYAML's default) only reads a float with a dot and a signed exponent, so
+    ``speed: 1e9`` or ``1.0e9`` would be a string; YAML 1.2's core schema reads ``1e9``,
+    ``1.0e9``, ``.5`` and ``-2E-3`` as floats, as programs mean them.
+    """
+
+
+ProgramLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(
+        r"^[-+]?(?:(?:[0-9][0-9_]*)?\.[0-9_]+(?:[eE][-+]?[0-9]+)?"  # .5, 1.5, 1.5e9
+        r"|[0-9][0-9_]*\.(?:[eE][-+]?[0-9]+)?"  # 1., 1.e9
+        r"|[0-9][0-9_]*[eE][-+]?[0-9]+)$"  # 1e9, 2E-3
+    ),
+    list("-+0123456789."),
+)
