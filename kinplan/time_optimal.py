@@ -47,7 +47,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kinplan import _profiles
+from kinplan import _profiles, phase_plane
 from kinplan.errors import InfeasibleError
 
 __all__ = [
@@ -405,26 +405,6 @@ class TimeOptimalPlan:
         return np.minimum(law.t[k] + np.clip(tau, 0.0, law.h[k]), self.duration)
 
 
-@dataclass(frozen=True, eq=False)
-class _Intervals:
-    """The path cut into intervals between nodes, with their limits in the phase plane.
-
-    On interval i (from node i to node i + 1, ``delta[i]`` long) every limit reads
-    ``−w − g x ≤ u ≤ w − g x`` for the path acceleration u and x = ṡ² at node i (one column
-    per limit; w = inf for none), and x ≤ ``ceiling[i]`` at node i. ``free[i]`` marks a line:
-    its limits are constant, so u need not be constant on it.
-    """
-
-    s: np.ndarray  # (I + 1,) node parameters
-    delta: np.ndarray  # (I,)
-    w: np.ndarray  # (I, R)
-    g: np.ndarray  # (I, R)
-    ceiling: np.ndarray  # (I,)
-    free: np.ndarray  # (I,) bool
-    piece: np.ndarray  # (I,)
-    stop: np.ndarray  # (I + 1,) bool: the motion is at rest at this node
-
-
 def _initial_nodes(path: JointPath, arc_step: float) -> tuple[np.ndarray, np.ndarray]:
     """Node parameters (every interval's start) and the piece of each interval: one interval
     per line, arcs cut into equal intervals of at most ``arc_step`` rad of arc."""
@@ -458,8 +438,8 @@ def _intervals(
     max_acceleration: np.ndarray,
     starts: np.ndarray,
     piece: np.ndarray,
-) -> _Intervals:
-    """The limits on each interval (see :class:`_Intervals`).
+) -> phase_plane.Intervals:
+    """The limits on each interval (see :class:`kinplan.phase_plane.Intervals`).
 
     Args:
         path: The path.
@@ -469,100 +449,23 @@ def _intervals(
         piece: The piece of each interval, shape (I,).
     """
     s = np.append(starts, path.length)
-    delta = np.diff(s)
     free = ~path.is_arc(piece)
-    first_start = path.evaluate(starts, 1, piece)
-    second_start = path.evaluate(starts, 2, piece)
-    first_end = path.evaluate(s[1:], 1, piece)
-    second_end = path.evaluate(s[1:], 2, piece)
-    scale = np.where(free, 1.0 - _profiles.LIMIT_MARGIN, 1.0 - ARC_MARGIN)[:, None]
-    acceleration = max_acceleration[None, :] * scale
-    velocity = max_velocity[None, :] * scale
-    # Rows at the start of the interval (alpha u + beta x); at its end, with x_end = x + 2Δu.
-    alpha = np.hstack([first_start, first_end + 2.0 * delta[:, None] * second_end])
-    beta = np.hstack([second_start, second_end])
-    limit = np.hstack([acceleration, acceleration])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        w = np.where(alpha != 0.0, limit / np.abs(alpha), np.inf)
-        g = np.where(alpha != 0.0, beta / alpha, 0.0)
-        # rows with alpha = 0 bound x alone: |beta| x ≤ a
-        alone = np.where((alpha == 0.0) & (beta != 0.0), limit / np.abs(beta), np.inf)
-        speed_bound = np.where(first_start != 0.0, (velocity / first_start) ** 2, np.inf)
-        # Largest x for which some u meets every row: each lower bound below each upper one.
-        spread = np.abs(g[:, :, None] - g[:, None, :])
-        pair = (w[:, :, None] + w[:, None, :]) / spread
-    pair = np.where(spread > 0.0, pair, np.inf)
-    ceiling = np.minimum.reduce([pair.min(axis=(1, 2)), alone.min(axis=1), speed_bound.min(axis=1)])
-    stop = np.zeros(s.size, dtype=bool)
-    stop[0] = stop[-1] = True
-    if path.stops.size:
-        stop[np.searchsorted(s, path.stops)] = True
-    return _Intervals(s, delta, w, g, ceiling, free, piece, stop)
+    return phase_plane.intervals(
+        s,
+        path.evaluate(starts, 1, piece),
+        path.evaluate(starts, 2, piece),
+        path.evaluate(s[1:], 1, piece),
+        path.evaluate(s[1:], 2, piece),
+        max_velocity,
+        max_acceleration,
+        np.where(free, 1.0 - _profiles.LIMIT_MARGIN, 1.0 - ARC_MARGIN),
+        free=free,
+        piece=piece,
+        stops=path.stops,
+    )
 
 
-def _controllable(intervals: _Intervals) -> np.ndarray:
-    """Backward pass: the largest x = ṡ² at each node from which the end can still be reached
-    at rest within the limits, shape (I + 1,).
-
-    From node i + 1 with largest controllable x = k, the largest x at node i is
-    ``min(ceiling_i, min_r (k + 2Δ w_r) / (1 − 2Δ g_r))`` over the rows with 1 − 2Δ g_r > 0
-    (braking at the lower bound of every row must reach k); the other rows never bind.
-    """
-    d = intervals.delta[:, None]
-    shrink = 1.0 - 2.0 * d * intervals.g
-    usable = (shrink > 0.0) & np.isfinite(intervals.w)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        slope = np.where(usable, 1.0 / shrink, 0.0)
-        offset = np.where(usable, 2.0 * d * intervals.w / shrink, np.inf)
-    rows = _row_lists(slope, offset)
-    ceiling = intervals.ceiling.tolist()
-    stop = intervals.stop.tolist()
-    k = [0.0] * (len(ceiling) + 1)
-    value = 0.0
-    for i in range(len(ceiling) - 1, -1, -1):
-        best = ceiling[i]
-        for a, b in zip(*rows[i]):  # plain floats: far faster than numpy on a dozen values
-            bound = a * value + b
-            if bound < best:
-                best = bound
-        value = 0.0 if stop[i] else max(best, 0.0)
-        k[i] = value
-    return np.array(k)
-
-
-def _fastest(intervals: _Intervals, controllable: np.ndarray) -> np.ndarray:
-    """Forward pass: the fastest x = ṡ² at each node, from rest, staying controllable.
-
-    From x at node i the largest path acceleration is ``min_r (w_r − g_r x)``; the next node
-    takes ``min(k_{i+1}, x + 2Δ u)`` (and the ceiling on a line, whose limits are constant).
-    """
-    rows = _row_lists(-intervals.g, intervals.w)  # w = inf: no bound
-    delta = intervals.delta.tolist()
-    free = intervals.free.tolist()
-    ceiling = intervals.ceiling.tolist()
-    k = controllable.tolist()
-    x = [0.0] * (len(delta) + 1)
-    value = 0.0
-    for i in range(len(delta)):
-        upper = math.inf
-        for a, b in zip(*rows[i]):
-            bound = a * value + b
-            if bound < upper:
-                upper = bound
-        reach = value + 2.0 * delta[i] * upper
-        if free[i] and ceiling[i] < reach:
-            reach = ceiling[i]
-        value = max(min(k[i + 1], reach), 0.0)
-        x[i + 1] = value
-    return np.array(x)
-
-
-def _row_lists(slope: np.ndarray, offset: np.ndarray) -> list[tuple[list[float], list[float]]]:
-    """Per interval, the rows' slopes and offsets as lists of Python floats."""
-    return list(zip(slope.tolist(), offset.tolist(), strict=True))
-
-
-def _law(intervals: _Intervals, x: np.ndarray) -> PathLaw:
+def _law(intervals: phase_plane.Intervals, x: np.ndarray) -> PathLaw:
     """The phases of the optimal law from the node speeds: one per arc interval, up to three
     (accelerate, cruise, brake) per line."""
     s_list, sd_list, sdd_list, h_list, piece_list = [], [], [], [], []
@@ -705,7 +608,7 @@ def plan(
     starts, piece = _initial_nodes(path, ARC_STEP)
     for _ in range(_REFINEMENTS + 1):
         intervals = _intervals(path, max_velocity, max_acceleration, starts, piece)
-        law = _law(intervals, _fastest(intervals, _controllable(intervals)))
+        law = _law(intervals, phase_plane.fastest(intervals, phase_plane.controllable(intervals)))
         minimum = law.duration
         if duration is not None:
             _check_duration(duration, minimum)
