@@ -21,6 +21,7 @@ from cartesian.paths import (
     Path,
     PathSequence,
     Polyline,
+    Weave,
 )
 
 __all__ = [
@@ -37,6 +38,7 @@ __all__ = [
     "Polyline",
     "Reachability",
     "Status",
+    "Weave",
     "check_reachability",
     "follow",
 ]

@@ -501,6 +501,123 @@ class HeldOrientation(Path):
         return self.path.position_derivatives(s)
 
 
+WEAVE_PATTERNS = ("sine", "triangle", "trapezoid")
+
+
+class Weave(Path):
+    """A weaving torch: a lateral oscillation across a seam, superposed on any path.
+
+    The tool moves along ``path`` (the seam) and, at the same time, across it: by w(u) along
+    e(s) = (n × t)/|n × t|, the direction across the seam in the plane perpendicular to ``normal``
+    (n; t is the seam's tangent), where u is the distance travelled along the seam [m]. The
+    path parameter s stays the seam's length fraction and :attr:`length` the seam's length, so a
+    tool ``speed`` given to :func:`cartesian.follow` is the travel speed along the seam (kept
+    constant) while the torch weaves. The orientation is the seam's.
+
+    Patterns over one wavelength λ (amplitude A): ``sine`` A sin(2πu/λ); ``triangle`` straight
+    sweeps between ±A; ``trapezoid`` straight sweeps with a quarter wavelength held at each side.
+    ``dwell`` [m of travel] holds the torch at each side for that distance more (a dwell time of
+    dwell / speed), within the same wavelength.
+
+    Args:
+        path: The seam (any path).
+        amplitude: A, the largest lateral offset [m] (> 0).
+        wavelength: λ, the seam distance of one full oscillation [m] (> 2 dwell).
+        pattern: "sine", "triangle" or "trapezoid".
+        dwell: Travel held at each side [m] (≥ 0).
+        normal: n, the axis the oscillation is perpendicular to (world frame); default the tool
+            axis (the z axis of the seam's orientation), or the world z for a position-only seam.
+    """
+
+    def __init__(
+        self,
+        path: Path,
+        amplitude: float,
+        wavelength: float,
+        pattern: str = "sine",
+        dwell: float = 0.0,
+        normal=None,
+    ):
+        if not isinstance(path, Path):
+            raise InputError(f"Weave needs a path to weave along, got {checks.describe(path)}")
+        if path.length <= 0:
+            raise InputError("Weave needs a seam of non-zero length")
+        self.amplitude = checks.number(amplitude, "amplitude", positive=True, unit="m")
+        self.wavelength = checks.number(wavelength, "wavelength", positive=True, unit="m")
+        self.pattern = checks.choice(pattern, "pattern", WEAVE_PATTERNS)
+        self.dwell = checks.number(dwell, "dwell", minimum=0.0, unit="m")
+        if 2.0 * self.dwell >= self.wavelength:
+            raise InputError(
+                f"dwell {self.dwell} m at each side leaves no travel to sweep across in a "
+                f"wavelength of {self.wavelength} m; give dwell < wavelength / 2"
+            )
+        self.normal = None
+        if normal is not None:
+            n = checks.vector(normal, "normal", 3)
+            if np.linalg.norm(n) < 1e-9:
+                raise InputError(f"normal must be a non-zero 3-vector, got {n.tolist()}")
+            self.normal = n / np.linalg.norm(n)
+        self.path = path
+        self.length = path.length
+        self.has_orientation = path.has_orientation
+        self.slerp = path.slerp
+        # differences resolve the oscillation: a hundredth of a wavelength at most
+        self._fd_step = min(path._fd_step, self.wavelength / self.length / 100.0)
+        tangent, _ = path.position_derivatives(np.linspace(0.0, 1.0, 257))
+        if np.any(np.linalg.norm(np.cross(self._normals(np.linspace(0.0, 1.0, 257)), tangent),
+                                 axis=1) < 1e-9 * self.length):  # fmt: skip
+            raise InputError("Weave: the seam runs along the normal somewhere; give another normal")
+
+    def __repr__(self) -> str:
+        return (
+            f"Weave({self.path!r}, {self.pattern}, amplitude {self.amplitude:g} m, "
+            f"wavelength {self.wavelength:g} m)"
+        )
+
+    def _normals(self, s: np.ndarray) -> np.ndarray:
+        if self.normal is not None:
+            return np.tile(self.normal, (len(s), 1))
+        rotations = self.path.rotation(s)
+        if rotations is None:
+            return np.tile([0.0, 0.0, 1.0], (len(s), 1))
+        return rotations[:, :, 2]
+
+    def offset(self, s) -> np.ndarray:
+        """The lateral offset w [m] at path fractions ``s`` (N,)."""
+        u = np.clip(_as_s(s), 0.0, 1.0) * self.length
+        cycle = np.mod(u, self.wavelength)
+        # warp the cycle so that the shape's extremes (phases 1/4 and 3/4) last `dwell` longer
+        moving = self.wavelength - 2.0 * self.dwell
+        quarter, d = 0.25 * moving, self.dwell
+        knots = [0.0, quarter, quarter + d, 3 * quarter + d, 3 * quarter + 2 * d, self.wavelength]
+        phase = np.interp(cycle, knots, [0.0, 0.25, 0.25, 0.75, 0.75, 1.0])
+        triangle = np.interp(phase, [0.0, 0.25, 0.75, 1.0], [0.0, 1.0, -1.0, 0.0])
+        if self.pattern == "sine":
+            shape = np.sin(2.0 * np.pi * phase)
+        elif self.pattern == "triangle":
+            shape = triangle
+        else:
+            shape = np.clip(2.0 * triangle, -1.0, 1.0)
+        return self.amplitude * shape
+
+    def across(self, s) -> np.ndarray:
+        """The unit direction across the seam (N, 3) at path fractions ``s``."""
+        s = np.clip(_as_s(s), 0.0, 1.0)
+        tangent, _ = self.path.position_derivatives(s)
+        side = np.cross(self._normals(s), tangent)
+        return side / np.linalg.norm(side, axis=1)[:, None]
+
+    def position(self, s) -> np.ndarray:
+        s = np.clip(_as_s(s), 0.0, 1.0)
+        return self.path.position(s) + self.offset(s)[:, None] * self.across(s)
+
+    def _rotation(self, s: np.ndarray) -> np.ndarray:
+        return self.path.rotation(s)
+
+    def angular_rates(self, s) -> tuple[np.ndarray, np.ndarray]:
+        return self.path.angular_rates(s)
+
+
 class FunctionPath(Path):
     """Any continuous curve p(u), u ∈ [0, 1], re-parametrised by arc length.
 
