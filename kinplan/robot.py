@@ -20,7 +20,14 @@ import pinocchio as pin
 
 from kinplan import checks
 from kinplan.errors import InputError, RobotNotFoundError
-from kinplan.ik import IKResult, IKSolver, finite_bounds, halton
+from kinplan.ik import (
+    AnalyticIK,
+    IKResult,
+    IKSolver,
+    analytic_solver_for,
+    finite_bounds,
+    halton,
+)
 from kinplan.planar import planar_arm_urdf, write_planar_arm
 from kinplan.sources import RobotSpec, known_names, resolve_source
 from kinplan.urdf_model import build_chain, frame_id
@@ -423,6 +430,93 @@ class Robot:
             result.q[unbounded] -= _TAU * turns
         return result
 
+    # ------------------------------------------------------------------ batch IK (issue 19)
+    def ik_batch(
+        self,
+        targets: np.ndarray | Sequence[pin.SE3],
+        q_seed: Sequence[float] | np.ndarray | None = None,
+        position_only: bool = False,
+        *,
+        position_tolerance: float = 1e-6,
+        rotation_tolerance: float = 1e-6,
+        max_iterations: int = 40,
+        max_restarts: int = 40,
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`ik` for many targets at once, vectorised over the targets.
+
+        Arms with a vectorised closed form (planar 2R, UR family) solve every branch of every
+        target in one numpy pass and keep per target the solution nearest its seed, as
+        :meth:`ik` does; the panda's closed form runs target by target; other arms run the
+        damped least-squares iteration of :meth:`ik` on all targets at once, restarting the
+        failed ones from the same Halton configurations (see :mod:`kinplan.batch_ik`). A target
+        the closed form cannot reach within the limits fails without numerical attempts.
+
+        Args:
+            targets: Tool poses, an (N, 4, 4) array of homogeneous matrices or a list of
+                ``pin.SE3``, or tool positions (N, 3) [m] (position only), in the base frame.
+            q_seed: One start configuration (nq,) for all targets or one per target (N, nq)
+                (default :meth:`neutral`).
+            position_only: Ignore the targets' orientations.
+            position_tolerance: Success threshold on the position error [m].
+            rotation_tolerance: Success threshold on the rotation error [rad].
+            max_iterations: Iterations per numerical attempt.
+            max_restarts: Numerical restarts after the seeded attempt fails.
+
+        Returns:
+            (q, success): configurations (N, nq) within the limits (for a failure the best one
+            found, or the seed clipped into the limits) and (N,) booleans.
+
+        Raises:
+            InputError: targets of another shape, not finite, rotations that are not
+                rotations, seeds of the wrong size; tolerances and counts as :meth:`ik`.
+        """
+        from kinplan.batch_ik import parse_targets
+
+        positions, rotations = parse_targets(targets)
+        if checks.flag(position_only, "position_only"):
+            rotations = None
+        count = len(positions)
+        if q_seed is None:
+            seeds = np.tile(self.neutral(), (count, 1))
+        else:
+            seeds = np.asarray(q_seed, dtype=float) if not isinstance(q_seed, str) else None
+            if seeds is not None and seeds.shape == (self.nq,):
+                seeds = np.tile(self.check_q(seeds, "q_seed"), (count, 1))
+            elif seeds is None or seeds.shape != (count, self.nq):
+                raise InputError(
+                    f"q_seed must be one configuration ({self.nq},) or one per target "
+                    f"({count}, {self.nq}) [rad or m], got {checks.describe(q_seed)}"
+                )
+            elif not np.all(np.isfinite(seeds)):
+                raise InputError("q_seed must be finite")
+            seeds = np.clip(seeds, self.lower - _TAU, self.upper + _TAU)
+        position_tolerance = checks.number(
+            position_tolerance, "position_tolerance", positive=True, unit="m"
+        )
+        rotation_tolerance = checks.number(
+            rotation_tolerance, "rotation_tolerance", positive=True, unit="rad"
+        )
+        max_iterations = checks.count(max_iterations, "max_iterations", minimum=1)
+        max_restarts = checks.count(max_restarts, "max_restarts", minimum=0)
+        q, success = self.batch_solver.solve(
+            positions, rotations, seeds, position_tolerance, rotation_tolerance,
+            max_iterations, max_restarts,
+        )  # fmt: skip
+        unbounded = self._unbounded
+        if unbounded.size:  # continuous joints: the equivalent angle nearest the seed
+            q[:, unbounded] -= _TAU * np.round((q[:, unbounded] - seeds[:, unbounded]) / _TAU)
+        return q, success
+
+    @property
+    def batch_solver(self):
+        """The solver behind :meth:`ik_batch` (:class:`kinplan.batch_ik.BatchSolver`), built
+        on first use."""
+        if "_batch_solver" not in self.__dict__:
+            from kinplan.batch_ik import BatchSolver
+
+            self._batch_solver = BatchSolver(self)
+        return self._batch_solver
+
     def jacobian_time_variations(
         self, q: np.ndarray, qd: np.ndarray, jacobians: np.ndarray | None = None
     ) -> np.ndarray:
@@ -488,15 +582,13 @@ class Robot:
         return cache[position_only]
 
     @property
-    def closed_form_ik(self):
+    def closed_form_ik(self) -> AnalyticIK | None:
         """The closed-form IK solver of this arm (planar 2R, UR family, panda), or None.
 
         Built on first use from the model's geometry and checked against its FK
-        (:func:`kinplan.analytic_ik.analytic_solver_for`).
+        (:func:`kinplan.ik.analytic_solver_for`).
         """
         if not hasattr(self, "_closed_form"):
-            from kinplan.analytic_ik import analytic_solver_for
-
             self._closed_form = analytic_solver_for(self)
         return self._closed_form
 

@@ -11,7 +11,7 @@ links fixed to the link that carries the robot's tip frame (the flange):
 
 Everything else is kept: locked joints, base pose, joint limits (as the robot has them), mesh
 paths (made absolute). The closed-form IK of UR-type arms and of the panda is rebuilt for the
-new tip and checked against the forward kinematics (:func:`kinplan.analytic_ik.self_check`); an
+new tip and checked against the forward kinematics (:func:`kinplan.ik.self_check`); an
 arm whose closed form does not hold for the TCP uses the numerical solver.
 """
 

@@ -1,4 +1,4 @@
-"""Closed-form IK (kinplan.analytic_ik): every solution checked with Pinocchio FK."""
+"""Closed-form IK (kinplan.ik closed forms): every solution checked with Pinocchio FK."""
 
 from __future__ import annotations
 
@@ -13,16 +13,9 @@ import pytest
 from conftest import cached_robot
 
 import kinplan
-from kinplan.analytic_ik import (
-    URIK,
-    Planar2RIK,
-    _ClosedFormIK,
-    _NeedsBatch,
-    analytic_solver_for,
-    wrap_angle,
-)
 from kinplan.errors import InputError
-from kinplan.panda_ik import PandaIK
+from kinplan.ik import URIK, ClosedFormIK, PandaIK, Planar2RIK, analytic_solver_for, wrap_angle
+from kinplan.ik.ur import NeedsBatch
 
 UR_ARMS = ["ur3", "ur5", "ur10"]
 
@@ -81,7 +74,7 @@ def follow_per_sample(solver, positions, rotations, q_ref) -> np.ndarray:
 def test_solver_kinds():
     assert all(isinstance(solver_of(name), URIK) for name in UR_ARMS)
     assert isinstance(solver_of("planar_2r"), Planar2RIK)
-    assert isinstance(solver_of("panda"), PandaIK)  # q7-parametrised (kinplan.panda_ik)
+    assert isinstance(solver_of("panda"), PandaIK)  # q7-parametrised (kinplan.ik.panda)
     assert analytic_solver_for(kinplan.planar_arm([1.0, 1.0, 1.0])) is None
 
 
@@ -395,7 +388,7 @@ def fast_nearest(solver, target: pin.SE3, q_ref: np.ndarray):
     """The single-pose path alone; None when it leaves the pose to the batch path."""
     try:
         return ("fast", solver._nearest_fast(target.translation, target.rotation, q_ref))
-    except _NeedsBatch:
+    except NeedsBatch:
         return ("batch", None)
 
 
@@ -440,7 +433,7 @@ def test_fast_solutions_equal_batch_path(name):
     for _ in range(200):
         target = robot.fk(robot.random_configuration(rng))
         fast = solver.solutions(target.translation, target.rotation)
-        batch = _ClosedFormIK.solutions(solver, target.translation, target.rotation)
+        batch = ClosedFormIK.solutions(solver, target.translation, target.rotation)
         assert fast.shape == batch.shape
         np.testing.assert_allclose(fast, batch, rtol=0.0, atol=1e-9)
 
@@ -696,6 +689,6 @@ def test_fast_nearest_equals_batch_path_on_modified_geometries(tmp_path, variant
         used_fast += path == "fast"
         assert assert_same_answer(solver, robot, target, q_ref) is not None
         fast = solver.solutions(target.translation, target.rotation)
-        batch = _ClosedFormIK.solutions(solver, target.translation, target.rotation)
+        batch = ClosedFormIK.solutions(solver, target.translation, target.rotation)
         np.testing.assert_allclose(fast, batch, rtol=0.0, atol=1e-9)
     assert used_fast >= 140

@@ -1,4 +1,4 @@
-"""Semi-analytic IK of panda-type arms (kinplan.panda_ik), checked against Pinocchio FK."""
+"""Semi-analytic IK of panda-type arms (kinplan.ik.panda), checked against Pinocchio FK."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from conftest import cached_robot
 
 import kinplan
 from kinplan.errors import InputError
-from kinplan.panda_ik import PandaIK, panda_solver_for
+from kinplan.ik.panda import PandaIK, panda_solver_for
 
 
 @pytest.fixture(scope="module")
@@ -78,8 +78,8 @@ def test_unreachable_pose_has_no_solution(panda_solver):
 
 def test_elbow_q7_intervals_match_a_scan_of_q7(panda, panda_solver):
     """θ7 lies in the closed-form intervals exactly where θ4 has a value within its limits."""
-    from kinplan.analytic_ik import _joint_choice
-    from kinplan.panda_ik import _dot, _rotate, _sub
+    from kinplan.ik.panda import _dot, _rotate, _sub
+    from kinplan.ik.screws import joint_choice as _joint_choice
 
     g, solver = panda_solver.geometry, panda_solver
     rng = np.random.default_rng(16)
@@ -250,7 +250,7 @@ def test_joint_zero_offsets_are_absorbed(tmp_path):
 
 # ---------------------------------------------------------------------------- Robot.ik
 def test_robot_ik_uses_the_panda_solver(panda):
-    from kinplan.analytic_ik import analytic_solver_for
+    from kinplan.ik import analytic_solver_for
 
     assert isinstance(analytic_solver_for(panda), PandaIK)
     rng = np.random.default_rng(16)

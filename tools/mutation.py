@@ -24,7 +24,7 @@ run (the table says so). mutmut leaves module-level constants and default argume
 are covered by the tests named in MUTATION.md.
 
 Usage:
-    python tools/mutation.py [--modules kinplan/ik.py ...] [--sample 400] [--seed 0]
+    python tools/mutation.py [--modules kinplan/ik/numeric.py ...] [--sample 400] [--seed 0]
         [--max-children 2] [--workdir DIR] [--keep]
 """
 
@@ -76,14 +76,18 @@ MODULES: dict[str, list[str]] = {
         "tests/test_validation.py",
         "tests/test_errors.py",
     ],
-    "kinplan/ik.py": [
+    "kinplan/ik/numeric.py": [
         "tests/test_ik.py",
         "tests/test_robot.py",
         "tests/test_urdf*.py",
         "tests/test_validation.py",
         "tests/test_errors.py",
     ],
-    "kinplan/analytic_ik.py": ["tests/test_analytic_ik.py", "tests/test_panda_ik.py"],
+    "kinplan/ik/ur.py": ["tests/test_analytic_ik.py"],
+    "kinplan/ik/planar.py": ["tests/test_analytic_ik.py"],
+    "kinplan/ik/base.py": ["tests/test_analytic_ik.py", "tests/test_panda_ik.py"],
+    "kinplan/ik/screws.py": ["tests/test_analytic_ik.py", "tests/test_panda_ik.py"],
+    "kinplan/ik/panda.py": ["tests/test_panda_ik.py"],
     "cartesian/follow.py": FOLLOW_TESTS,
     "cartesian/tracker.py": FOLLOW_TESTS,
     "cartesian/geometry.py": FOLLOW_TESTS,

@@ -354,7 +354,7 @@ class IKSolver:
         a solution whose revolute joints come within the limits by whole turns is taken
         (polished there). Either counts as one more attempt.
 
-        With a ``closed_form`` solver (see :mod:`kinplan.analytic_ik`), its solution nearest the
+        With a ``closed_form`` solver (see :mod:`kinplan.ik.closed_form`), its solution nearest the
         seed comes first; the numerical attempts only run when it has none within the limits
         (then they return the closest configuration they find, ``success=False``).
 

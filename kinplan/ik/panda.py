@@ -3,7 +3,7 @@
 With the last joint angle θ7 fixed, the remaining six joints have a closed form (the idea of He &
 Liu, *Analytical Inverse Kinematics for Franka Emika Panda – a Geometrical Solver for 7-DOF
 Manipulators with Unconventional Design*, 2021). It is derived here in the screw form of
-:mod:`kinplan.analytic_ik`, on the model's own frames: at q = 0 every joint i is a rotation about
+:mod:`kinplan.ik.ur`, on the model's own frames: at q = 0 every joint i is a rotation about
 a unit axis ``ωᵢ`` through a point ``pᵢ`` (world frame), and the tool pose is
 ``T(q) = exp(S1 θ1) ⋯ exp(S7 θ7) M``. The structure this needs, checked on the model:
 
@@ -43,18 +43,18 @@ from operator import itemgetter
 
 import numpy as np
 
-from kinplan.analytic_ik import (
-    _CLAMP,
-    _FREE_TOL,
-    _LIMIT_TOL,
-    _STRUCTURE_TOL,
-    TAU,
-    _joint_choice,
-    _plane_basis,
-    _screws_at_zero,
-    self_check,
-)
 from kinplan.errors import InputError
+from kinplan.ik.base import self_check
+from kinplan.ik.screws import (
+    CLAMP,
+    FREE_TOL,
+    LIMIT_TOL,
+    STRUCTURE_TOL,
+    TAU,
+    joint_choice,
+    plane_basis,
+    screws_at_zero,
+)
 
 logger = logging.getLogger(__name__)
 
@@ -193,7 +193,7 @@ def _angle_about(axis: Vec, a: Vec, b: Vec, free: float) -> float:
     u, v, w = b
     k = ux * u + uy * v + uz * w
     u, v, w = u - k * ux, v - k * uy, w - k * uz
-    if x * x + y * y + z * z < _FREE_TOL**2 or u * u + v * v + w * w < _FREE_TOL**2:
+    if x * x + y * y + z * z < FREE_TOL**2 or u * u + v * v + w * w < FREE_TOL**2:
         return free
     return math.atan2(
         ux * (y * w - z * v) + uy * (z * u - x * w) + uz * (x * v - y * u), x * u + y * v + z * w
@@ -244,7 +244,7 @@ class _AxisPair:
         beta = (kb - c * ka) / n2
         length2 = 0.5 * (ux * ux + uy * uy + uz * uz + vx * vx + vy * vy + vz * vz)
         rest = length2 - alpha * alpha - beta * beta - 2.0 * alpha * beta * c
-        if rest < -_CLAMP * max(length2, 1e-300):
+        if rest < -CLAMP * max(length2, 1e-300):
             return []
         gamma = math.sqrt(max(rest, 0.0) / n2)
         # z = m ± γ n with m = α a + β b. Subproblem 1 about a (u to z) and about b (z to v):
@@ -257,9 +257,9 @@ class _AxisPair:
         sin_b, sin_b_g, cos_b = -alpha * vn, va - c * kb, alpha * va + beta * kb - kb * kb
         # u (v) on axis a (b): every angle θa (θb) is a solution
         px, py, pz = ux - ka * ax, uy - ka * ay, uz - ka * az
-        a_free = px * px + py * py + pz * pz < _FREE_TOL**2
+        a_free = px * px + py * py + pz * pz < FREE_TOL**2
         px, py, pz = vx - kb * bx, vy - kb * by, vz - kb * bz
-        b_free = px * px + py * py + pz * pz < _FREE_TOL**2
+        b_free = px * px + py * py + pz * pz < FREE_TOL**2
         out = []
         for g in (gamma, -gamma) if gamma > 0.0 else (gamma,):
             theta_a = free_a if a_free else math.atan2(sin_a + g * sin_a_g, cos_a + g * un)
@@ -281,12 +281,12 @@ def _line_intersection(p: np.ndarray, u: np.ndarray, q: np.ndarray, v: np.ndarra
     """The common point of the lines p + t·u and q + r·v (unit u, v), or None when they are
     parallel or miss each other by more than the structure tolerance."""
     n = np.cross(u, v)
-    if np.linalg.norm(n) < _STRUCTURE_TOL:
+    if np.linalg.norm(n) < STRUCTURE_TOL:
         return None
     # closest points: solve [u, −v] (t, r) = q − p in the least-squares sense
     t, r = np.linalg.lstsq(np.column_stack([u, -v]), q - p, rcond=None)[0]
     a, b = p + t * u, q + r * v
-    if np.linalg.norm(a - b) > _STRUCTURE_TOL:
+    if np.linalg.norm(a - b) > STRUCTURE_TOL:
         return None
     return 0.5 * (a + b)
 
@@ -325,20 +325,20 @@ def panda_geometry(robot) -> PandaGeometry | None:
     """
     if robot.nq != 7:
         return None
-    screws = _screws_at_zero(robot)
+    screws = screws_at_zero(robot)
     if screws is None:
         return None
     u, p = screws.directions, screws.points
     shoulder = _line_intersection(p[0], u[0], p[1], u[1])
-    if shoulder is None or _distance_to_line(shoulder, p[2], u[2]) > _STRUCTURE_TOL:
+    if shoulder is None or _distance_to_line(shoulder, p[2], u[2]) > STRUCTURE_TOL:
         return None
-    if np.linalg.norm(np.cross(u[1], u[2])) < _STRUCTURE_TOL:
+    if np.linalg.norm(np.cross(u[1], u[2])) < STRUCTURE_TOL:
         return None
     wrist = _line_intersection(p[4], u[4], p[5], u[5])
     if wrist is None:
         return None
     for point in (shoulder, wrist):  # θ4 must change the shoulder–wrist distance
-        if _distance_to_line(point, p[3], u[3]) < 1e3 * _STRUCTURE_TOL:
+        if _distance_to_line(point, p[3], u[3]) < 1e3 * STRUCTURE_TOL:
             return None
     tool = screws.tool
     return PandaGeometry(
@@ -385,7 +385,7 @@ class PandaIK:
         g = geometry
         self._wrist_pair = _AxisPair.of(g.axes[4], g.axes[5])  # Ra = axis 5, Rb = axis 6
         self._shoulder_pair = _AxisPair.of(g.axes[1], g.axes[0])  # Ra = axis 2, Rb = axis 1
-        self._e3 = _floats(_plane_basis(np.array(g.axes[2]))[0])  # ⟂ axis 3, for θ3
+        self._e3 = _floats(plane_basis(np.array(g.axes[2]))[0])  # ⟂ axis 3, for θ3
         # θ4: s and w relative to a point of axis 4, split along / across the axis
         a4, p4 = g.axes[3], g.points[3]
         s, w = _sub(g.shoulder, p4), _sub(g.wrist, p4)
@@ -492,7 +492,7 @@ class PandaIK:
         # the wrist part of every branch first: (distance so far, θ4, θ5, θ6, R4(−θ4) ω3 and e)
         wrists = []
         for raw4 in self._elbow(_dot(v, v)):
-            c4 = _joint_choice(raw4, joints[3])
+            c4 = joint_choice(raw4, joints[3])
             if c4 is None:
                 continue
             q4, cost4 = c4[0], base + c4[1]
@@ -500,7 +500,7 @@ class PandaIK:
             u = _sub(_rotate_cs(self._s4, a4, cos4, sin4), self._w4)  # exp(−S4 θ4) s − w
             turned = (_rotate_cs(g.axes[2], a4, cos4, sin4), _rotate_cs(self._e3, a4, cos4, sin4))
             for t5, t6 in self._wrist_pair.solve(u, v, -joints[4][1], -joints[5][1]):
-                c5, c6 = _joint_choice(-t5, joints[4]), _joint_choice(-t6, joints[5])
+                c5, c6 = joint_choice(-t5, joints[4]), joint_choice(-t6, joints[5])
                 if c5 is not None and c6 is not None:
                     wrists.append((cost4 + c5[1] + c6[1], q4, c5[0], c6[0], turned))
         if prune:  # nearest first: its bound then cuts the most
@@ -515,7 +515,7 @@ class PandaIK:
             g3 = _matvec(rotation_p, _rotate_cs(_rotate_cs(g3, a5, c5, s5), a6, c6, s6))
             ge = _matvec(rotation_p, _rotate_cs(_rotate_cs(ge, a5, c5, s5), a6, c6, s6))
             for t2, t1 in self._shoulder_pair.solve(g.axes[2], g3, joints[1][1], joints[0][1]):
-                c1, c2 = _joint_choice(t1, joints[0]), _joint_choice(t2, joints[1])
+                c1, c2 = joint_choice(t1, joints[0]), joint_choice(t2, joints[1])
                 if c1 is None or c2 is None:
                     continue
                 cost2 = cost6 + c1[1] + c2[1]
@@ -524,7 +524,7 @@ class PandaIK:
                 # R3(θ3) e = R2(−θ2) R1(−θ1) G e
                 h = _rotate(_rotate(ge, g.axes[0], -t1), g.axes[1], -t2)
                 t3 = _angle_about(g.axes[2], self._e3, h, joints[2][1])
-                c3 = _joint_choice(t3, joints[2])
+                c3 = joint_choice(t3, joints[2])
                 if c3 is None:
                     continue
                 cost = cost2 + c3[1]
@@ -553,7 +553,7 @@ class PandaIK:
         amplitude = 2.0 * math.hypot(cos_part, sin_part)
         low, high = self._elbow_distance2
         lo7, hi7 = self._lo[6], self._hi[6]
-        if amplitude < _FREE_TOL:  # θ7 does not change the distance
+        if amplitude < FREE_TOL:  # θ7 does not change the distance
             return [(lo7, hi7)] if low <= mean <= high else []
         c_low, c_high = (low - mean) / amplitude, (high - mean) / amplitude
         if c_low > 1.0 or c_high < -1.0:
@@ -568,7 +568,7 @@ class PandaIK:
         # |R(φ)s − w|² = |s|² + |w|² − 2 w·R(φ)s, w·R(φ)s = w·s_par + A cos φ + B sin φ, φ = −θ4
         target = 0.5 * (self._q4_lengths - distance2) - self._q4_const
         ratio = target / self._q4_amplitude
-        if abs(ratio) > 1.0 + _CLAMP:
+        if abs(ratio) > 1.0 + CLAMP:
             return []
         spread = math.acos(min(max(ratio, -1.0), 1.0))
         if spread == 0.0:
@@ -592,7 +592,7 @@ class PandaIK:
         """
         q7 = float(q7)
         prepared = self._prepare(*self._pose(position, rotation))
-        if not self._lo[6] - _LIMIT_TOL <= q7 <= self._hi[6] + _LIMIT_TOL:
+        if not self._lo[6] - LIMIT_TOL <= q7 <= self._hi[6] + LIMIT_TOL:
             return np.empty((0, 7))
         q7 = min(max(q7, self._lo[6]), self._hi[6])
         found: list[list[float]] = []

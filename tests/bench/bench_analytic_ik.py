@@ -35,7 +35,7 @@ import numpy as np
 import pinocchio as pin
 
 from kinplan import Robot, load_robot
-from kinplan.analytic_ik import URIK, _ClosedFormIK, analytic_solver_for
+from kinplan.ik import URIK, ClosedFormIK, analytic_solver_for
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_ik import RTB_TOL, machine_info, rtb_method  # noqa: E402
@@ -49,7 +49,7 @@ def methods_for(robot: Robot, solver: URIK, seed: int) -> dict[str, Callable]:
         "fast nearest": lambda p, r, h, s: solver.nearest(p, r, s),
         "batch nearest": lambda p, r, h, s: solver._nearest_batch_path(p, r, s),
         "fast solutions": lambda p, r, h, s: solver.solutions(p, r),
-        "batch solutions": lambda p, r, h, s: _ClosedFormIK.solutions(solver, p, r),
+        "batch solutions": lambda p, r, h, s: ClosedFormIK.solutions(solver, p, r),
     }
     rtb = rtb_method(robot, np.random.default_rng([seed, 2]))
     if rtb.unavailable is None:

@@ -25,7 +25,12 @@ _CACHE = (
 
 
 def _ik(original: str, mutant: str, reason: str) -> dict[str, str]:
-    return {"module": "kinplan/ik.py", "original": original, "mutant": mutant, "reason": reason}
+    return {
+        "module": "kinplan/ik/numeric.py",
+        "original": original,
+        "mutant": mutant,
+        "reason": reason,
+    }
 
 
 _FROB = "if type(rotation_tolerance) is not float or not 0.0 <= rotation_tolerance < math.inf:"
@@ -45,7 +50,7 @@ def _module(module: str):
 
 
 _paths = _module("cartesian/paths.py")
-_analytic = _module("kinplan/analytic_ik.py")
+_analytic = _module("kinplan/ik/ur.py")
 _AS_S = "if type(s) is np.ndarray and s.dtype == np.float64 and s.ndim == 1:  # the common case"
 _RODRIGUES = "cos = np.where(small, 0.0, 1.0 - np.cos(theta))[:, None, None]"
 _FLOAT_INPUT = (

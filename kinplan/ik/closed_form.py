@@ -1,0 +1,89 @@
+"""Closed-form inverse kinematics for arms whose geometry allows it: planar 2R and the UR family.
+
+The geometry is read from the robot's Pinocchio model, never from a table of numbers: at q = 0
+every joint is a screw in the world frame (a unit axis ``u`` through a point ``p``, taken from the
+world Jacobian), and the tool pose is ``M``. Forward kinematics is then the product of
+exponentials ``T(q) = exp(S1 q1) ⋯ exp(Sn qn) M``, and the solutions below are written in those
+world-frame terms, so base offsets, axis signs and tool-frame rotations of any URDF are handled
+without a Denavit–Hartenberg table.
+
+* **Planar 2R**: two parallel revolute axes; both elbow branches.
+* **UR family** (UR3/UR5/UR10 and any arm with the same structure): revolute joints with axis 1
+  perpendicular to three parallel axes 2–4, axis 5 perpendicular to them and axes 5 and 6
+  intersecting at right angles (the "wrist centre" ``c``). The solution follows Hawkins
+  (*Analytic Inverse Kinematics for the Universal Robots UR-5/UR-10 Arms*, 2013), in screw form:
+
+  1. θ1 from the wrist centre: joints 2–6 cannot move ``c`` along the shoulder-axis direction
+     ``n(θ1)``, so ``n(θ1)·(c − p1)`` equals its value at q = 0 (two shoulder branches);
+  2. θ5 from the tool axis: ``n(θ1)·z6 = cos(θ5 − δ)`` (two wrist branches);
+  3. θ6 from the rest of the orientation (free at the wrist singularity sin(θ5 − δ) = 0);
+  4. θ2, θ3 from a planar 2R problem in the plane of axes 2–4 (two elbow branches), θ4 from the
+     remaining planar rotation.
+
+Every solver is vectorised over poses. ``nearest_batch`` follows one branch along a sampled path
+(each sample the solution nearest the previous one) without a Python loop per sample: the
+branch-to-branch transitions of consecutive samples are composed by a doubling scan (only
+exactly singular samples, whose free joint depends on the previous sample, are solved one by
+one).
+
+A single pose (:meth:`URIK.nearest`, :meth:`URIK.solutions`) does not go through that machinery:
+numpy's per-call overhead dominates arrays of one pose (about 380 small calls, 250 µs). The same
+formulas are written in plain floats instead, in orthonormal shoulder and wrist frames of the
+arm at q = 0 (one numpy product per pose), with a branch-and-bound choice of the nearest branch
+(about 20–30 µs). Poses near a singularity (|sin(θ5 − δ)| < 1e-4, elbow within ~1.4e-4 rad of
+straight or folded, wrist centre within ~1e-4·|d4| of the shoulder-singular cylinder), where the
+two paths' roundings would give visibly different (equally valid) angles and where θ6 may be
+free, are left to the batch path.
+
+Joint angles are equivalent modulo 2π; :meth:`solutions` lists each geometric solution once (its
+representative within the limits closest to mid-range), :meth:`nearest` picks per joint the
+representative within the limits closest to the reference.
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from kinplan.ik.base import AnalyticIK, ClosedFormIK, self_check
+from kinplan.ik.panda import panda_solver_for
+from kinplan.ik.planar import planar_2r_solver
+from kinplan.ik.screws import screws_at_zero
+from kinplan.ik.ur import URIK, ur_geometry
+
+logger = logging.getLogger(__name__)
+
+
+def analytic_solver_for(robot, weights: np.ndarray | None = None) -> AnalyticIK | None:
+    """A closed-form IK solver for ``robot`` when its geometry allows one, else None.
+
+    Planar 2R arms (two parallel revolute axes), UR-type arms (see :func:`ur_geometry`) and
+    panda-type 7-joint arms (closed form for a given θ7, θ7 searched; :mod:`kinplan.ik.panda`)
+    are recognised from the Pinocchio model's joint placements and tool frame; the solver is then
+    checked against Pinocchio's forward kinematics on a few random configurations. Any other arm
+    gives None, and the caller falls back to the numerical solver (:meth:`Robot.ik`).
+
+    Args:
+        robot: A :class:`kinplan.Robot`.
+        weights: Joint weights w of the distance Σ wᵢ Δqᵢ² by which :meth:`nearest` and
+            :meth:`nearest_batch` choose (default: all ones), shape (nq,).
+    """
+    if robot.nq == 7:  # panda-type arms: semi-analytic, θ7 searched (see kinplan.ik.panda)
+        return panda_solver_for(robot, weights)
+    if robot.nq not in (2, 6):
+        return None
+    screws = screws_at_zero(robot)
+    if screws is None:
+        return None
+    if robot.nq == 2:
+        solver: ClosedFormIK | None = planar_2r_solver(robot, screws, weights)
+    else:
+        geometry = ur_geometry(screws)
+        solver = None if geometry is None else URIK(geometry, robot.lower, robot.upper, weights)
+    if solver is None:
+        return None
+    if not self_check(robot, lambda pose, q: solver.solutions(pose.translation, pose.rotation)):
+        logger.debug("closed-form IK of %s disagrees with its forward kinematics", robot.name)
+        return None
+    return solver

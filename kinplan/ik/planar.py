@@ -1,0 +1,126 @@
+"""Closed-form IK of a planar 2R arm (two parallel revolute axes): both elbow branches."""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from kinplan.ik.base import ClosedFormIK
+from kinplan.ik.screws import (
+    CLAMP,
+    FREE_TOL,
+    PLANAR_TOL,
+    SIGNS,
+    STRUCTURE_TOL,
+    Screws,
+    parallel,
+    plane_basis,
+    wrap_angle,
+)
+
+logger = logging.getLogger(__name__)
+
+
+def planar_2r(
+    r1: np.ndarray, r2: np.ndarray, target: np.ndarray, fill: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Both elbow solutions of a planar 2R chain.
+
+    The tip is ``Rot(ψa)·(r1 + Rot(ψb)·r2)`` relative to joint A, with rotations counterclockwise
+    in the plane's coordinates.
+
+    Args:
+        r1: Joint A to joint B at zero angles, plane coordinates [m], shape (2,).
+        r2: Joint B to the tip at zero angles [m], shape (2,).
+        target: Tip positions relative to joint A [m], shape (..., 2).
+        fill: ψa [rad] used where the target is on joint A's axis (ψa free), shape (...).
+
+    Returns:
+        (ψa, ψb, reachable) each of shape (..., 2) (elbow branch last) and ``free`` (...): where
+        ψa was taken from ``fill``.
+    """
+    l1, l2 = np.hypot(*r1), np.hypot(*r2)
+    d2 = np.sum(target**2, axis=-1)
+    cosine = (d2 - l1**2 - l2**2) / (2.0 * l1 * l2)
+    reachable = np.broadcast_to((np.abs(cosine) <= 1.0 + CLAMP)[..., None], cosine.shape + (2,))
+    psi_b = SIGNS * np.arccos(np.clip(cosine, -1.0, 1.0))[..., None]
+    psi_b = psi_b + (np.arctan2(r1[1], r1[0]) - np.arctan2(r2[1], r2[0]))
+    cb, sb = np.cos(psi_b), np.sin(psi_b)
+    vx = r1[0] + cb * r2[0] - sb * r2[1]
+    vy = r1[1] + sb * r2[0] + cb * r2[1]
+    free = d2 < FREE_TOL**2
+    psi_a = np.arctan2(target[..., 1], target[..., 0])[..., None] - np.arctan2(vy, vx)
+    psi_a = np.where(free[..., None], fill[..., None], wrap_angle(psi_a))
+    return psi_a, wrap_angle(psi_b), reachable, free
+
+
+# ---------------------------------------------------------------------------- planar 2R
+class Planar2RIK(ClosedFormIK):
+    """Closed-form IK of a planar arm with two parallel revolute axes (both elbow branches).
+
+    Args:
+        screws: Joint axes and tool pose at q = 0 (world frame).
+        lower: Lower joint limits [rad], shape (2,).
+        upper: Upper joint limits [rad], shape (2,).
+        weights: Joint weights of the nearest-solution distance (default ones).
+
+    Attributes:
+        link_lengths: Distances [m] axis 1 → axis 2 and axis 2 → tool point, in the plane.
+    """
+
+    needs_rotation = False
+
+    def __init__(
+        self,
+        screws: Screws,
+        lower: np.ndarray,
+        upper: np.ndarray,
+        weights: np.ndarray | None = None,
+    ):
+        super().__init__(lower, upper, weights)
+        self._axis = screws.directions[0]
+        self._sign2 = float(np.sign(screws.directions[1] @ self._axis))
+        self._e, self._f = plane_basis(self._axis)
+        self._origin = screws.points[0]
+        self._tool_point = screws.tool.translation.copy()
+        self._tool_rotation = screws.tool.rotation.copy()
+        self._r1 = self._in_plane(screws.points[1] - screws.points[0])
+        self._r2 = self._in_plane(self._tool_point - screws.points[1])
+        self.link_lengths = (float(np.hypot(*self._r1)), float(np.hypot(*self._r2)))
+
+    def _in_plane(self, v: np.ndarray) -> np.ndarray:
+        return np.stack((v @ self._e, v @ self._f), axis=-1)
+
+    def _raw(
+        self, positions: np.ndarray, rotations: np.ndarray | None, fill: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        target = self._in_plane(positions - self._origin)
+        psi1, psi2, ok, free = planar_2r(self._r1, self._r2, target, fill[:, 0])
+        in_plane = np.abs((positions - self._tool_point) @ self._axis) <= PLANAR_TOL
+        ok = ok & in_plane[:, None]
+        if rotations is not None:
+            angle, untilted = self._rotation_angle(rotations)
+            # on the base axis θ1 is free for the position, but the orientation fixes it
+            psi1 = np.where(free[:, None], wrap_angle(angle[:, None] - psi2), psi1)
+            turn_error = np.abs(wrap_angle(angle[:, None] - psi1 - psi2))
+            ok &= untilted[:, None] & (turn_error <= PLANAR_TOL)
+        q = np.stack((psi1, self._sign2 * psi2), axis=-1)  # (N, 2 branches, 2 joints)
+        return np.where(ok[..., None], q, np.nan), free
+
+    def _rotation_angle(self, rotations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Angle [rad] (N,) with ``R = Rot(axis, angle)·R_tool(0)``, and whether R has that form."""
+        relative = rotations @ self._tool_rotation.T
+        untilted = np.linalg.norm(relative @ self._axis - self._axis, axis=-1) <= PLANAR_TOL
+        turned = relative @ self._e
+        return np.arctan2(turned @ self._f, turned @ self._e), untilted
+
+
+def planar_2r_solver(robot, screws: Screws, weights: np.ndarray | None) -> Planar2RIK | None:
+    u = screws.directions
+    if not parallel(u[0], u[1]):
+        return None
+    solver = Planar2RIK(screws, robot.lower, robot.upper, weights)
+    if min(solver.link_lengths) < STRUCTURE_TOL:
+        return None
+    return solver
