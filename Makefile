@@ -32,6 +32,7 @@ chromium:
 lint: install
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
+	$(BIN)/mypy kinplan cartesian
 
 test: install chromium lint
 	$(BIN)/python -m pytest -q
@@ -55,4 +56,4 @@ mutation: install
 	nice -n 19 $(BIN)/python tools/mutation.py $(MUTATION_ARGS)
 
 clean:
-	rm -rf $(VENV) build dist *.egg-info .pytest_cache .ruff_cache $(OUT)
+	rm -rf $(VENV) build dist *.egg-info .pytest_cache .ruff_cache .mypy_cache $(OUT)

@@ -11,6 +11,7 @@ joint. The plan says where and why (:class:`Event`) and how much of the path was
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -94,6 +95,8 @@ class CartesianPlan:
     min_clearance: float = np.inf
     min_self_clearance: float = np.inf
     robot: Robot | None = None  # the robot it was planned for
+    cell: WorkCell | None = None  # the work cell it was checked against (issue 16)
+    cell_check: MotionCheck | None = None  # that check: pairs, per-sample distances
 
     # -- kinplan.motion.SampledMotion: what viewers, plots and exports read --------------------
     @property
@@ -143,7 +146,7 @@ def follow(
     speed: float | None = None,
     profile: str = "trapezoid",
     dt: float = 0.01,
-    q_seed=None,
+    q_seed: Sequence[float] | np.ndarray | None = None,
     position_only: bool | None = None,
     *,
     acceleration: float | None = None,
@@ -279,10 +282,13 @@ def _retimed_plan(
     return plan
 
 
-def collision_event(check: MotionCheck, t: np.ndarray, s: np.ndarray, position) -> Event:
+def collision_event(
+    check: MotionCheck, t: np.ndarray, s: np.ndarray, position: np.ndarray
+) -> Event:
     """The "collision" event of a failed :meth:`~kinplan.WorkCell.check_motion`: the two bodies,
     where (at sample ``check.index`` or between it and the one before) and how deep."""
     k = check.index
+    assert k is not None and check.bodies is not None  # a failed check: its sample and bodies
     first, second = check.bodies
     when = f"between samples {k - 1} and {k}" if check.between else f"at sample {k}"
     if check.clearance > 0 and check.distance >= 0:
@@ -320,8 +326,10 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
 
     targets = path_targets(path, s, position_only, tracker.rows)
     positions, position_floats = targets.positions, targets.positions.tolist()
+    rotations: Sequence[np.ndarray | None]
+    rotation_floats: Sequence[list[float] | None]
     if targets.rotations is None:
-        rotations = rotation_floats = [None] * n
+        rotations, rotation_floats = [None] * n, [None] * n
     else:
         rotations = list(targets.rotations)
         rotation_floats = targets.rotations.reshape(n, 9).tolist()
@@ -329,9 +337,15 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
     xdd = targets.curvature * (sd**2)[:, None] + targets.rate * sdd[:, None]  # x'' ṡ² + x' s̈
 
     # per sample: IK, Jacobian, manipulability, q̇ (for the next prediction); q̈ after the loop
-    qs, qds, jacobians, tools, manips = [], [], [], [], []
+    qs: list[np.ndarray] = []
+    qds: list[np.ndarray] = []
+    jacobians: list[np.ndarray] = []
+    tools: list[tuple[float, float, float]] = []
+    manips: list[float] = []
     events: list[Event] = []
-    q_prev = qd_prev = qd_before = None
+    q_prev: np.ndarray | None = None
+    qd_prev: np.ndarray | None = None
+    qd_before: np.ndarray | None = None
     qdd_first = np.zeros(nq)  # q̈ at the first sample when it is at rest, for the second's guess
     steps = np.diff(t, prepend=0.0).tolist()  # h_k = t_k − t_(k−1) [s]
     weights = adams_bashforth_weights(np.diff(t))
@@ -339,8 +353,10 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
         if k == 0:
             guess = tracker.start(positions[0], rotations[0], seed)
         elif qd_before is None:  # second sample: Taylor, with q̈ = J⁺ẍ when starting at rest
+            assert q_prev is not None and qd_prev is not None  # sample k − 1 was kept
             guess = q_prev + qd_prev * steps[k] + (0.5 * steps[k] ** 2) * qdd_first
         else:
+            assert q_prev is not None and qd_prev is not None  # sample k − 1 was kept
             w_prev, w_before = weights[k]
             guess = q_prev + qd_prev * w_prev + qd_before * w_before
         # most predictions are within tolerance: one kinematics pass, else Newton steps
@@ -360,25 +376,28 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
             k, t[k], s[k], q, q_prev, qd_prev, steps[k], xd[k], positions[k], corrections
         )
         if event is not None and k > 0 and event.kind in (Status.JOINT_LIMIT, Status.JUMP):
+            assert q_prev is not None  # sample k − 1 was kept
             # a limit or a branch flip, or only a step too coarse for a fast motion?
-            found = trace_between(tracker, path, s[k - 1], s[k], q_prev)
-            if isinstance(found, Event):  # met between the samples: reported at sample k
-                found.t, found.s, found.index = float(t[k]), float(s[k]), k
-                found.position = positions[k]
-                event = found
-            elif found is not None:  # the continuous solution
-                q = found
+            traced = trace_between(tracker, path, s[k - 1], s[k], q_prev)
+            if isinstance(traced, Event):  # met between the samples: reported at sample k
+                traced.t, traced.s, traced.index = float(t[k]), float(s[k]), k
+                traced.position = positions[k]
+                event = traced
+            elif traced is not None:  # the continuous solution
+                q = traced
                 tracker.accepts(q, position_floats[k], rotation_floats[k])  # kinematics at q
                 event, J, m, qd = tracker.check_sample(
                     k, t[k], s[k], q, q_prev, qd_prev, steps[k], xd[k], positions[k], 1
                 )
                 if event is not None and event.kind == Status.JUMP:
+                    assert qd is not None  # a jump is checked after the rates
                     event = tracker.coarse_step_event(
                         k, t, s[k], q, q_prev, qd, qd_prev, steps[k], positions[k], qs, qds
                     )
         if event is not None:
             events.append(event)
             break
+        assert J is not None and qd is not None  # no event: the sample's Jacobian and rates
         if k == 0 and not qd.any():
             qdd_first = tracker.rates(xdd[0])
         qs.append(q)
@@ -418,6 +437,7 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
             done = k
             q_out, qd_out, qdd_out = q_out[:done], qd_out[:done], qdd_out[:done]
     min_clearance = min_self_clearance = np.inf
+    check = None
     if tracker.cell is not None and done:
         check = tracker.cell.check_motion(q_out, tracker.clearance)
         min_clearance, min_self_clearance = check.min_obstacle_clearance, check.min_self_clearance
@@ -453,4 +473,6 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
         robot=robot,
         min_clearance=float(min_clearance),
         min_self_clearance=float(min_self_clearance),
+        cell=tracker.cell,
+        cell_check=check,
     )

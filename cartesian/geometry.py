@@ -8,6 +8,7 @@ follower asks when a sample seems to jump.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -88,8 +89,11 @@ def trace_geometry(tracker: Tracker, path: Path, s: np.ndarray, seed: np.ndarray
     # A stack of (s, position, rotation, dx/ds): the next point to check is at the end.
     pending = _points(tracker, path, s)[::-1]
     solved_s: list[float] = []
-    qs, dqs, jacobians, events = [], [], [], []
-    q_prev = None
+    qs: list[np.ndarray] = []
+    dqs: list[np.ndarray] = []
+    jacobians: list[np.ndarray] = []
+    events: list[Event] = []
+    q_prev: np.ndarray | None = None
     while pending:
         sk, position, rotation, dx = pending[-1]
         k = len(qs)
@@ -136,6 +140,7 @@ def trace_geometry(tracker: Tracker, path: Path, s: np.ndarray, seed: np.ndarray
         if event is not None:
             events.append(event)
             break
+        assert dq is not None  # no event: the rates were computed
         pending.pop()
         solved_s.append(sk)
         qs.append(q)
@@ -180,7 +185,7 @@ def trace_between(
 def check_reachability(
     robot: Robot,
     path: Path,
-    q_seed=None,
+    q_seed: Sequence[float] | np.ndarray | None = None,
     position_only: bool | None = None,
     *,
     resolution: float = 0.005,

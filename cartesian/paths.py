@@ -13,9 +13,11 @@ Orientation moves by geodesic interpolation (slerp) from the start to the end ro
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from typing import TypeAlias
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 from kinplan import checks
 from kinplan.errors import InputError
@@ -23,8 +25,15 @@ from kinplan.robot import parse_target
 
 _FD_STEP = 1e-5  # [-] step in s for the finite-difference fallbacks
 
+#: A path point: a ``pinocchio.SE3`` pose, a 4×4 homogeneous matrix or a position 3-vector [m].
+PointLike: TypeAlias = pin.SE3 | Sequence[float] | np.ndarray
+#: A tool rotation: a 3×3 rotation matrix or a ``pinocchio.SE3`` (its rotation).
+RotationLike: TypeAlias = pin.SE3 | Sequence[Sequence[float]] | np.ndarray
 
-def _points(values: Sequence, names: Sequence[str]) -> tuple[list[np.ndarray], list | None]:
+
+def _points(
+    values: Sequence[PointLike], names: Sequence[str]
+) -> tuple[list[np.ndarray], list[np.ndarray] | None]:
     """Positions and rotations of several path points; all poses or all positions.
 
     Raises:
@@ -40,10 +49,10 @@ def _points(values: Sequence, names: Sequence[str]) -> tuple[list[np.ndarray], l
             f"give {', '.join(names)} either all as poses (SE3) or all as positions (3-vectors); "
             "a path is position-only or fully oriented"
         )
-    return [p for p, _ in parsed], rotations
+    return [p for p, _ in parsed], [r for r in rotations if r is not None]
 
 
-def _as_s(s) -> np.ndarray:
+def _as_s(s: ArrayLike) -> np.ndarray:
     """Path fractions as a 1-D float array (values outside [0, 1] are clipped by the callers).
 
     Raises:
@@ -80,7 +89,7 @@ def _rodrigues(vectors: np.ndarray) -> np.ndarray:
 class Slerp:
     """Geodesic interpolation R(s) = R0 exp(s v), v = log(R0ᵀ R1); ω = R0 v ṡ in the world."""
 
-    def __init__(self, start: np.ndarray, end: np.ndarray):
+    def __init__(self, start: np.ndarray, end: np.ndarray) -> None:
         self.start = np.array(start, dtype=float)
         self.local_axis = pin.log3(self.start.T @ np.asarray(end, dtype=float))
         self.world_rate = self.start @ self.local_axis  # [rad per unit s], constant
@@ -112,22 +121,24 @@ class Path:
     slerp: Slerp | None = None  # start-to-end geodesic orientation, when the path uses one
 
     # -- to implement -------------------------------------------------------------------
-    def position(self, s) -> np.ndarray:
+    def position(self, s: ArrayLike) -> np.ndarray:
         """Tool positions (N, 3) [m] in the world frame at path fractions ``s``."""
         raise NotImplementedError
 
     def _rotation(self, s: np.ndarray) -> np.ndarray:
         """Rotations at clipped fractions s (oriented paths): the slerp unless overridden."""
+        if self.slerp is None:
+            raise NotImplementedError("an oriented path without a slerp implements _rotation")
         return self.slerp(s)
 
     # -- shared -------------------------------------------------------------------------
-    def rotation(self, s) -> np.ndarray | None:
+    def rotation(self, s: ArrayLike) -> np.ndarray | None:
         """Tool rotations (N, 3, 3) in the world frame, or None for a position-only path."""
         if not self.has_orientation:
             return None
         return self._rotation(np.clip(_as_s(s), 0.0, 1.0))
 
-    def position_derivatives(self, s) -> tuple[np.ndarray, np.ndarray]:
+    def position_derivatives(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """(dp/ds, d²p/ds²), each (N, 3) [m]; central finite differences unless overridden."""
         s = _as_s(s)
         h = self._fd_step
@@ -139,7 +150,7 @@ class Path:
         second = 4.0 * (p_hi - 2.0 * p_mid + p_lo) / width**2
         return first, second
 
-    def angular_rates(self, s) -> tuple[np.ndarray, np.ndarray]:
+    def angular_rates(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """(ω_s, dω_s/ds), each (N, 3) in the world frame: ω = ω_s ṡ [rad/s]."""
         s = _as_s(s)
         if not self.has_orientation:
@@ -182,7 +193,7 @@ class Line(Path):
     Orientation (for poses) moves by slerp from the start to the end rotation.
     """
 
-    def __init__(self, start, end):
+    def __init__(self, start: PointLike, end: PointLike) -> None:
         (self.a, self.b), rotations = _points([start, end], ["start", "end"])
         with np.errstate(over="ignore", invalid="ignore"):
             self.delta = self.b - self.a
@@ -203,11 +214,11 @@ class Line(Path):
     def __repr__(self) -> str:
         return f"Line({self.a.round(4).tolist()} → {self.b.round(4).tolist()}, {self.length:.4g} m)"
 
-    def position(self, s) -> np.ndarray:
-        s = np.clip(_as_s(s), 0.0, 1.0)
+    def position(self, s: ArrayLike) -> np.ndarray:
+        s = _as_s(s).clip(0.0, 1.0)
         return self.a + s[:, None] * self.delta
 
-    def position_derivatives(self, s):
+    def position_derivatives(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         n = len(_as_s(s))
         return np.tile(self.delta, (n, 1)), np.zeros((n, 3))
 
@@ -224,7 +235,15 @@ class CircularArc(Path):
         rotations: (start, end) tool rotations for slerp, or None for position only.
     """
 
-    def __init__(self, center, radius, e1, e2, sweep, rotations=None):
+    def __init__(
+        self,
+        center: ArrayLike,
+        radius: float,
+        e1: ArrayLike,
+        e2: ArrayLike,
+        sweep: float,
+        rotations: Sequence[RotationLike] | None = None,
+    ) -> None:
         self.center = checks.vector(center, "center", 3, "m")
         self.radius = checks.number(radius, "radius", positive=True, unit="m")
         self.e1 = checks.vector(e1, "e1", 3)
@@ -261,13 +280,13 @@ class CircularArc(Path):
             f"{np.degrees(self.sweep):.1f}°)"
         )
 
-    def position(self, s) -> np.ndarray:
+    def position(self, s: ArrayLike) -> np.ndarray:
         phi = self.sweep * np.clip(_as_s(s), 0.0, 1.0)
         return self.center + self.radius * (
             np.cos(phi)[:, None] * self.e1 + np.sin(phi)[:, None] * self.e2
         )
 
-    def position_derivatives(self, s):
+    def position_derivatives(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         phi = self.sweep * np.clip(_as_s(s), 0.0, 1.0)
         cos, sin = np.cos(phi)[:, None], np.sin(phi)[:, None]
         k = self.radius * self.sweep
@@ -286,11 +305,11 @@ class Arc(CircularArc):
         InputError: the three points are (nearly) collinear or coincide.
     """
 
-    def __init__(self, start, via, end):
+    def __init__(self, start: PointLike, via: PointLike, end: PointLike) -> None:
         (a, b, c), rotations = _points([start, via, end], ["start", "via", "end"])
         ab, ac = b - a, c - a
         normal = np.cross(ab, ac)
-        scale = max(np.linalg.norm(ab), np.linalg.norm(ac), 1e-300)
+        scale = max(float(np.linalg.norm(ab)), float(np.linalg.norm(ac)), 1e-300)
         if np.linalg.norm(normal) <= 1e-9 * scale**2:
             raise InputError(
                 "Arc: start, via and end are collinear (or coincide), so no circle passes through "
@@ -318,7 +337,11 @@ class Arc(CircularArc):
 
 
 def Circle(
-    center, radius: float, normal=(0.0, 0.0, 1.0), start_direction=(1.0, 0.0, 0.0), rotation=None
+    center: ArrayLike,
+    radius: float,
+    normal: ArrayLike = (0.0, 0.0, 1.0),
+    start_direction: ArrayLike = (1.0, 0.0, 0.0),
+    rotation: RotationLike | None = None,
 ) -> CircularArc:
     """Full circle (one turn, counter-clockwise about ``normal``) starting at
     ``center + radius * start_direction``.
@@ -363,7 +386,10 @@ class PathSequence(Path):
             paths are oriented and others not, or a piece has zero length.
     """
 
-    def __init__(self, paths: Sequence[Path]):
+    paths: list[Path]
+    breaks: np.ndarray
+
+    def __init__(self, paths: Sequence[Path]) -> None:
         try:
             if isinstance(paths, (str, bytes, Path)):
                 raise TypeError
@@ -405,16 +431,16 @@ class PathSequence(Path):
     def __repr__(self) -> str:
         return f"PathSequence({len(self.paths)} pieces, {self.length:.4g} m)"
 
-    def _split(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        s = np.clip(_as_s(s), 0.0, 1.0)
+    def _split(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        s = _as_s(s).clip(0.0, 1.0)
         index = np.clip(np.searchsorted(self.breaks, s, side="right") - 1, 0, len(self.paths) - 1)
         width = self.breaks[index + 1] - self.breaks[index]
         return index, (s - self.breaks[index]) / width
 
-    def _gather(self, s, method: str, chain: int):
+    def _gather(self, s: ArrayLike, method: str, chain: int) -> list[np.ndarray]:
         index, local = self._split(s)
-        outputs = None
-        for k in np.unique(index):
+        outputs: list[np.ndarray] | None = None
+        for k in np.unique(index) if len(index) else [0]:  # no s: piece 0 gives the shapes
             mask = index == k
             parts = getattr(self.paths[k], method)(local[mask])
             parts = parts if isinstance(parts, tuple) else (parts,)
@@ -423,26 +449,27 @@ class PathSequence(Path):
             width = self.breaks[k + 1] - self.breaks[k]
             for order, (out, part) in enumerate(zip(outputs, parts)):
                 out[mask] = part / width ** (chain * (order + 1)) if chain else part
+        assert outputs is not None  # the loop ran at least once
         return outputs
 
-    def position(self, s):
+    def position(self, s: ArrayLike) -> np.ndarray:
         return self._gather(s, "position", 0)[0]
 
-    def position_derivatives(self, s):
+    def position_derivatives(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         first, second = self._gather(s, "position_derivatives", 1)
         return first, second
 
-    def _rotation(self, s):
+    def _rotation(self, s: np.ndarray) -> np.ndarray:
         return self._gather(s, "rotation", 0)[0]
 
-    def angular_rates(self, s):
+    def angular_rates(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         if not self.has_orientation:
             return super().angular_rates(s)
         first, second = self._gather(s, "angular_rates", 1)
         return first, second
 
 
-def Polyline(points: Sequence) -> PathSequence:
+def Polyline(points: Sequence[PointLike]) -> PathSequence:
     """Straight lines through ``points`` (poses or 3-vectors [m]), joined at sharp corners.
 
     Raises:
@@ -479,7 +506,7 @@ class HeldOrientation(Path):
         rotation: The tool rotation (3×3 or SE3) in the world frame.
     """
 
-    def __init__(self, path: Path, rotation):
+    def __init__(self, path: Path, rotation: RotationLike) -> None:
         if not isinstance(path, Path) or path.has_orientation:
             raise InputError(
                 f"HeldOrientation needs a path without orientation, got {checks.describe(path)}"
@@ -494,10 +521,10 @@ class HeldOrientation(Path):
     def __repr__(self) -> str:
         return f"HeldOrientation({self.path!r})"
 
-    def position(self, s) -> np.ndarray:
+    def position(self, s: ArrayLike) -> np.ndarray:
         return self.path.position(s)
 
-    def position_derivatives(self, s):
+    def position_derivatives(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         return self.path.position_derivatives(s)
 
 
@@ -536,8 +563,8 @@ class Weave(Path):
         wavelength: float,
         pattern: str = "sine",
         dwell: float = 0.0,
-        normal=None,
-    ):
+        normal: ArrayLike | None = None,
+    ) -> None:
         if not isinstance(path, Path):
             raise InputError(f"Weave needs a path to weave along, got {checks.describe(path)}")
         if path.length <= 0:
@@ -551,7 +578,7 @@ class Weave(Path):
                 f"dwell {self.dwell} m at each side leaves no travel to sweep across in a "
                 f"wavelength of {self.wavelength} m; give dwell < wavelength / 2"
             )
-        self.normal = None
+        self.normal: np.ndarray | None = None
         if normal is not None:
             n = checks.vector(normal, "normal", 3)
             if np.linalg.norm(n) < 1e-9:
@@ -582,7 +609,7 @@ class Weave(Path):
             return np.tile([0.0, 0.0, 1.0], (len(s), 1))
         return rotations[:, :, 2]
 
-    def offset(self, s) -> np.ndarray:
+    def offset(self, s: ArrayLike) -> np.ndarray:
         """The lateral offset w [m] at path fractions ``s`` (N,)."""
         u = np.clip(_as_s(s), 0.0, 1.0) * self.length
         cycle = np.mod(u, self.wavelength)
@@ -600,21 +627,23 @@ class Weave(Path):
             shape = np.clip(2.0 * triangle, -1.0, 1.0)
         return self.amplitude * shape
 
-    def across(self, s) -> np.ndarray:
+    def across(self, s: ArrayLike) -> np.ndarray:
         """The unit direction across the seam (N, 3) at path fractions ``s``."""
-        s = np.clip(_as_s(s), 0.0, 1.0)
+        s = _as_s(s).clip(0.0, 1.0)
         tangent, _ = self.path.position_derivatives(s)
         side = np.cross(self._normals(s), tangent)
         return side / np.linalg.norm(side, axis=1)[:, None]
 
-    def position(self, s) -> np.ndarray:
-        s = np.clip(_as_s(s), 0.0, 1.0)
+    def position(self, s: ArrayLike) -> np.ndarray:
+        s = _as_s(s).clip(0.0, 1.0)
         return self.path.position(s) + self.offset(s)[:, None] * self.across(s)
 
     def _rotation(self, s: np.ndarray) -> np.ndarray:
-        return self.path.rotation(s)
+        rotations = self.path.rotation(s)
+        assert rotations is not None  # called for an oriented weave only: its seam's rotations
+        return rotations
 
-    def angular_rates(self, s) -> tuple[np.ndarray, np.ndarray]:
+    def angular_rates(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         return self.path.angular_rates(s)
 
 
@@ -631,10 +660,10 @@ class FunctionPath(Path):
 
     def __init__(
         self,
-        function: Callable,
-        orientation=None,
+        function: Callable[..., ArrayLike],
+        orientation: RotationLike | Callable[[float], RotationLike] | None = None,
         samples: int = 4001,
-    ):
+    ) -> None:
         if not callable(function):
             raise InputError(
                 "FunctionPath needs a function u ↦ position [m] (u in [0, 1]), got "
@@ -652,16 +681,15 @@ class FunctionPath(Path):
         self._u_table, self._s_table = u, cumulative / self.length
         # Differences over several table intervals: the table's u(s) is piecewise linear.
         self._fd_step = 4.0 / samples
+        self._orientation: Callable[[float], RotationLike] | None = None
         if orientation is None:
             self.has_orientation = False
-            self._orientation = None
         elif callable(orientation):
             self.has_orientation = True
             self._orientation = orientation
         else:
             fixed = checks.rotation(orientation, "orientation")
             self.has_orientation = True
-            self._orientation = None
             self.slerp = Slerp(fixed, fixed)  # constant: vectorised, exact zero angular rates
 
     def _evaluate(self, u: np.ndarray) -> np.ndarray:
@@ -683,11 +711,11 @@ class FunctionPath(Path):
             raise InputError("FunctionPath: the function must return finite 3-vectors [m]")
         return values
 
-    def position(self, s):
-        s = np.clip(_as_s(s), 0.0, 1.0)
+    def position(self, s: ArrayLike) -> np.ndarray:
+        s = _as_s(s).clip(0.0, 1.0)
         return self._evaluate(np.interp(s, self._s_table, self._u_table))
 
-    def _rotation(self, s):
+    def _rotation(self, s: np.ndarray) -> np.ndarray:
         if self._orientation is None:  # a constant orientation
             return super()._rotation(s)
         try:

@@ -76,6 +76,7 @@ def path_law(
             law = trajectory.trapezoid(0.0, distance, max_velocity=speed, max_acceleration=accel)
             return law, scale
         duration = REST_TO_REST_PEAKS[profile][0] * distance / speed  # peak speed k_v L/T
+    assert duration is not None  # exactly one of duration and speed (checked above)
     if profile == "trapezoid":
         law = trajectory.trapezoid(0.0, distance, duration=duration, acceleration=acceleration)
     elif profile == "quintic":

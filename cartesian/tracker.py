@@ -17,6 +17,7 @@ import pinocchio as pin
 
 from cartesian.events import Event, Status, joint_units, out_of_reach, where
 from cartesian.paths import HeldOrientation, Path
+from kinplan.cell import WorkCell
 from kinplan.errors import InputError
 from kinplan.ik import frobenius_tolerance
 from kinplan.robot import Robot, manipulability_of
@@ -43,10 +44,10 @@ class Tracker:
         velocity_scale: float,
         jump_tolerance: float,
         acceleration_limit: np.ndarray | None = None,
-    ):
+    ) -> None:
         self.robot = robot
         #: The work cell the motion is checked against (set by the caller), and the clearance [m].
-        self.cell = None
+        self.cell: WorkCell | None = None
         self.clearance = 0.0
         #: Joint acceleration limits [rad/s² or m/s²] (inf: none), default the robot's.
         self.acceleration_limit = (
@@ -77,7 +78,14 @@ class Tracker:
         # matrix JJᵀ carries a rounding noise of √ε‖J‖² (1e-7 for a 3 m arm at full stretch)
         self.rank_floor = 1e-6 * robot.reference_manipulability(position_only)
 
-    def solve(self, guess, position, rotation, evaluated: bool = False, iterations: int = 12):
+    def solve(
+        self,
+        guess: np.ndarray,
+        position: np.ndarray,
+        rotation: np.ndarray | None,
+        evaluated: bool = False,
+        iterations: int = 12,
+    ) -> tuple[np.ndarray, bool, float, float, int]:
         """Newton steps from ``guess``, ignoring the joint limits (the caller checks them: a
         joint that must leave its range is a ``joint_limit`` event, never a clamp).
         ``evaluated``: see :meth:`IKSolver.descend`."""
@@ -105,7 +113,9 @@ class Tracker:
         j = int(np.argmax(over))
         return j if over[j] > 0.0 else None
 
-    def limit_event(self, k, t, s, q: np.ndarray, j: int, position) -> Event:
+    def limit_event(
+        self, k: int, t: float, s: float, q: np.ndarray, j: int, position: np.ndarray
+    ) -> Event:
         """The "joint_limit" event of joint ``j`` beyond its range at ``q``."""
         robot = self.robot
         name, unit = robot.joint_names[j], self.units[j]
@@ -141,7 +151,7 @@ class Tracker:
         J = self._J = jacobian if self._all_rows else jacobian[self._row_index]
         if not self._full_rank:
             self._lu = None
-            return manipulability_of(J, self.rank)
+            return float(manipulability_of(J, self.rank))
         if self._shape == 0:
             self._lu = eigenpy.PartialPivLU(J)
             return abs(self._lu.determinant())
@@ -189,7 +199,17 @@ class Tracker:
         return z + matvec(pinv, b - matvec(J, z))
 
     def check_sample(
-        self, k, t, s, q, q_prev, qd_prev, h, xd, position, corrections: int
+        self,
+        k: int,
+        t: float,
+        s: float,
+        q: np.ndarray,
+        q_prev: np.ndarray | None,
+        qd_prev: np.ndarray | None,
+        h: float,
+        xd: np.ndarray,
+        position: np.ndarray,
+        corrections: int,
     ) -> tuple[Event | None, np.ndarray | None, float, np.ndarray | None]:
         """Check a solved sample k at ``q`` (kinematics at q in the solver's data): joint
         limits, singularity and, when Newton ``corrections`` moved it off its prediction, a
@@ -218,7 +238,18 @@ class Tracker:
         return event, J, m, qd
 
     def coarse_step_event(
-        self, k, t, s, q, q_prev, qd, qd_prev, h, position, qs, qds
+        self,
+        k: int,
+        t: np.ndarray,
+        s: float,
+        q: np.ndarray,
+        q_prev: np.ndarray,
+        qd: np.ndarray,
+        qd_prev: np.ndarray | None,
+        h: float,
+        position: np.ndarray,
+        qs: list[np.ndarray],
+        qds: list[np.ndarray],
     ) -> Event | None:
         """The event of sample k whose step its rates do not explain although the path is
         continuous there (a finer trace reached q): the motion is too fast for a joint (a
@@ -244,7 +275,9 @@ class Tracker:
         that no joint rates can be computed, whatever the threshold."""
         return not m >= self.singular_threshold or m <= self.rank_floor
 
-    def singular_event(self, k, t, s, m, position) -> Event | None:
+    def singular_event(
+        self, k: int, t: float, s: float, m: float, position: np.ndarray
+    ) -> Event | None:
         """A "singular" event when :meth:`is_singular` holds for the manipulability m."""
         if not self.is_singular(m):
             return None
@@ -258,13 +291,24 @@ class Tracker:
         )  # fmt: skip
 
     def jump_event(
-        self, k, t, s, q, q_prev, rate, rate_prev, h, position, continuous: bool = False
+        self,
+        k: int,
+        t: float,
+        s: float,
+        q: np.ndarray,
+        q_prev: np.ndarray | None,
+        rate: np.ndarray,
+        rate_prev: np.ndarray | None,
+        h: float,
+        position: np.ndarray,
+        continuous: bool = False,
     ) -> Event | None:
         """A "jump" event when q moved more than its rates explain over the step h: a branch
         flip or, when a finer trace showed the path ``continuous`` there, a sampling too coarse
         for the motion."""
         if q_prev is None:
             return None
+        assert rate_prev is not None  # a previous sample comes with its rates
         step = abs(q - q_prev - 0.5 * (rate + rate_prev) * h)
         if step.max() <= self.jump_tolerance:
             return None
@@ -283,7 +327,9 @@ class Tracker:
             position, name, float(q[j] - q_prev[j]), self.jump_tolerance, remedy=remedy,
         )  # fmt: skip
 
-    def speed_event(self, k, t, s, ratios: np.ndarray, peak: float, position) -> Event:
+    def speed_event(
+        self, k: int, t: float, s: float, ratios: np.ndarray, peak: float, position: np.ndarray
+    ) -> Event:
         """The "velocity_limit" event of sample k, for the joint furthest above its (scaled)
         limit.
 
@@ -306,7 +352,9 @@ class Tracker:
             "longer duration)",
         )  # fmt: skip
 
-    def acceleration_event(self, k, t, s, qdd: np.ndarray, peak: float, position) -> Event:
+    def acceleration_event(
+        self, k: int, t: float, s: float, qdd: np.ndarray, peak: float, position: np.ndarray
+    ) -> Event:
         """The "acceleration_limit" event of sample k with joint accelerations ``qdd``, for the
         joint furthest above its limit; ``peak``: the largest ratio over the motion."""
         ratios = np.abs(qdd) / self.acceleration_limit
@@ -323,7 +371,9 @@ class Tracker:
             "speed or a longer duration)",
         )  # fmt: skip
 
-    def start(self, position, rotation, seed: np.ndarray) -> np.ndarray:
+    def start(
+        self, position: np.ndarray, rotation: np.ndarray | None, seed: np.ndarray
+    ) -> np.ndarray:
         """Configuration for the first point: full IK from ``seed`` (the seed's branch), or the
         seed itself when IK fails (the tracking step then diagnoses why)."""
         target = position if rotation is None else pin.SE3(rotation, position)
@@ -333,7 +383,16 @@ class Tracker:
         )  # fmt: skip
         return first.q if first.success else seed
 
-    def rescue(self, k, t, s, guess, q_prev, position, rotation) -> np.ndarray | Event:
+    def rescue(
+        self,
+        k: int,
+        t: float,
+        s: float,
+        guess: np.ndarray,
+        q_prev: np.ndarray | None,
+        position: np.ndarray,
+        rotation: np.ndarray | None,
+    ) -> np.ndarray | Event:
         """Sample k after the short Newton pass from the prediction failed: a configuration
         found by a longer search (the caller checks it for limits and jumps), or the event that
         says why there is none: jump (reachable only on another branch) or unreachable."""
@@ -349,9 +408,9 @@ class Tracker:
             target, q_seed=guess if q_prev is None else q_prev, position_only=only,
             position_tolerance=self.tolerance, rotation_tolerance=self.rotation_tolerance,
         )  # fmt: skip
-        if res.success and q_prev is None:
-            return res.q
         if res.success:
+            if q_prev is None:
+                return res.q
             j = int(np.argmax(np.abs(res.q - q_prev)))
             if abs(res.q[j] - q_prev[j]) <= self.jump_tolerance:
                 return res.q  # the same branch, found by the full solver

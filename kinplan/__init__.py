@@ -8,6 +8,7 @@ MeshCat playback (:mod:`kinplan.viewer`).
 from __future__ import annotations
 
 import logging
+from types import ModuleType
 
 from kinplan.cell import Body, CellError, MotionCheck, WorkCell
 from kinplan.errors import (
@@ -45,7 +46,7 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> ModuleType:
     # Submodules imported on first use: `kinplan.trajectory`, `kinplan.viewer`, `kinplan.plot`.
     if name in ("trajectory", "viewer", "plot", "program", "cli", "teach", "demos", "export"):
         import importlib

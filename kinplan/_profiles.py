@@ -86,7 +86,7 @@ def quintic_coefficients(
     v1: np.ndarray,
     a0: np.ndarray,
     a1: np.ndarray,
-    h: float,
+    h: float | np.ndarray,
 ) -> np.ndarray:
     """Quintic with given position, velocity and acceleration at τ = 0 and τ = h [s]."""
     d = q1 - q0
@@ -304,7 +304,9 @@ def lspb_blend_time(distance: np.ndarray, duration: float, acceleration: np.ndar
     return np.minimum(2.0 * distance / (a_t + root), 0.5 * duration)
 
 
-def check_lspb_acceleration(distance: np.ndarray, duration: float, acceleration: np.ndarray):
+def check_lspb_acceleration(
+    distance: np.ndarray, duration: float, acceleration: np.ndarray
+) -> None:
     """Raise InfeasibleError when a joint's acceleration is below 4|Δ|/T².
 
     Args:
@@ -843,7 +845,7 @@ def _power_row(degree: int, tau: float, derivative: int) -> np.ndarray:
 
 
 def four_three_four_coefficients(
-    q: Sequence[np.ndarray], durations: Sequence[float]
+    q: Sequence[np.ndarray], durations: Sequence[float] | np.ndarray
 ) -> list[np.ndarray]:
     """Coefficients of the 4-3-4 profile through four points, at rest at both ends.
 

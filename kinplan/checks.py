@@ -51,11 +51,10 @@ def number(
             the required range.
     """
     unit_text = f" [{unit}]" if unit else ""
+    if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "fiu":
+        value = value.item()  # a numeric 0-d array: its Python number
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "fiu":
-            value = value.item()
-        else:
-            raise InputError(f"{name} must be a number{unit_text}, got {describe(value)}")
+        raise InputError(f"{name} must be a number{unit_text}, got {describe(value)}")
     try:
         value = float(value)
     except OverflowError:  # an int beyond the float range
@@ -71,9 +70,19 @@ def number(
     return value
 
 
-def optional_number(value: object, name: str, **kwargs) -> float | None:
+def optional_number(
+    value: object,
+    name: str,
+    *,
+    positive: bool = False,
+    minimum: float | None = None,
+    maximum: float | None = None,
+    unit: str = "",
+) -> float | None:
     """``None``, or :func:`number` of the value."""
-    return None if value is None else number(value, name, **kwargs)
+    if value is None:
+        return None
+    return number(value, name, positive=positive, minimum=minimum, maximum=maximum, unit=unit)
 
 
 def count(value: object, name: str, *, minimum: int = 1) -> int:

@@ -6,6 +6,11 @@ Usage::
     kinplan fk ROBOT --q Q [Q ...] [--deg]
     kinplan ik ROBOT --xyz X Y Z [--rpy-deg R P Y | --quat-xyzw X Y Z W] [--seed Q ...] [--deg]
     kinplan run PROGRAM.yaml [--html FILE] [--plot FILE] [--csv FILE] [--dt DT]
+    kinplan run A.yaml B.yaml ... [--jobs N | --scheduler ADDR]
+    kinplan reach ROBOT -o MAP.npz [--resolution R] [--orientations K] [--direction X Y Z
+        --cone-deg DEG] [--region ...] [--png FILE] [--html FILE] [--jobs N | --scheduler ADDR]
+    kinplan place PROGRAM.yaml --x X0 [X1] --y Y0 [Y1] [--z Z0 [Z1]] [--yaw-deg A [B]]
+        [--step S] -o BEST.yaml [--png FILE] [--jobs N | --scheduler ADDR]
     kinplan demo lecture|weld [--html FILE] [--out DIR]
     kinplan teach ROBOT -o PROGRAM.yaml [--start Q ...] [--deg] [--view]
 
@@ -19,6 +24,7 @@ Exit status 0 on success, 1 on failure with a one-line reason on stderr (``kinpl
 from __future__ import annotations
 
 import argparse
+import contextlib
 import logging
 import math
 import os
@@ -281,6 +287,9 @@ def _cmd_ik(args: argparse.Namespace) -> int:
 def _cmd_run(args: argparse.Namespace) -> int:
     from kinplan.program import load_program
 
+    if len(args.program) > 1 or args.jobs is not None or args.scheduler is not None:
+        return _cmd_run_many(args)
+    args.program = args.program[0]
     plot = _plot_file(args.plot) if args.plot else None  # an unknown image type: before planning
     program = load_program(args.program)
     for warning in program.warnings:
@@ -330,11 +339,18 @@ def _summary_table(plan, title: str):
     from rich.text import Text
 
     table = Table(title=title)
-    for column in ("#", "move", "key", "duration [s]", "min manip.", "peak |qd|/limit", "status"):
+    rows = plan.summary_rows()
+    overall = getattr(plan, "min_clearance", math.inf)
+    with_clearance = math.isfinite(overall)  # a cell with obstacles
+    columns = ["#", "move", "key", "duration [s]", "min manip.", "peak |qd|/limit"]
+    columns += ["clearance [mm]"] * with_clearance + ["status"]
+    for column in columns:
         table.add_column(column, justify="left" if column in ("move", "key", "status") else "right")
-    for row in plan.summary_rows():
+    for row in rows:
         status = row["status"]
         manip = row["min_manipulability"]
+        clearance = float(row.get("min_clearance", math.inf))  # type: ignore[arg-type]
+        extra = [f"{1e3 * clearance:.1f}" if math.isfinite(clearance) else "-"] * with_clearance
         table.add_row(
             str(row["number"]),
             str(row["move"]),
@@ -342,10 +358,16 @@ def _summary_table(plan, title: str):
             f"{row['duration']:.3f}",
             "-" if math.isnan(manip) else f"{manip:.4g}",
             f"{row['peak_speed_ratio']:.2f}",
+            *extra,
             Text(status, style="green" if status == "ok" else "bold red"),
         )
     table.add_section()
-    table.add_row("", "total", "", f"{plan.duration:.3f}", "", "", "ok" if plan.ok else "FAILED")
+    pair = getattr(plan, "min_clearance_pair", None)
+    total = [f"{1e3 * overall:.1f}" + (f" ({pair[0]} – {pair[1]})" if pair else "")]
+    table.add_row(
+        "", "total", "", f"{plan.duration:.3f}", "", "", *total * with_clearance,
+        "ok" if plan.ok else "FAILED",
+    )  # fmt: skip
     return table
 
 
@@ -502,6 +524,204 @@ def _teach_viewer(robot):
 
 
 # ----------------------------------------------------------------------------------------------
+# Batch commands (issue 19): reach, place, run A.yaml B.yaml --jobs N | --scheduler ADDR
+# ----------------------------------------------------------------------------------------------
+
+
+def _engine_arguments(parser: argparse.ArgumentParser) -> None:
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument(
+        "--jobs",
+        type=_jobs,
+        metavar="N",
+        help="run on a Dask LocalCluster of N worker processes (pip install 'kinplan[dask]')",
+    )
+    where.add_argument(
+        "--scheduler",
+        metavar="ADDR",
+        help="run on the Dask scheduler at ADDR (tcp://HOST:8786); its workers need kinplan",
+    )
+
+
+def _jobs(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a number of worker processes ≥ 1, got {text}")
+    return value
+
+
+@contextlib.contextmanager
+def _work_progress(label: str, unit: str):
+    """A progress bar on stderr (a terminal only) and its ``progress(done, total)`` callback."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    bar = Progress(
+        TextColumn(label),
+        BarColumn(),
+        TextColumn("{task.completed}/{task.total} " + unit),
+        TimeElapsedColumn(),
+        console=_console(stderr=True),
+        transient=True,
+        disable=not sys.stderr.isatty(),
+    )
+    with bar:
+        task = bar.add_task(label, total=None)
+
+        def update(done: int, total: int) -> None:
+            bar.update(task, completed=done, total=total)
+
+        yield update
+
+
+def _engine_options(args: argparse.Namespace) -> dict:
+    engine = "dask" if args.jobs is not None and args.jobs > 1 else "local"
+    jobs = args.jobs if engine == "dask" else None
+    return {"engine": engine, "scheduler": args.scheduler, "jobs": jobs}
+
+
+def _cmd_run_many(args: argparse.Namespace) -> int:
+    from rich.table import Table
+    from rich.text import Text
+
+    from kinplan.batch import plan_many
+
+    extra = [
+        flag
+        for flag, value in (("--html", args.html), ("--plot", args.plot), ("--csv", args.csv))
+        if value
+    ]
+    if extra and len(args.program) > 1:
+        raise KinplanError(
+            f"{', '.join(extra)} write the motion of one program; give one PROGRAM.yaml, or "
+            "leave them out to plan several"
+        )
+    with _work_progress("planning programs", "programs") as progress:
+        summaries = plan_many(args.program, dt=args.dt, progress=progress, **_engine_options(args))
+    table = Table(title=f"{len(summaries)} programs")
+    for column in (
+        "program",
+        "robot",
+        "moves",
+        "duration [s]",
+        "min manip.",
+        "joint margin",
+        "status",
+    ):
+        table.add_column(
+            column, justify="left" if column in ("program", "robot", "status") else "right"
+        )
+    for s in summaries:
+        table.add_row(
+            s.path,
+            s.robot or "-",
+            f"{s.moves_ok}/{s.moves}",
+            f"{s.duration:.3f}",
+            "-" if math.isnan(s.min_manipulability) else f"{s.min_manipulability:.4g}",
+            "-" if not math.isfinite(s.joint_margin) else f"{s.joint_margin:.3f}",
+            Text(s.status, style="green" if s.ok else "bold red"),
+        )
+    _console().print(table)
+    failed = [s for s in summaries if not s.ok]
+    for s in failed:
+        print(f"{s.path}: {s.reason}")
+    if failed:
+        first = failed[0]
+        return _fail(
+            f"{len(failed)} of {len(summaries)} programs failed; {first.path}: {first.reason}"
+        )
+    print(f"ok: {len(summaries)} programs planned")
+    return 0
+
+
+def _cmd_reach(args: argparse.Namespace) -> int:
+    from kinplan.reach import capability_map
+
+    robot = _load(args)
+    if args.cone_deg is not None and args.direction is None:
+        raise KinplanError("--cone-deg needs --direction X Y Z (the tool z axis it is around)")
+    region = None if args.region is None else np.reshape(args.region, (3, 2))
+    output = Path(args.output)
+    if output.is_dir():
+        raise KinplanError(f"-o {args.output} is a folder; give a file name such as map.npz")
+    with _work_progress(f"reach map of {robot.name}", "chunks") as progress:
+        reach_map = capability_map(
+            robot,
+            resolution=args.resolution,
+            orientations=args.orientations,
+            region=region,
+            direction=args.direction,
+            cone_deg=args.cone_deg or 0.0,
+            progress=progress,
+            **_engine_options(args),
+        )
+    for line in reach_map.summary():
+        print(line)
+    print(f"wrote {reach_map.save(output)}")
+    if args.png:
+        print(f"wrote {reach_map.save_png(_plot_file(args.png))}")
+    if args.html:
+        print(f"wrote {reach_map.save_html(args.html, robot=robot)}")
+    return 0
+
+
+def _cmd_place(args: argparse.Namespace) -> int:
+    from rich.table import Table
+
+    from kinplan.placement import heat_map, place
+
+    png = _plot_file(args.png) if args.png else None
+    with _work_progress("placing the robot", "chunks") as progress:
+        search = place(
+            args.program,
+            x=args.x,
+            y=args.y,
+            z=args.z,
+            yaw_deg=args.yaw_deg,
+            step=args.step,
+            yaw_step_deg=args.yaw_step_deg,
+            dt=args.dt,
+            progress=progress,
+            **_engine_options(args),
+        )
+    planned = [p for p in search.placements if p.ok]
+    table = Table(
+        title=f"{args.program}: {len(planned)} of {len(search.placements)} base poses plan"
+    )
+    for column in (
+        "#",
+        "xyz [m]",
+        "rpy [deg]",
+        "margin",
+        "min manip.",
+        "joint margin",
+        "duration [s]",
+    ):
+        table.add_column(column, justify="right")
+    for rank, p in enumerate(search.placements[: args.top]):
+        table.add_row(
+            str(rank + 1),
+            _fmt(p.xyz, 3),
+            _fmt(np.asarray(p.rpy_deg) + 0.0, 1),
+            f"{p.margin:.3f}" if p.ok else f"fails: {p.reason}"[:60],
+            "-" if math.isnan(p.min_manipulability) else f"{p.min_manipulability:.4g}",
+            "-" if not math.isfinite(p.joint_margin) else f"{p.joint_margin:.3f}",
+            f"{p.duration:.3f}",
+        )
+    _console().print(table)
+    if png is not None:
+        print(f"wrote {heat_map(search, png)}")
+    if not planned:
+        return _fail(
+            f"no base pose of the grid plans the whole program; the best: {search.best.reason}"
+        )
+    print(f"wrote {search.write_best(args.output)} (base_pose of #1)")
+    return 0
+
+
+# ----------------------------------------------------------------------------------------------
 # Parser
 # ----------------------------------------------------------------------------------------------
 
@@ -545,7 +765,12 @@ def build_parser() -> argparse.ArgumentParser:
     ik.set_defaults(handler=_cmd_ik)
 
     run = commands.add_parser("run", help="validate and plan a YAML motion program")
-    run.add_argument("program", metavar="PROGRAM.yaml", help="the program file (YAML)")
+    run.add_argument(
+        "program",
+        metavar="PROGRAM.yaml",
+        nargs="+",
+        help="the program file (YAML); several files are planned as a batch, one row each",
+    )
     run.add_argument("--html", metavar="FILE", help="write the MeshCat playback (offline HTML)")
     run.add_argument(
         "--plot", metavar="FILE", help="write joint position/velocity/acceleration, tool speed"
@@ -556,6 +781,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--dt", type=_positive, default=DEFAULT_DT, help=f"sampling period [s] ({DEFAULT_DT})"
     )
+    _engine_arguments(run)
     run.set_defaults(handler=_cmd_run)
 
     demo = commands.add_parser("demo", help="run a demo: the lecture's 2R example, a UR5 weld")
@@ -574,6 +800,54 @@ def build_parser() -> argparse.ArgumentParser:
     teach.add_argument("--deg", action="store_true", help="--start in degrees")
     teach.add_argument("--view", action="store_true", help="live MeshCat view in the browser")
     teach.set_defaults(handler=_cmd_teach)
+
+    reach = commands.add_parser("reach", help="reachability (capability) map of a robot")
+    _robot_arguments(reach)
+    reach.add_argument("-o", "--output", metavar="MAP.npz", required=True, help="map file")
+    reach.add_argument("--resolution", type=_positive, default=0.05, help="voxel edge [m] (0.05)")
+    reach.add_argument(
+        "--orientations", type=_jobs, default=32, help="tool orientations per voxel (32)"
+    )
+    reach.add_argument(
+        "--direction",
+        type=float,
+        nargs=3,
+        metavar=("X", "Y", "Z"),
+        help="only orientations whose tool z axis is within --cone-deg of this direction",
+    )
+    reach.add_argument("--cone-deg", type=float, help="cone half-angle around --direction [deg]")
+    reach.add_argument(
+        "--region",
+        type=float,
+        nargs=6,
+        metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"),
+        help="box to map [m] (default: a cube about the first joint holding the reach)",
+    )
+    reach.add_argument("--png", metavar="FILE", help="write slices through the shoulder")
+    reach.add_argument("--html", metavar="FILE", help="write the voxels in MeshCat (offline)")
+    _engine_arguments(reach)
+    reach.set_defaults(handler=_cmd_reach)
+
+    place = commands.add_parser("place", help="rank base poses of a robot for a program")
+    place.add_argument("program", metavar="PROGRAM.yaml", help="the program file (YAML)")
+    place.add_argument("--x", type=float, nargs="+", required=True, metavar="X", help="X [X1] [m]")
+    place.add_argument("--y", type=float, nargs="+", required=True, metavar="Y", help="Y [Y1] [m]")
+    place.add_argument("--z", type=float, nargs="+", metavar="Z", help="Z [Z1] [m] (program's)")
+    place.add_argument(
+        "--yaw-deg", type=float, nargs="+", metavar="YAW", help="YAW [YAW1] [deg] (program's)"
+    )
+    place.add_argument("--step", type=_positive, default=0.05, help="x, y, z grid step [m]")
+    place.add_argument("--yaw-step-deg", type=_positive, default=30.0, help="yaw step [deg]")
+    place.add_argument(
+        "-o", "--output", metavar="BEST.yaml", required=True, help="the program, best base pose"
+    )
+    place.add_argument("--png", metavar="FILE", help="write the heat map of the margins")
+    place.add_argument("--top", type=_jobs, default=5, help="placements listed (5)")
+    place.add_argument(
+        "--dt", type=_positive, default=DEFAULT_DT, help=f"sampling period [s] ({DEFAULT_DT})"
+    )
+    _engine_arguments(place)
+    place.set_defaults(handler=_cmd_place)
     return parser
 
 

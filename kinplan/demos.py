@@ -22,7 +22,7 @@ import time
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import Any, TypedDict
 
 import numpy as np
 import pinocchio as pin
@@ -228,7 +228,9 @@ def _short_forearm(lines: list[str], dt: float) -> dict[str, Any]:
     motion between the same end points."""
     l1, l2 = SHORT_FOREARM
     robot = kinplan.planar_arm(list(SHORT_FOREARM), name="short_forearm")
-    r_min, r_max = robot.planar_reach()
+    reach = robot.planar_reach()
+    assert reach is not None  # a planar arm
+    r_min, r_max = reach
     start = np.array([*SHORT_START_XY, 0.0])
     end = np.array([*SHORT_END_XY, 0.0])
     q0 = robot.ik(start, q_seed=np.radians([20.0, 60.0]), position_only=True).q
@@ -298,13 +300,25 @@ def _plot_short_forearm(short: dict[str, Any], path: Path) -> None:
 # Weld
 # ----------------------------------------------------------------------------------------------
 
+
+class _RectangleSeam(TypedDict):
+    center: tuple[float, float]
+    size: tuple[float, float]
+    radius: float
+
+
+class _CircleSeam(TypedDict):
+    center: tuple[float, float]
+    radius: float
+
+
 UR5_HOME_DEG = (0.0, -90.0, 90.0, -90.0, -90.0, 0.0)
 """UR5 start and end configuration: tool pointing down at (0.49, 0.11, 0.43) m [deg]."""
 SEAM_HEIGHT = 0.10
 """Height of tool0 over the seams [m] (the plate is horizontal)."""
-RECTANGLE = {"center": (0.45, -0.12), "size": (0.20, 0.12), "radius": 0.02}
+RECTANGLE: _RectangleSeam = {"center": (0.45, -0.12), "size": (0.20, 0.12), "radius": 0.02}
 """Rectangular seam: centre (x, y) [m], size along x and y [m], corner radius [m]."""
-CIRCLE = {"center": (0.42, 0.20), "radius": 0.05}
+CIRCLE: _CircleSeam = {"center": (0.42, 0.20), "radius": 0.05}
 """Circular seam: centre (x, y) [m] and radius [m]."""
 WELD_SPEED = 0.03
 """Tool speed along the seams [m/s]."""

@@ -40,7 +40,7 @@ def _fmt(x: float) -> str:
 
 
 def planar_arm_urdf(
-    lengths: Sequence[float],
+    lengths: Sequence[float] | np.ndarray,
     name: str = "planar_arm",
     lower: float | Sequence[float] | None = None,
     upper: float | Sequence[float] | None = None,

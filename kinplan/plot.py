@@ -72,7 +72,8 @@ def plot_trajectory(
         show_knots: Draw the segment boundaries.
 
     Returns:
-        The figure (three stacked axes).
+        The figure (three stacked axes; a fourth with the robot–obstacle clearance [mm] along
+        a single plan in a work cell with obstacles, e.g. a program with ``obstacles:``).
 
     Raises:
         InputError: no trajectory, not a motion, mismatched joint counts or label counts.
@@ -88,8 +89,17 @@ def plot_trajectory(
         raise InputError(f"all trajectories must have the same number of joints, got {counts}")
     names = _names(joint_names, n, "joint_names", "joint")
     labels = _names(labels, len(curves), "labels", "trajectory")
-    figure = _new_figure((8.0, 7.5))
-    axes = figure.subplots(3, 1, sharex=True)
+    clearance = getattr(items[0], "clearance", None) if len(items) == 1 else None
+    if clearance is not None and not np.isfinite(clearance).any():
+        clearance = None  # a cell without obstacles: nothing to draw
+    figure = _new_figure((8.0, 9.5 if clearance is not None else 7.5))
+    axes = figure.subplots(3 if clearance is None else 4, 1, sharex=True)
+    if clearance is not None:  # a plan in a work cell: robot–obstacle distance [mm]
+        axes, clearance_axis = axes[:3], axes[3]
+        clearance_axis.plot(items[0].t, 1e3 * np.asarray(clearance), color="C3")
+        clearance_axis.axhline(0.0, color="0.5", linewidth=0.8)
+        clearance_axis.set_ylabel("clearance [mm]")
+        clearance_axis.grid(True, alpha=0.3)
     for k, curve in enumerate(curves):
         style = _LINE_STYLES[k % len(_LINE_STYLES)]
         for j in range(n):
@@ -112,7 +122,7 @@ def plot_trajectory(
     ):
         ax.set_ylabel(f"{quantity} [{unit}{suffix}]")
         ax.grid(True, alpha=0.3)
-    axes[-1].set_xlabel("time [s]")
+    (clearance_axis if clearance is not None else axes[-1]).set_xlabel("time [s]")
     axes[0].legend(fontsize="small", loc="best")
     if title:
         figure.suptitle(title)

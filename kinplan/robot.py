@@ -14,6 +14,7 @@ import math
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
@@ -31,6 +32,10 @@ from kinplan.ik import (
 from kinplan.planar import planar_arm_urdf, write_planar_arm
 from kinplan.sources import RobotSpec, known_names, resolve_source
 from kinplan.urdf_model import build_chain, frame_id
+
+if TYPE_CHECKING:  # kinplan.tool builds robots: imported where with_tool runs
+    from kinplan.cell import Body
+    from kinplan.tool import Tool
 
 logger = logging.getLogger(__name__)
 
@@ -55,7 +60,15 @@ class Robot:
         velocity_limit: Speed limits [rad/s or m/s], shape (nq,) (``inf`` where the URDF has none).
         model: The Pinocchio model of the chain (shared, do not modify).
         package_dirs: Folders that resolve the URDF's ``package://`` mesh paths.
+        tool: The tool of a robot made by :meth:`with_tool` (None without one).
+        tool_links: Links that are tool bodies (set by :meth:`with_tool`).
+        source_urdf_path: The URDF the robot was loaded from, before :meth:`with_tool` wrote
+            its own (None: ``urdf_path``).
     """
+
+    tool: Tool | None = None
+    tool_links: tuple[str, ...] = ()
+    source_urdf_path: Path | None = None
 
     def __init__(
         self,
@@ -65,7 +78,7 @@ class Robot:
         locked_joints: Mapping[str, float] | None = None,
         base_pose: pin.SE3 | None = None,
         limits: Mapping[str, Mapping[str, float]] | None = None,
-    ):
+    ) -> None:
         if not isinstance(spec, RobotSpec):
             raise InputError(
                 "Robot(spec) takes a kinplan.sources.RobotSpec; load a robot with "
@@ -355,7 +368,7 @@ class Robot:
         if position_only is None:
             position_only = self.default_position_only()
         rows, rank = self._task[checks.flag(position_only, "position_only")]
-        return manipulability_of(self.jacobian(q)[rows], rank)
+        return float(manipulability_of(self.jacobian(q)[rows], rank))
 
     # ------------------------------------------------------------------ inverse kinematics
     def ik(
@@ -592,7 +605,9 @@ class Robot:
             self._closed_form = analytic_solver_for(self)
         return self._closed_form
 
-    def with_tool(self, pose: pin.SE3 | np.ndarray | Sequence[float], body=None) -> Robot:
+    def with_tool(
+        self, pose: pin.SE3 | np.ndarray | Sequence[float], body: Body | None = None
+    ) -> Robot:
         """This robot with a tool on its flange (the current tip frame): a new Robot whose tip
         is the tool centre point, so FK, IK, Jacobians and paths all work at the TCP, and whose
         tool body (if given) collides like a link in a :class:`kinplan.WorkCell` and is drawn
@@ -799,7 +814,7 @@ def load_robot(
 
 
 def planar_arm(
-    lengths: Sequence[float],
+    lengths: Sequence[float] | np.ndarray,
     lower: float | Sequence[float] | None = None,
     upper: float | Sequence[float] | None = None,
     velocity_limit: float | Sequence[float] | None = None,

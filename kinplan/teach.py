@@ -126,7 +126,7 @@ class TeachPendant:
         robot_source: str | None = None,
         linear_step: float = DEFAULT_LINEAR_STEP,
         angular_step_deg: float = DEFAULT_ANGULAR_STEP_DEG,
-    ):
+    ) -> None:
         _check_robot(robot)
         self.robot = robot
         start = home_configuration(robot) if q_start is None else robot.check_q(q_start, "q_start")

@@ -129,7 +129,7 @@ class JointPath:
         corner_deviation: Distance from each point to the path there, shape (m,) [rad].
     """
 
-    def __init__(self, points: np.ndarray, max_deviation: float = 0.0):
+    def __init__(self, points: np.ndarray, max_deviation: float = 0.0) -> None:
         """Build the path.
 
         Args:
@@ -600,7 +600,8 @@ def plan(
     """
     path = JointPath(points, max_deviation)
     if path.piece_count == 0:
-        law = PathLaw(*(np.zeros(1) for _ in range(5)), piece=np.zeros(1, dtype=int))
+        t, s, sd, sdd, h = (np.zeros(1) for _ in range(5))
+        law = PathLaw(t, s, sd, sdd, h, piece=np.zeros(1, dtype=int))
         q = path.points[0][:, None]
         coefficients = [np.hstack([q, np.zeros((path.n, 2))])]
         knots = np.array([0.0, 0.0 if duration is None else duration])

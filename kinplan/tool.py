@@ -22,6 +22,7 @@ import tempfile
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
@@ -30,6 +31,9 @@ from kinplan import checks
 from kinplan.cell.body import Body, CellError, as_pose
 from kinplan.sources import RobotSpec
 from kinplan.urdf_model import read_urdf
+
+if TYPE_CHECKING:  # type-only: kinplan.robot imports this module where with_tool runs
+    from kinplan.robot import Robot
 
 #: Colour of a tool body in the viewer (RGBA).
 TOOL_RGBA = "0.72 0.74 0.78 1"
@@ -54,7 +58,7 @@ class Tool:
     body_link: str | None
 
 
-def attach_tool(robot, pose: object, body: Body | None = None):
+def attach_tool(robot: Robot, pose: object, body: Body | None = None) -> Robot:
     """The robot with a tool on its flange (see the module docstring).
 
     Args:

@@ -197,7 +197,7 @@ class Trajectory:
         end: ArrayLike | None = None,
         end_velocity: ArrayLike | None = None,
         end_acceleration: ArrayLike | None = None,
-    ):
+    ) -> None:
         """Build a trajectory from segments.
 
         Args:
@@ -355,7 +355,8 @@ class Trajectory:
             self._velocity_coefficients,
             self._acceleration_coefficients,
         )
-        results = tuple(np.empty((t.size, self.n)) for _ in coefficients)
+        shape = (t.size, self.n)
+        results = (np.empty(shape), np.empty(shape), np.empty(shape))
         for start in range(0, t.size, _BLOCK):
             block = slice(start, start + _BLOCK)
             for values, c in zip(results, coefficients, strict=True):
@@ -902,7 +903,7 @@ def _check_rates_continuous(coefficients: list[np.ndarray], durations: np.ndarra
         rates = []
         for c, h in zip(coefficients, durations, strict=True):
             powers = np.arange(c.shape[1])
-            derivative = c * math.prod(powers - k for k in range(order))[None, :]
+            derivative = c * np.prod([powers - k for k in range(order)], axis=0)[None, :]
             tau = h ** np.maximum(powers - order, 0)
             rates.append((derivative[:, order], derivative @ tau))
         values = np.max([np.maximum(np.abs(r[0]), np.abs(r[1])) for r in rates], axis=0)
@@ -1178,11 +1179,12 @@ def _positive_array(value: object, name: str, count: int) -> np.ndarray:
 
 def _points(value: object, name: str) -> np.ndarray:
     array = _finite_array(value, name)
+    given = array.shape
     if array.ndim == 1:
         array = array[:, None]
     if array.ndim != 2 or array.shape[0] < 2 or array.shape[1] == 0:
         raise InputError(
-            f"{name} must have shape (m, n) or (m,) with at least 2 points, got {np.shape(value)}"
+            f"{name} must have shape (m, n) or (m,) with at least 2 points, got {given}"
         )
     _check_magnitudes(array, name)
     return array
@@ -1225,7 +1227,7 @@ def _via_velocities(value: object, m: int, n: int) -> np.ndarray:
     point; an empty list when there is no via point.
     """
     given = _finite_array(value, "via_velocities")
-    shapes = {(m - 2, n)}
+    shapes: set[tuple[int, ...]] = {(m - 2, n)}
     if n == 1:
         shapes |= {(m - 2,)}
     if m == 3:
@@ -1255,9 +1257,10 @@ def _frozen(array: np.ndarray) -> np.ndarray:
     return result
 
 
-def _segment_tuple(segments: object) -> tuple[Segment, ...]:
+def _segment_tuple(segments: Sequence[Segment]) -> tuple[Segment, ...]:
+    """The segments as a tuple, checked (callers without types may pass anything)."""
     try:
-        result = tuple(segments)  # type: ignore[arg-type]
+        result = tuple(segments)
     except TypeError as error:
         raise InputError(
             f"segments must be a list of Segment, got {_describe(segments)}"
@@ -1281,9 +1284,9 @@ def _check_segments(segments: tuple[Segment, ...]) -> None:
             )
     t0 = np.array([s.t0 for s in segments])
     t1 = np.array([s.t1 for s in segments])
-    for k in np.flatnonzero(np.abs(t0[1:] - t1[:-1]) > 1e-12 * np.maximum(1.0, np.abs(t1[:-1]))):
+    for j in np.flatnonzero(np.abs(t0[1:] - t1[:-1]) > 1e-12 * np.maximum(1.0, np.abs(t1[:-1]))):
         raise InputError(
-            f"segment {k + 1} starts at {t0[k + 1]} s but segment {k} ends at {t1[k]} s; "
+            f"segment {j + 1} starts at {t0[j + 1]} s but segment {j} ends at {t1[j]} s; "
             "segments must be contiguous"
         )
     degree = max(s.degree for s in segments)

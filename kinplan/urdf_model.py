@@ -123,7 +123,7 @@ def read_urdf(urdf_path: Path) -> ET.Element:
 
 def root_link(root: ET.Element, urdf_path: Path) -> str:
     """The URDF's root link (the one link that is no joint's child)."""
-    links = [link.get("name") for link in root.findall("link")]
+    links = [link.get("name", "") for link in root.findall("link")]
     if not links:
         raise URDFError(f"{urdf_path} has no <link>: it describes no robot; check the file")
     children = {child.get("link") for child in root.findall("joint/child")}
@@ -364,8 +364,9 @@ def _uncouple_mimics(
     if not uncoupled:
         return xml, set()
     for element in root.findall("joint"):
-        if element.get("name", "") in uncoupled:
-            element.remove(element.find("mimic"))
+        mimic = element.find("mimic")
+        if element.get("name", "") in uncoupled and mimic is not None:
+            element.remove(mimic)
     logger.info(
         "%s: Pinocchio cannot couple the mimic joint(s) %s to their masters; held at the "
         "value of the relation where they are off the tool chain",
@@ -641,9 +642,9 @@ def build_chain(
     _hold_uncoupled(model, joints, uncoupled, chain, hold, locked, q_ref, urdf_path)
     # a mimic joint whose master is held goes with it (Pinocchio needs both held)
     for j in range(1, model.njoints):
-        mimic = joints[model.names[j]].mimic
-        if mimic is not None and model.existJointName(mimic[0]):
-            if model.getJointId(mimic[0]) in hold | off_chain:
+        relation = joints[model.names[j]].mimic
+        if relation is not None and model.existJointName(relation[0]):
+            if model.getJointId(relation[0]) in hold | off_chain:
                 hold.add(j)
     if model.nq and len(chain - hold) == 0:
         raise URDFError(
@@ -682,11 +683,11 @@ def build_chain(
             "them with limits={name: {'lower': .., 'upper': ..}} or lock them with "
             "locked_joints={name: value}"
         )
-    mimic = {
-        n: joints[n].mimic  # type: ignore[misc]
-        for n in names
-        if reduced.joints[reduced.getJointId(n)].nq == 0 and joints[n].mimic is not None
-    }
+    mimic: dict[str, tuple[str, float, float]] = {}
+    for n in names:
+        relation = joints[n].mimic
+        if reduced.joints[reduced.getJointId(n)].nq == 0 and relation is not None:
+            mimic[n] = relation
     return Chain(
         model=reduced,
         name=root.get("name", urdf_path.stem),

@@ -404,3 +404,45 @@ def test_joint_limit_event_t_and_s_are_those_of_one_sample():
     plan = cartesian.follow(arm, arc, duration=1.0, dt=0.01, q_seed=[0.3, -0.2])
     assert plan.status == "joint_limit"
     assert_event_describes_its_sample(arm, plan, arc, time_path(arc.length, 1.0, dt=0.01))
+
+
+def grid(path: cartesian.Path, resolution: float = 0.005) -> np.ndarray:
+    """The fractions check_reachability tests: every ``resolution`` metres, at least 50."""
+    return np.linspace(0.0, 1.0, max(50, int(np.ceil(path.length / resolution)) + 1))
+
+
+@pytest.mark.parametrize(
+    ("start", "end", "why", "radius"),
+    [
+        ([1.0, 1.0, 0.0], [2.2, 1.0, 0.0], "exceeds the reach 2.0000 m", lambda r: r > 2.0),
+        ([1.0, 0.3, 0.0], [-1.0, 0.3, 0.0], "inside the hole", lambda r: r < 0.75),
+        ([1.0, 0.5, 0.1], [0.5, 1.0, 0.1], "off the arm's plane", lambda r: np.ones_like(r) > 0),
+    ],
+)
+def test_planar_reachability_stops_at_the_first_point_outside_the_annulus(start, end, why, radius):
+    """The analytic pre-check of a planar arm (the 2R with l2 = 0.25 m for the hole): the first
+    grid point outside the annulus r_min ≤ r ≤ r_max (or off the plane) is the event, with its
+    fraction, position, reason and a remedy; the fraction reached is the grid point before."""
+    arm = kinplan.planar_arm([1.0, 1.0] if "hole" not in why else [1.0, 0.25])
+    line = cartesian.Line(start, end)
+    s = grid(line)
+    r = np.linalg.norm(line.position(s)[:, :2], axis=1)
+    k = int(np.flatnonzero(radius(r))[0])
+    check = cartesian.check_reachability(arm, line)
+    assert not check.ok and check.status == "unreachable" and len(check.events) == 1
+    event = check.events[0]
+    assert event.kind == "unreachable" and event.index == k and event.t == 0.0
+    assert event.s == s[k] and check.fraction == (s[k - 1] if k else 0.0)
+    np.testing.assert_allclose(check.s, s[:k], atol=0.0)
+    np.testing.assert_allclose(event.position, line.position(s[k : k + 1])[0], atol=1e-15)
+    assert why in event.message and len(event.remedy) > 10
+    assert check.q.shape == (0, arm.nq)
+
+
+def test_planar_reachability_accepts_a_line_inside_the_annulus(planar_2r):
+    """A line well inside the 2R's annulus and away from its singularities: ok, the whole grid
+    checked, no event."""
+    line = cartesian.Line([1.0, 1.0, 0.0], [1.5, 0.2, 0.0])
+    check = cartesian.check_reachability(planar_2r, line, position_only=True)
+    assert check.ok and check.status == "ok" and check.fraction == 1.0 and check.events == []
+    np.testing.assert_array_equal(check.s, grid(line))

@@ -88,4 +88,5 @@ def test_random_programs_that_plan_ok_are_executable(ur5):
             assert np.all(speeds <= ur5.velocity_limit), text
         else:
             assert plan.reason and "\n" not in plan.reason
-    assert outcomes[True] > 5 and outcomes[False] > 5, outcomes
+    # random UR5 configurations often self-collide (programs check their work cell, issue 16)
+    assert outcomes[True] > 3 and outcomes[False] > 5, outcomes

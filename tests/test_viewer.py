@@ -217,7 +217,7 @@ def test_ur5_page_size_and_mesh_colours(tmp_path, ur5):
 def test_page_options_are_documented_layers(tmp_path, planar_2r):
     path = viewer.save_html(planar_2r, cubic_stand_in([0, 0], [1, 1], 1.0), tmp_path / "a.html")
     _, config = page_parts(path.read_text(encoding="utf-8"))
-    assert set(config["layers"]) == {"robot", "tool", "path", "markers", "grid", "axes"}
+    assert set(config["layers"]) == {"robot", "tool", "path", "markers", "cell", "grid", "axes"}
     assert np.all(np.isfinite(config["camera_target"]))
 
 

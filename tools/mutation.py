@@ -287,7 +287,8 @@ def equivalent_reason(module: str, changes: str) -> str | None:
     removed = _normal(" ".join(line[1:] for line in changes.splitlines() if line[:1] == "-"))
     added = _normal(" ".join(line[1:] for line in changes.splitlines() if line[:1] == "+"))
     for entry in EQUIVALENTS:
-        if entry["module"] != module:
+        modules = entry["module"]
+        if module not in ((modules,) if isinstance(modules, str) else modules):
             continue
         if _normal(entry["original"]) == removed and _normal(entry["mutant"]) == added:
             return entry["reason"]
@@ -369,7 +370,7 @@ def summary_line(r: ModuleResult) -> str:
 
 
 def report(results: dict[str, ModuleResult], notes: str) -> str:
-    rows = [r for m in MODULES if (r := results.get(m)) is not None]
+    rows = [r for m in MODULES if (r := results.get(m)) is not None and (ROOT / m).is_file()]
     out = [
         "# Mutation score of the core modules",
         "",

@@ -85,7 +85,7 @@ def xyz_rpy(xyz: Sequence[float], rpy_deg: Sequence[float] = (0.0, 0.0, 0.0)) ->
     return pin.SE3(pin.rpy.rpyToMatrix(*np.radians(angles)), position)
 
 
-@dataclasses.dataclass(frozen=True, eq=False)
+@dataclasses.dataclass(frozen=True, eq=False, init=False)
 class Body:
     """A box, cylinder, sphere or mesh with its pose (see the module docstring).
 
@@ -108,6 +108,25 @@ class Body:
     path: Path | None = None
     scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
     convex: bool = False
+
+    def __init__(
+        self,
+        shape: str,
+        size: Sequence[float] | np.ndarray = (),
+        pose: object = None,
+        path: str | os.PathLike[str] | None = None,
+        scale: float | Sequence[float] | np.ndarray = (1.0, 1.0, 1.0),
+        convex: bool = False,
+    ) -> None:
+        """The fields as given, then checked and normalised (the types of the attributes)."""
+        set_ = object.__setattr__
+        set_(self, "shape", shape)
+        set_(self, "size", size)
+        set_(self, "pose", pose)
+        set_(self, "path", path)
+        set_(self, "scale", scale)
+        set_(self, "convex", convex)
+        self.__post_init__()
 
     def __post_init__(self) -> None:
         shape = self.shape
@@ -148,7 +167,7 @@ class Body:
 
     # ------------------------------------------------------------------ constructors
     @classmethod
-    def box(cls, size: Sequence[float], pose: object = None) -> Body:
+    def box(cls, size: Sequence[float] | np.ndarray, pose: object = None) -> Body:
         """A box of edge lengths ``size`` = (x, y, z) [m] centred on ``pose``."""
         return cls("box", size, pose)
 

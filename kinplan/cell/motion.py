@@ -484,7 +484,7 @@ def _result(
     stop = n_samples if failure is None else failure.index + (0 if failure.fraction < 1.0 else 1)
     if failure is not None and not full:  # not computed after the failure
         values[:, failure.index + 1 :] = np.nan
-    mins = []
+    mins: list[tuple[float, tuple[str, str] | None]] = []  # per kind: (minimum, its pair)
     for kind in (0, 1):
         head = values[kind, :stop]
         if head.size and np.isfinite(head).any():

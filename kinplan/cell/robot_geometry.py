@@ -34,6 +34,7 @@ import xml.etree.ElementTree as ET
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import coal
 import numpy as np
@@ -42,6 +43,9 @@ import pinocchio as pin
 from kinplan.cell.body import CellError, convex_hull
 from kinplan.errors import KinplanError
 from kinplan.urdf_model import full_model, read_urdf
+
+if TYPE_CHECKING:  # type-only: a robot's tool brings kinplan.cell in
+    from kinplan.robot import Robot
 
 logger = logging.getLogger(__name__)
 
@@ -87,7 +91,7 @@ class RobotGeometry:
     tool_links: tuple[str, ...] = field(default_factory=tuple)
 
 
-def robot_geometry(robot) -> RobotGeometry:
+def robot_geometry(robot: Robot) -> RobotGeometry:
     """Read the robot's collision geometry (see the module docstring).
 
     Raises:
@@ -203,15 +207,15 @@ def _link_groups(root: ET.Element) -> tuple[dict[str, int], dict[tuple[int, int]
     roots = sorted({find(name) for name in list(parent)})
     index = {name: k for k, name in enumerate(roots)}
     group = {name: index[find(name)] for name in list(parent)}
-    adjacent = {}
-    for name, (a, b) in joints:
-        key = tuple(sorted((group[a], group[b])))
-        adjacent.setdefault(key, name)  # type: ignore[arg-type]
-    return group, adjacent  # type: ignore[return-value]
+    adjacent: dict[tuple[int, int], str] = {}
+    for name, (link_a, link_b) in joints:
+        first, second = sorted((group[link_a], group[link_b]))
+        adjacent.setdefault((first, second), name)
+    return group, adjacent
 
 
 # ------------------------------------------------------------------------------------ SRDF
-def find_srdf(robot) -> Path | None:
+def find_srdf(robot: Robot) -> Path | None:
     """The SRDF next to the robot's URDF (see the module docstring), or None."""
     urdf_path = Path(getattr(robot, "source_urdf_path", None) or robot.urdf_path)
     stem = urdf_path.stem
@@ -255,7 +259,7 @@ def read_srdf(path: Path, urdf_links: Iterable[str], urdf_name: str) -> list[Exc
 
 # ------------------------------------------------------------------------------------ pairs
 def self_pairs(
-    robot, geometry: RobotGeometry, srdf: list[ExcludedPair] | None
+    robot: Robot, geometry: RobotGeometry, srdf: list[ExcludedPair] | None
 ) -> tuple[list[tuple[int, int]], list[ExcludedPair]]:
     """The robot's checked self-collision pairs (indices into ``geometry.objects``) and the
     excluded link pairs with their reasons (see the module docstring).
@@ -324,7 +328,7 @@ def self_pairs(
 
 
 def pair_distances(
-    robot, objects: list[pin.GeometryObject], pairs: list[tuple[int, int]], q: np.ndarray
+    robot: Robot, objects: list[pin.GeometryObject], pairs: list[tuple[int, int]], q: np.ndarray
 ) -> list[float]:
     """Signed distances [m] of ``pairs`` of ``objects`` (on the robot's model) at ``q``."""
     geometry = pin.GeometryModel()

@@ -13,6 +13,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
@@ -28,6 +29,9 @@ from kinplan.cell.robot_geometry import (
     self_pairs,
 )
 from kinplan.errors import InputError
+
+if TYPE_CHECKING:  # type-only: a robot's tool brings kinplan.cell in
+    from kinplan.robot import Robot
 
 logger = logging.getLogger(__name__)
 
@@ -89,7 +93,7 @@ class WorkCell:
         >>> result = cell.check_motion(plan.q, clearance=0.01)
     """
 
-    def __init__(self, robot, srdf: str | os.PathLike[str] | bool | None = None):
+    def __init__(self, robot: Robot, srdf: str | os.PathLike[str] | bool | None = None) -> None:
         from kinplan.robot import Robot
 
         if not isinstance(robot, Robot):
@@ -126,7 +130,7 @@ class WorkCell:
 
     # ------------------------------------------------------------------ the cell
     @property
-    def robot(self):
+    def robot(self) -> Robot:
         """The robot (a :class:`kinplan.Robot`)."""
         return self._robot
 
@@ -270,7 +274,7 @@ class WorkCell:
         self._allowed[frozenset((first, second))] = ExcludedPair((first, second), reason)
         self._problem = None
 
-    def for_robot(self, robot) -> WorkCell:
+    def for_robot(self, robot: Robot) -> WorkCell:
         """The same obstacles and allowed pairs around another robot (the same arm with a tool,
         say); the SRDF is looked for again."""
         cell = WorkCell(robot)

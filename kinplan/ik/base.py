@@ -7,13 +7,16 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 import pinocchio as pin
 
 from kinplan.errors import InputError
 from kinplan.ik.screws import LIMIT_TOL, TAU, compose_scan, wrap_angle, wrap_near
+
+if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
+    from kinplan.robot import Robot
 
 logger = logging.getLogger(__name__)
 
@@ -55,7 +58,9 @@ class ClosedFormIK:
     #: Whether a target must have a rotation.
     needs_rotation: bool = True
 
-    def __init__(self, lower: np.ndarray, upper: np.ndarray, weights: np.ndarray | None = None):
+    def __init__(
+        self, lower: np.ndarray, upper: np.ndarray, weights: np.ndarray | None = None
+    ) -> None:
         self.lower = np.asarray(lower, dtype=float)
         self.upper = np.asarray(upper, dtype=float)
         self.nq = len(self.lower)
@@ -255,7 +260,9 @@ class ClosedFormIK:
         if samples.size == 0:
             return q_out, len(raw)
         sub, sub_valid = raw[samples], valid[samples]
-        first_branch, first_q = self._pick(sub[0], ref)
+        picked = self._pick(sub[0], ref)
+        assert picked is not None  # sub[0] has a branch within the limits (``valid``)
+        first_branch, first_q = picked
         branches = self._branch_sequence(sub, sub_valid, first_branch)
         chosen = sub[np.arange(len(sub)), branches]
         steps = wrap_angle(np.diff(chosen, axis=0))
@@ -282,7 +289,9 @@ class ClosedFormIK:
 
 
 # ---------------------------------------------------------------------------- factory
-def self_check(robot, solutions_for: Callable, samples: int = 8) -> bool:
+def self_check(
+    robot: Robot, solutions_for: Callable[[pin.SE3, np.ndarray], np.ndarray], samples: int = 8
+) -> bool:
     """Whether a closed form reproduces random configurations of ``robot`` (Pinocchio FK).
 
     Args:

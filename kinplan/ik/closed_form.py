@@ -43,6 +43,7 @@ representative within the limits closest to the reference.
 from __future__ import annotations
 
 import logging
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -52,10 +53,13 @@ from kinplan.ik.planar import planar_2r_solver
 from kinplan.ik.screws import screws_at_zero
 from kinplan.ik.ur import URIK, ur_geometry
 
+if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
+    from kinplan.robot import Robot
+
 logger = logging.getLogger(__name__)
 
 
-def analytic_solver_for(robot, weights: np.ndarray | None = None) -> AnalyticIK | None:
+def analytic_solver_for(robot: Robot, weights: np.ndarray | None = None) -> AnalyticIK | None:
     """A closed-form IK solver for ``robot`` when its geometry allows one, else None.
 
     Planar 2R arms (two parallel revolute axes), UR-type arms (see :func:`ur_geometry`) and

@@ -26,6 +26,7 @@ import pinocchio as pin
 
 from kinplan import checks
 from kinplan.errors import InputError
+from kinplan.ik.base import AnalyticIK
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 #: Damping λ = DAMPING_GAIN·½‖e‖² + DAMPING_FLOOR of the normal equations (Sugihara-style).
@@ -157,7 +158,9 @@ class IKSolver:
         upper: Upper joint limits [rad or m] (+inf for an unbounded joint).
     """
 
-    def __init__(self, model: pin.Model, frame_id: int, lower: np.ndarray, upper: np.ndarray):
+    def __init__(
+        self, model: pin.Model, frame_id: int, lower: np.ndarray, upper: np.ndarray
+    ) -> None:
         if not isinstance(model, pin.Model):
             raise InputError(f"model must be a pinocchio.Model, got {checks.describe(model)}")
         frame_id = checks.count(frame_id, "frame_id", minimum=0)
@@ -345,7 +348,7 @@ class IKSolver:
         rotation_tolerance: float = 1e-6,
         max_iterations: int = 40,
         max_restarts: int = 40,
-        closed_form=None,
+        closed_form: AnalyticIK | None = None,
     ) -> IKResult:
         """Solve from ``q_seed``, then from Halton restarts until one attempt converges.
 
@@ -385,7 +388,7 @@ class IKSolver:
         )
         max_iterations = checks.count(max_iterations, "max_iterations", minimum=1)
         max_restarts = checks.count(max_restarts, "max_restarts", minimum=0)
-        best = None
+        best: tuple[float, np.ndarray, float, float] | None = None
         total = 0
         if closed_form is not None:
             # The closed form gives the solution nearest the seed at once (polished by Newton).
@@ -410,6 +413,7 @@ class IKSolver:
                 best = (score, q, perr, rerr)
             if ok:
                 return IKResult(q, True, perr, rerr, total, attempt + 1)
+        assert best is not None  # the loop runs at least once (max_restarts ≥ 0)
         _, q, perr, rerr = best
         tolerances = (position_tolerance, rotation_tolerance)
         rescued = None
@@ -436,12 +440,14 @@ class IKSolver:
         Returns:
             (q, position error [m], rotation error [rad], iterations), or None.
         """
-        polish = {
-            "damping_floor": POLISH_DAMPING_FLOOR,
-            "stall_iterations": POLISH_STALL_ITERATIONS,
-        }
         q, ok, perr, rerr, its = self.descend(
-            best, position, rotation, *tolerances, POLISH_ITERATIONS * max_iterations, **polish
+            best,
+            position,
+            rotation,
+            *tolerances,
+            POLISH_ITERATIONS * max_iterations,
+            damping_floor=POLISH_DAMPING_FLOOR,
+            stall_iterations=POLISH_STALL_ITERATIONS,
         )
         if ok:
             return q, perr, rerr, its
@@ -456,6 +462,12 @@ class IKSolver:
         if np.any(q < self.lower) or np.any(q > self.upper):
             return None
         q, ok, perr, rerr, polish_its = self.descend(
-            q, position, rotation, *tolerances, max_iterations, **polish
+            q,
+            position,
+            rotation,
+            *tolerances,
+            max_iterations,
+            damping_floor=POLISH_DAMPING_FLOOR,
+            stall_iterations=POLISH_STALL_ITERATIONS,
         )
         return (q, perr, rerr, its + polish_its) if ok else None

@@ -40,6 +40,7 @@ import logging
 import math
 from dataclasses import dataclass
 from operator import itemgetter
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -55,6 +56,9 @@ from kinplan.ik.screws import (
     plane_basis,
     screws_at_zero,
 )
+
+if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
+    from kinplan.robot import Robot
 
 logger = logging.getLogger(__name__)
 
@@ -317,7 +321,7 @@ class PandaGeometry:
     tool_translation: Vec
 
 
-def panda_geometry(robot) -> PandaGeometry | None:
+def panda_geometry(robot: Robot) -> PandaGeometry | None:
     """The panda-type geometry of ``robot`` (see the module docstring), or None.
 
     Read from the Pinocchio model's joint placements, axes and tool frame (via the world-frame
@@ -372,7 +376,7 @@ class PandaIK:
         lower: np.ndarray,
         upper: np.ndarray,
         weights: np.ndarray | None = None,
-    ):
+    ) -> None:
         self.geometry = geometry
         self.lower = np.asarray(lower, dtype=float)
         self.upper = np.asarray(upper, dtype=float)
@@ -426,7 +430,7 @@ class PandaIK:
         p_list, r_list = p.tolist(), r.reshape(-1).tolist()
         if not math.isfinite(sum(p_list) + sum(r_list)):
             raise InputError(f"the pose must be finite, got {p_list} and {r_list}")
-        return tuple(p_list), tuple(r_list)  # type: ignore[return-value]
+        return tuple(p_list), tuple(r_list)
 
     def _joints(self, q_ref) -> list[_Joint]:
         """Per joint: (reference, reference clipped into the limits, lower, upper, weight)."""
@@ -511,9 +515,9 @@ class PandaIK:
             if rotation_p is None:
                 rotation_p = _matmul(rotation_tm, _rotation_matrix(a7, -q7))
             # G = R_P R6(−θ6) R5(−θ5) R4(−θ4) = R1 R2 R3, applied to ω3 and e
-            c5, s5, c6, s6 = math.cos(q5), -math.sin(q5), math.cos(q6), -math.sin(q6)
-            g3 = _matvec(rotation_p, _rotate_cs(_rotate_cs(g3, a5, c5, s5), a6, c6, s6))
-            ge = _matvec(rotation_p, _rotate_cs(_rotate_cs(ge, a5, c5, s5), a6, c6, s6))
+            cos5, sin5, cos6, sin6 = math.cos(q5), -math.sin(q5), math.cos(q6), -math.sin(q6)
+            g3 = _matvec(rotation_p, _rotate_cs(_rotate_cs(g3, a5, cos5, sin5), a6, cos6, sin6))
+            ge = _matvec(rotation_p, _rotate_cs(_rotate_cs(ge, a5, cos5, sin5), a6, cos6, sin6))
             for t2, t1 in self._shoulder_pair.solve(g.axes[2], g3, joints[1][1], joints[0][1]):
                 c1, c2 = joint_choice(t1, joints[0]), joint_choice(t2, joints[1])
                 if c1 is None or c2 is None:
@@ -576,7 +580,7 @@ class PandaIK:
         return [-(self._q4_phase + spread), -(self._q4_phase - spread)]
 
     # ------------------------------------------------------------ public API
-    def solutions_q7(self, position, rotation, q7: float) -> np.ndarray:
+    def solutions_q7(self, position: np.ndarray, rotation: np.ndarray, q7: float) -> np.ndarray:
         """All solutions within the joint limits with the last joint at ``q7``.
 
         Each solution appears once, as its 2π-equivalent within the limits closest to
@@ -627,7 +631,9 @@ class PandaIK:
             if values:
                 yield values
 
-    def nearest(self, position, rotation, q_ref) -> np.ndarray | None:
+    def nearest(
+        self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray
+    ) -> np.ndarray | None:
         """The solution nearest ``q_ref`` (weighted distance Σ wᵢ Δqᵢ²), or None.
 
         θ7 is searched stage by stage; the nearest solution of the first stage that has one
@@ -673,9 +679,16 @@ class PandaIK:
                     break
         return None if best is None else np.array(best)
 
-    def nearest_batch(self, positions, rotations, q_ref) -> np.ndarray:
+    def nearest_batch(
+        self, positions: np.ndarray, rotations: np.ndarray | None, q_ref: np.ndarray
+    ) -> np.ndarray:
         """:meth:`nearest` sample by sample, each from the previous solution (the last one
         found; ``q_ref`` first). Rows of NaN where none is found. Shapes (N, 3), (N, 3, 3)."""
+        if rotations is None:
+            raise InputError(
+                "the closed-form IK of this 7-joint arm needs the tool rotation; position-only "
+                "targets are for the planar 2R (use Robot.ik instead)"
+            )
         previous = np.asarray(q_ref, dtype=float)
         out = np.full((len(positions), 7), np.nan)
         for i, (position, rotation) in enumerate(zip(positions, rotations)):
@@ -686,7 +699,7 @@ class PandaIK:
 
 
 # ---------------------------------------------------------------------------- factory
-def panda_solver_for(robot, weights: np.ndarray | None = None) -> PandaIK | None:
+def panda_solver_for(robot: Robot, weights: np.ndarray | None = None) -> PandaIK | None:
     """The semi-analytic IK of a panda-type ``robot``, or None for any other arm.
 
     The structure is read from the Pinocchio model (:func:`panda_geometry`) and the solver is

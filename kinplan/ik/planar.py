@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,6 +19,9 @@ from kinplan.ik.screws import (
     plane_basis,
     wrap_angle,
 )
+
+if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
+    from kinplan.robot import Robot
 
 logger = logging.getLogger(__name__)
 
@@ -77,7 +81,7 @@ class Planar2RIK(ClosedFormIK):
         lower: np.ndarray,
         upper: np.ndarray,
         weights: np.ndarray | None = None,
-    ):
+    ) -> None:
         super().__init__(lower, upper, weights)
         self._axis = screws.directions[0]
         self._sign2 = float(np.sign(screws.directions[1] @ self._axis))
@@ -116,7 +120,7 @@ class Planar2RIK(ClosedFormIK):
         return np.arctan2(turned @ self._f, turned @ self._e), untilted
 
 
-def planar_2r_solver(robot, screws: Screws, weights: np.ndarray | None) -> Planar2RIK | None:
+def planar_2r_solver(robot: Robot, screws: Screws, weights: np.ndarray | None) -> Planar2RIK | None:
     u = screws.directions
     if not parallel(u[0], u[1]):
         return None

@@ -9,9 +9,13 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
+
+if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
+    from kinplan.robot import Robot
 
 logger = logging.getLogger(__name__)
 
@@ -145,9 +149,10 @@ def joint_choice(
     ref, clipped, lower, upper, weight = joint
     q = value + TAU * round((clipped - value) / TAU)
     if not (lower <= q <= upper and -HALF_TURN_SAFE < q - clipped < HALF_TURN_SAFE):
-        q = near_angle(value, clipped, lower, upper)  # near a limit or half a turn away: all cases
-        if q is None:
+        near = near_angle(value, clipped, lower, upper)  # near a limit or half a turn away
+        if near is None:
             return None
+        q = near
     return q, weight * (q - ref) ** 2
 
 
@@ -186,7 +191,7 @@ class Screws:
     tool: pin.SE3
 
 
-def screws_at_zero(robot) -> Screws | None:
+def screws_at_zero(robot: Robot) -> Screws | None:
     """The joints as revolute screws at q = 0, or None if some joint is not revolute."""
     model = robot.model
     serial = all(model.parents[j] == j - 1 for j in range(1, model.njoints))

@@ -253,24 +253,32 @@ def _ur_fast_constants(g: URGeometry) -> _URFast | None:
     def floats(v: np.ndarray) -> tuple[float, ...]:
         return tuple(float(x) for x in v)
 
+    def vec2(v: np.ndarray) -> tuple[float, float]:
+        x, y = floats(v)
+        return x, y
+
+    def vec3(v: np.ndarray) -> tuple[float, float, float]:
+        x, y, z = floats(v)
+        return x, y, z
+
     return _URFast(
         matrix=np.ascontiguousarray(np.vstack((rotated_axes, rotated_centre))),
         shoulder_axes=floats(shoulder.ravel()),
-        p1_along=floats(shoulder @ g.p1),
+        p1_along=vec3(shoulder @ g.p1),
         shoulder_offset=float(g.shoulder_offset),
         delta5=float(g.delta5),
-        a_wrist=floats(wrist @ a),
-        d_wrist=floats(wrist @ (g.p4 - centre)),
-        e_wrist=floats(wrist @ g.e),
+        a_wrist=vec3(wrist @ a),
+        d_wrist=vec3(wrist @ (g.p4 - centre)),
+        e_wrist=vec3(wrist @ g.e),
         e_shoulder=(float(g.e @ u1), float(g.e @ b1)),
         f_shoulder=(float(g.f @ u1), float(g.f @ b1)),
         plane_offset=(float(plane_offset @ g.e), float(plane_offset @ g.f)),
-        r23=floats(g.r23),
-        r34=floats(g.r34),
+        r23=vec2(g.r23),
+        r34=vec2(g.r34),
         l23=float(np.hypot(*g.r23)),
         l34=float(np.hypot(*g.r34)),
         elbow_offset=float(np.arctan2(g.r23[1], g.r23[0]) - np.arctan2(g.r34[1], g.r34[0])),
-        signs=floats(g.signs),
+        signs=vec3(g.signs),
     )
 
 
@@ -472,7 +480,7 @@ class URIK(ClosedFormIK):
         lower: np.ndarray,
         upper: np.ndarray,
         weights: np.ndarray | None = None,
-    ):
+    ) -> None:
         super().__init__(lower, upper, weights)
         self.geometry = geometry
         self._fast = _ur_fast_constants(geometry)
@@ -529,6 +537,8 @@ class URIK(ClosedFormIK):
         rotation = np.asarray(rotation, dtype=float)
         if position.shape != (3,) or rotation.shape != (3, 3):
             raise NeedsBatch
+        if self._fast is None:
+            raise NeedsBatch
         position_list = position.tolist()
         values = self._fast.matrix.dot(rotation.reshape(9)).tolist()
         # a NaN or inf anywhere in R reaches some value (the matrix has no zero column)
@@ -557,6 +567,8 @@ class URIK(ClosedFormIK):
                 ``_FAST_WRIST``), where the batch path decides.
         """
         k = self._fast
+        if k is None:
+            raise NeedsBatch
         shoulder = _fast_shoulder(k, position, values)
         if shoulder is None:
             return []
@@ -572,6 +584,8 @@ class URIK(ClosedFormIK):
         """:meth:`_raw` of one pose (N = 1, no free joint) in plain floats: (8, 6) [rad], NaN rows
         for branches without a solution. Raises NeedsBatch as :meth:`_fast_raw`."""
         k = self._fast
+        if k is None:
+            raise NeedsBatch
         raw = np.full((8, 6), np.nan)
         for shoulder, (t1, wrists) in enumerate(
             self._fast_raw(*self._fast_pose(position, rotation))
@@ -621,6 +635,8 @@ class URIK(ClosedFormIK):
                     heads.append((head, pair, choice1[0], choice5[0], choice6[0], t5, t6, plane))
         heads.sort()  # by distance, then pair index (never compares further)
         k = self._fast
+        if k is None:
+            raise NeedsBatch
         best, best_cost, best_index = None, math.inf, 8
         for head, pair, q1, q5, q6, t5, t6, plane in heads:
             if head > best_cost:
@@ -646,6 +662,7 @@ class URIK(ClosedFormIK):
     def _raw(
         self, positions: np.ndarray, rotations: np.ndarray | None, fill: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
+        assert rotations is not None  # needs_rotation: _check_poses refused None
         g = self.geometry
         count = len(positions)
         t1, shoulder_ok = self._shoulder(positions, rotations)  # (N, 2)
@@ -671,7 +688,9 @@ class URIK(ClosedFormIK):
         )
         ok = shoulder_ok[:, :, None, None] & elbow_ok
         raw = np.where(ok[..., None], q, np.nan).reshape(count, 8, 6)
-        singular = free6.reshape(count, -1).any(axis=1) | free2.reshape(count, -1).any(axis=1)
+        singular = np.any(free6.reshape(count, -1), axis=1) | np.any(
+            free2.reshape(count, -1), axis=1
+        )
         return raw, singular
 
     def _shoulder(

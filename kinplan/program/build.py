@@ -15,6 +15,8 @@ import numpy as np
 import pinocchio as pin
 
 import cartesian
+from cartesian.follow import collision_event
+from kinplan.cell import MotionCheck, WorkCell
 from kinplan.errors import InfeasibleError, KinplanError
 from kinplan.program.checker import describe
 from kinplan.program.plan import MoveReport, ProgramPlan
@@ -52,6 +54,11 @@ def _program_remedy(plan: cartesian.CartesianPlan) -> str:
         )
     if event.kind == "unreachable":
         return "move the move's points into the arm's workspace"
+    if event.kind == "collision":
+        return (
+            "move the move's points or the obstacle (obstacles:), or reach the move's start in "
+            "another configuration (a ptp to joint values before it)"
+        )
     return event.remedy
 
 
@@ -74,6 +81,10 @@ class MotionBuilder:
         robot: The arm.
         q_start: Start configuration [rad], shape (nq,).
         dt: Sampling period [s].
+        cell: A :class:`kinplan.WorkCell`: every move is checked against it (its obstacles and
+            the robot's self-collision, between samples too) and fails with status
+            ``collision`` naming the two bodies; None: not checked.
+        clearance: Margin [m] (≥ 0): bodies closer than this collide too.
 
     Attributes:
         robot: The arm.
@@ -89,9 +100,25 @@ class MotionBuilder:
         >>> plan = builder.finish()
     """
 
-    def __init__(self, robot: Robot, q_start: np.ndarray, dt: float = DEFAULT_DT) -> None:
+    def __init__(
+        self,
+        robot: Robot,
+        q_start: np.ndarray,
+        dt: float = DEFAULT_DT,
+        *,
+        cell: WorkCell | None = None,
+        clearance: float = 0.0,
+    ) -> None:
         if not (math.isfinite(dt) and dt > 0):
             raise KinplanError(f"dt must be a finite number of seconds > 0, got {dt!r}")
+        if cell is not None and not isinstance(cell, WorkCell):
+            raise KinplanError(f"cell must be a kinplan.WorkCell, got {describe(cell)}")
+        if not (math.isfinite(clearance) and clearance >= 0):
+            raise KinplanError(f"clearance must be a number of metres >= 0, got {clearance!r}")
+        if cell is not None and cell.robot is not robot:
+            cell = cell.for_robot(robot)
+        self.cell = cell
+        self.clearance = float(clearance)
         self.robot = robot
         self.dt = float(dt)
         self.q = robot.check_q(q_start, "q_start").copy()
@@ -193,7 +220,25 @@ class MotionBuilder:
                 f"{traj.duration * ratio:.3f} s, or no duration (minimum time)"
             )
             self._fail("ptp", label, key, status="velocity_limit", why=why, ratio=ratio)
-        return self._record("ptp", label, key, (t, q, qd, qdd), ratio=ratio)
+        check = None
+        if self.cell is not None:
+            check = self.cell.check_motion(q, self.clearance)
+            if check.index is not None:
+                k = check.index
+                share = t / t[-1] if t[-1] > 0 else np.ones_like(t)
+                position = self.robot.fk(q[k]).translation
+                event = collision_event(check, t, share, position)
+                why = (
+                    f"collision at s = {share[k]:.2f}: {event.message}; move a point of the move, "
+                    "add a via point around the obstacle, or use lin moves"
+                )
+                kept = max(k, 1)
+                self._fail(
+                    "ptp", label, key, (t[:kept], q[:kept], qd[:kept], qdd[:kept]),
+                    status="collision", why=why, ratio=ratio, fraction=float(share[k]),
+                    check=check,
+                )  # fmt: skip
+        return self._record("ptp", label, key, (t, q, qd, qdd), ratio=ratio, check=check)
 
     def lin(
         self,
@@ -290,7 +335,7 @@ class MotionBuilder:
         try:
             plan = cartesian.follow(
                 self.robot, path, duration=duration, speed=speed, profile=profile, dt=self.dt,
-                q_seed=self.q,
+                q_seed=self.q, cell=self.cell, clearance=self.clearance,
             )  # fmt: skip
         except KinplanError as exc:
             self._fail(kind, label, key, status="invalid", why=f"invalid: {exc}")
@@ -331,6 +376,7 @@ class MotionBuilder:
             paths=self.paths,
             program=program,
             dt=self.dt,
+            cell=self.cell,
         )
 
     # -- helpers -------------------------------------------------------------------------------
@@ -384,11 +430,12 @@ class MotionBuilder:
         *,
         ratio: float = 0.0,
         plan: cartesian.CartesianPlan | None = None,
+        check: MotionCheck | None = None,
     ) -> MoveReport:
         """Append a move that was done (samples in local times from 0) and its report."""
         if samples is not None:
             self.q = np.array(samples[1][-1])
-        return self._motion.append(kind, label, key, samples, ratio=ratio, plan=plan)
+        return self._motion.append(kind, label, key, samples, ratio=ratio, plan=plan, check=check)
 
     def _fail(
         self,
@@ -402,6 +449,7 @@ class MotionBuilder:
         ratio: float = 0.0,
         fraction: float = 0.0,
         plan: cartesian.CartesianPlan | None = None,
+        check: MotionCheck | None = None,
     ) -> NoReturn:
         """Record a failed move (the samples are the part achieved) and raise
         :class:`~kinplan.program.MoveError`."""
@@ -409,5 +457,5 @@ class MotionBuilder:
             self.q = np.array(samples[1][-1])
         self._motion.fail(
             kind, label, key, samples, status=status, why=why, ratio=ratio, fraction=fraction,
-            plan=plan,
+            plan=plan, check=check,
         )  # fmt: skip

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import cartesian
+from kinplan.cell import MotionCheck, WorkCell
 from kinplan.motion import MotionKind, PlannedPath, pose_to_track
 from kinplan.program.schema import DEFAULT_DT, Program
 from kinplan.program.segments import hermite_segments
@@ -43,6 +44,14 @@ class MoveReport:
         fraction: Share of the move achieved (1.0 when ok) [-].
         message: One-line reason when it failed, else "".
         cartesian_plan: The :class:`cartesian.CartesianPlan` of a Cartesian move.
+        min_clearance: Smallest distance between the robot (tool body included) and the cell's
+            obstacles over the move's samples [m] (inf without a cell or obstacles).
+        min_clearance_pair: (robot body, obstacle) at ``min_clearance``, or None.
+        min_self_clearance: Smallest distance between the robot's own checked pairs [m].
+        clearances: Robot–obstacle distance at each of the move's samples [m] (first sample
+            included), or None without a cell.
+        collision: The failed :class:`kinplan.cell.MotionCheck` of a ``collision`` move (its
+            ``bodies``, ``point``, ``q``), else None.
     """
 
     number: int
@@ -59,6 +68,11 @@ class MoveReport:
     fraction: float = 1.0
     message: str = ""
     cartesian_plan: cartesian.CartesianPlan | None = None
+    min_clearance: float = math.inf
+    min_clearance_pair: tuple[str, str] | None = None
+    min_self_clearance: float = math.inf
+    clearances: np.ndarray | None = None
+    collision: MotionCheck | None = None
 
     @property
     def ok(self) -> bool:
@@ -92,6 +106,7 @@ class ProgramPlan(Trajectory):
         paths: The Cartesian paths of the lin/circ/path moves, in order.
         program: The program planned, or None for a motion built in Python.
         dt: Sampling period [s].
+        cell: The work cell the moves were checked against, or None.
 
     Attributes:
         robot: The robot.
@@ -114,6 +129,12 @@ class ProgramPlan(Trajectory):
         paths: The Cartesian paths of the lin/circ/path moves, in order.
         program: The program planned, or None for a motion built in Python.
         dt: Sampling period [s].
+        cell: The work cell the moves were checked against, or None.
+        clearance: Robot–obstacle distance at every sample [m], shape (N,) (nan where no move
+            was checked), or None without a cell.
+        min_clearance: Smallest robot–obstacle distance over the plan [m] (inf without a cell
+            or obstacles); ``min_clearance_pair`` its (robot body, obstacle).
+        min_self_clearance: Smallest distance between the robot's own checked pairs [m].
     """
 
     def __init__(
@@ -129,8 +150,10 @@ class ProgramPlan(Trajectory):
         paths: list[cartesian.Path] | None = None,
         program: Program | None = None,
         dt: float = DEFAULT_DT,
+        cell: WorkCell | None = None,
     ) -> None:
         self.robot = robot
+        self.cell = cell
         self.t, self.q, self.qd, self.qdd = t, q, qd, qdd
         self.moves = moves
         self.reason = reason
@@ -150,6 +173,7 @@ class ProgramPlan(Trajectory):
             end_acceleration=qdd[-1],
         )
         self._tool_states(robot)
+        self._clearances(len(t))
         self.events = self._failure_events(failed[0] if failed else None)
 
     def __repr__(self) -> str:
@@ -195,11 +219,26 @@ class ProgramPlan(Trajectory):
         self.tool_speed = np.linalg.norm(np.einsum("nij,nj->ni", jacobians[:, :3], self.qd), axis=1)
         position_only = robot.default_position_only()
         rows, rank = robot.task_rows(position_only), robot.task_rank(position_only)
-        self.manipulability = manipulability_of(jacobians[:, rows], rank)
+        self.manipulability = np.asarray(manipulability_of(jacobians[:, rows], rank))
         for move in self.moves:
             window = slice(move.first, move.last + 1)
             if math.isnan(move.min_manipulability):
                 move.min_manipulability = float(self.manipulability[window].min())
+
+    def _clearances(self, n: int) -> None:
+        """The plan's clearance along its samples and its minima, from the moves' checks."""
+        self.min_clearance, self.min_clearance_pair = math.inf, None
+        self.min_self_clearance = math.inf
+        self.clearance = None if self.cell is None else np.full(n, np.nan)
+        for move in self.moves:
+            if move.min_clearance < self.min_clearance:
+                self.min_clearance, self.min_clearance_pair = (
+                    move.min_clearance, move.min_clearance_pair,
+                )  # fmt: skip
+            self.min_self_clearance = min(self.min_self_clearance, move.min_self_clearance)
+            if self.clearance is not None and move.clearances is not None:
+                values = move.clearances[: move.last - move.first + 1]
+                self.clearance[move.first : move.first + len(values)] = values
 
     def _failure_events(self, move: MoveReport | None) -> list[cartesian.Event]:
         """The failure as a :class:`cartesian.Event` in program time (for viewers and plots)."""
@@ -218,7 +257,7 @@ class ProgramPlan(Trajectory):
 
     def summary_rows(self) -> list[dict[str, object]]:
         """One dict per move: number, move, key, duration [s], min manipulability, peak joint
-        speed / limit, status."""
+        speed / limit, min clearance [m] (inf without a cell), status."""
         return [
             {
                 "number": m.number,
@@ -227,6 +266,7 @@ class ProgramPlan(Trajectory):
                 "duration": m.duration,
                 "min_manipulability": m.min_manipulability,
                 "peak_speed_ratio": m.peak_speed_ratio,
+                "min_clearance": m.min_clearance,
                 "status": m.status,
             }
             for m in self.moves

@@ -14,6 +14,7 @@ from typing import NoReturn
 import numpy as np
 
 import cartesian
+from kinplan.cell import MotionCheck
 from kinplan.program.errors import MoveError
 from kinplan.program.plan import MoveReport
 
@@ -67,6 +68,7 @@ class MotionRecord:
         *,
         ratio: float = 0.0,
         plan: cartesian.CartesianPlan | None = None,
+        check: MotionCheck | None = None,
     ) -> MoveReport:
         """Append a move that was done: its samples and its report.
 
@@ -78,11 +80,13 @@ class MotionRecord:
                 the motion so far; or None when the move produced none.
             ratio: Peak joint speed over its limit [-].
             plan: The move's :class:`cartesian.CartesianPlan`, if any.
+            check: The move's work-cell check (:meth:`kinplan.WorkCell.check_motion` on its
+                samples), if any; a Cartesian plan's own check by default.
 
         Returns:
             The move's report.
         """
-        return self._add(kind, label, key, samples, "ok", "", ratio, 1.0, plan)
+        return self._add(kind, label, key, samples, "ok", "", ratio, 1.0, plan, check)
 
     def fail(
         self,
@@ -96,11 +100,12 @@ class MotionRecord:
         ratio: float = 0.0,
         fraction: float = 0.0,
         plan: cartesian.CartesianPlan | None = None,
+        check: MotionCheck | None = None,
     ) -> NoReturn:
         """Record a move that failed (the samples are the part achieved) and raise.
 
         Args:
-            kind, label, key, samples, ratio, plan: As in :meth:`append`.
+            kind, label, key, samples, ratio, plan, check: As in :meth:`append`.
             status: Why the move failed (``unreachable``, ``velocity_limit``, ``ik``, ...).
             why: What went wrong and what to do, after the status.
             fraction: Share of the move achieved [-].
@@ -109,7 +114,7 @@ class MotionRecord:
             MoveError: always; its message is one line naming the move (number, label, key)
                 and ``why``, also kept in :attr:`reason`.
         """
-        report = self._add(kind, label, key, samples, status, why, ratio, fraction, plan)
+        report = self._add(kind, label, key, samples, status, why, ratio, fraction, plan, check)
         self.reason = report.message
         logger.info("planning stopped: %s", report.message)
         raise MoveError(report.message, report)
@@ -125,7 +130,10 @@ class MotionRecord:
         ratio: float,
         fraction: float,
         plan: cartesian.CartesianPlan | None,
+        check: MotionCheck | None = None,
     ) -> MoveReport:
+        if check is None and plan is not None:
+            check = plan.cell_check
         number = len(self.reports) + 1
         first, t0 = self._count - 1, self._time
         if samples is not None:
@@ -155,5 +163,11 @@ class MotionRecord:
             message=message,
             cartesian_plan=plan,
         )
+        if check is not None:
+            report.min_clearance = float(check.min_obstacle_clearance)
+            report.min_clearance_pair = check.min_obstacle_pair
+            report.min_self_clearance = float(check.min_self_clearance)
+            report.clearances = np.array(check.obstacle_distances, dtype=float)
+            report.collision = None if check.ok else check
         self.reports.append(report)
         return report

@@ -40,7 +40,9 @@ def plan_program(
         (number, label, key path) failed and where, and the plan holds the motion up to there.
     """
     robot = program.robot
-    builder = MotionBuilder(robot, program.start, dt=dt)
+    builder = MotionBuilder(
+        robot, program.start, dt=dt, cell=program.cell, clearance=program.clearance
+    )
     total = len(program.moves)
     try:
         for done, move in enumerate(program.moves):
@@ -73,6 +75,7 @@ def _plan_move(builder: MotionBuilder, program: Program, move: Move) -> None:
     elif move.kind == "lin":
         builder.lin(target.goal(robot), **options)
     else:
+        assert move.via is not None  # a circ move has its via point (validated)
         via = program.points[move.via]
         builder.circ(target.goal(robot), via.goal(robot), **options)
 

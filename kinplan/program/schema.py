@@ -14,6 +14,7 @@ import numpy as np
 import pinocchio as pin
 import yaml
 
+from kinplan.cell import WorkCell
 from kinplan.robot import Robot
 
 __all__ = [
@@ -65,6 +66,9 @@ TOP_KEYS = (
     "limits",
     "package_dirs",
     "base_pose",
+    "tool",
+    "obstacles",
+    "clearance",
     "start",
     "points",
     "moves",
@@ -127,6 +131,7 @@ class Point:
         """
         if self.joints is not None:
             return robot.fk(self.joints)
+        assert self.position is not None  # not a joint point: a Cartesian one
         if self.rotation is None:
             return self.position.copy()
         return pin.SE3(self.rotation, self.position)
@@ -184,6 +189,9 @@ class Program:
         moves: The moves, in order.
         description: Free text from the file.
         warnings: Non-fatal remarks (e.g. an orientation ignored by a planar arm).
+        cell: The work cell every move is checked against (the ``obstacles:`` and the robot's
+            own collision geometry, its ``tool:`` body included), or None.
+        clearance: The ``clearance:`` margin [m] (0: only contact fails).
     """
 
     source: str
@@ -194,6 +202,8 @@ class Program:
     moves: list[Move]
     description: str = ""
     warnings: list[str] = field(default_factory=list)
+    cell: WorkCell | None = None
+    clearance: float = 0.0
 
 
 class ProgramLoader(yaml.SafeLoader):

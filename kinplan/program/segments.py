@@ -32,7 +32,7 @@ def hermite_segments(
     """
     if len(t) == 1:
         return [Segment(0.0, 0.0, q[:1].T.copy())]
-    ends = [x.T for x in (q[:-1], q[1:], qd[:-1], qd[1:], qdd[:-1], qdd[1:])]  # (n, pieces)
-    coefficients = quintic_coefficients(*ends, np.diff(t))  # (n, 6, pieces)
+    q0, q1, v0, v1, a0, a1 = (x.T for x in (q[:-1], q[1:], qd[:-1], qd[1:], qdd[:-1], qdd[1:]))
+    coefficients = quintic_coefficients(q0, q1, v0, v1, a0, a1, np.diff(t))  # (n, 6, pieces)
     coefficients = np.moveaxis(coefficients, 2, 0)  # (pieces, n, 6)
     return [Segment(float(t[k]), float(t[k + 1]), coefficients[k]) for k in range(len(t) - 1)]

@@ -16,6 +16,7 @@ import yaml
 
 from kinplan import checks
 from kinplan.errors import InputError
+from kinplan.program.cell_keys import read_cell
 from kinplan.program.checker import Checker, describe, format_path
 from kinplan.program.errors import Issue, ProgramError
 from kinplan.program.moves import read_moves
@@ -156,6 +157,7 @@ def _read_program(checker: Checker, data: object, source: str, base_dir: Path) -
         if str(key) not in TOP_KEYS:
             checker.error((str(key),), f"unknown key {key!r}; expected keys: {', '.join(TOP_KEYS)}")
     robot_source, robot = read_robot(checker, data, base_dir)
+    robot, cell, clearance = read_cell(checker, data, base_dir, robot)
     start = read_start(checker, robot, data)
     points = read_points(checker, robot, data.get("points"), start)
     moves = read_moves(checker, data.get("moves"), points)
@@ -173,4 +175,6 @@ def _read_program(checker: Checker, data: object, source: str, base_dir: Path) -
         moves=moves,
         description=description or "",
         warnings=checker.warnings,
+        cell=cell,
+        clearance=clearance,
     )

@@ -8,8 +8,8 @@ stopped by an event the unreached rest of the path in red with the last good too
 has a playback bar (play/pause, time slider, loop) and reads options after ``#`` in its address:
 
 * ``t=1.5``: show the motion at 1.5 s, paused;
-* ``hide=path,markers``: hide layers (``robot``, ``tool``, ``path``, ``markers``, ``grid``,
-  ``axes``);
+* ``hide=path,markers``: hide layers (``robot``, ``tool``, ``path``, ``markers``, ``cell``,
+  ``grid``, ``axes``);
 * ``ui=0``: hide the caption, the playback bar and MeshCat's controls (for screenshots).
 
 :class:`Viewer` drives a live MeshCat server (started locally, or an existing one) from a script

@@ -87,8 +87,10 @@ def save_html(
     The page shows the robot's URDF visuals moving at the motion's real time, with a playback
     bar (play/pause, time slider, loop), the tool path, the achieved tool trace of a Cartesian
     plan, via points, ``markers``, and for a plan stopped by an event the rest of the path in red
-    and the last good tool pose. Options after ``#`` in the address: ``t=<seconds>`` (show that
-    instant, paused), ``hide=<layer>,...`` (``robot``, ``tool``, ``path``, ``markers``, ``grid``,
+    and the last good tool pose; a motion planned in a work cell (``motion.cell``) shows its
+    obstacles, and a collision failure the obstacle hit in red and a red ball where it happened.
+    Options after ``#`` in the address: ``t=<seconds>`` (show that instant, paused),
+    ``hide=<layer>,...`` (``robot``, ``tool``, ``path``, ``markers``, ``cell``, ``grid``,
     ``axes``), ``ui=0`` (no overlays). The file holds MeshCat's viewer (~0.85 MB), the meshes
     (a few MB: simplified so the robot has at most ``max_triangles``, each mesh file stored once)
     and the key frames of the parts that move.

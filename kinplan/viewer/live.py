@@ -166,7 +166,7 @@ class Viewer:
         zmq_url: str | None = None,
         timeout: float = 10.0,
         max_triangles: int = TRIANGLE_BUDGET,
-    ):
+    ) -> None:
         """Start or connect to a server and show ``robot`` at its neutral configuration.
 
         Args:

@@ -25,6 +25,7 @@ from kinplan.viewer.playback import Markers, Playback, marker_points, playback
 from kinplan.viewer.visuals import RobotVisuals
 
 if TYPE_CHECKING:
+    from kinplan.cell import MotionCheck
     from kinplan.robot import Robot
 
 __all__ = [
@@ -47,6 +48,7 @@ LAYERS = {
     "tool": "/kinplan/tool",
     "path": "/kinplan/path",
     "markers": "/kinplan/markers",
+    "cell": "/kinplan/cell",
     "grid": "/kinplan/grid",
     "axes": "/Axes",
 }
@@ -281,6 +283,65 @@ def overlay_commands(
     return commands, legend
 
 
+_OBSTACLE = ("#8c8c8c", (0.62, 0.60, 0.56))
+_COLLISION = ("#d62728", (0.90, 0.10, 0.10))
+
+
+def collision_of(motion: object) -> MotionCheck | None:
+    """The failed work-cell check of a motion (a :class:`kinplan.cell.MotionCheck`), or None."""
+    check = getattr(motion, "cell_check", None)
+    if check is not None and not check.ok:
+        return check
+    for move in getattr(motion, "moves", None) or []:
+        if getattr(move, "collision", None) is not None:
+            return move.collision
+    return None
+
+
+def _body_object(path: str, body, rgb: RGB, opacity: float) -> dict:
+    """A :class:`kinplan.cell.Body` as a MeshCat object at its pose (world frame)."""
+    from kinplan.cell.body import mesh_vertices_faces
+
+    pose = np.array(body.pose.homogeneous)
+    material = ms.phong_material(path, rgb, opacity)
+    if body.shape == "box":
+        geometry = ms.box_geometry(path, body.size)
+    elif body.shape == "sphere":
+        geometry = ms.sphere_geometry(path, body.size[0])
+    elif body.shape == "cylinder":
+        radius, length = body.size
+        geometry = ms.cylinder_geometry(path, radius, radius, length)
+        pose = pose @ ms.Y_TO_Z
+    else:
+        vertices, faces = mesh_vertices_faces(body.path, body.scale)
+        geometry = ms.mesh_geometry(path, np.asarray(vertices), np.asarray(faces))
+    return ms.scene_object(path, geometry, material, pose)
+
+
+def cell_commands(motion: object, scale: float) -> tuple[list[ms.Command], list[tuple[str, str]]]:
+    """The obstacles of a motion's work cell (``motion.cell``), the colliding one red, and a red
+    ball where a collision failure happened (:attr:`kinplan.cell.MotionCheck.point`)."""
+    cell = getattr(motion, "cell", None)
+    if cell is None:
+        return [], []
+    check = collision_of(motion)
+    colliding = set(check.bodies) if check is not None and check.bodies else set()
+    root = LAYERS["cell"]
+    commands: list[ms.Command] = []
+    legend: list[tuple[str, str]] = []
+    for name, body in cell.obstacles.items():
+        path = f"{root}/{name}"
+        rgb = _COLLISION[1] if name in colliding else _OBSTACLE[1]
+        commands.append(ms.set_object(path, _body_object(path, body, rgb, 0.85)))
+    if cell.obstacles:
+        legend.append((_OBSTACLE[0], "obstacles"))
+    if check is not None and check.point is not None:
+        where = np.asarray(check.point, dtype=float)
+        commands += _sphere_command(f"{root}/collision", where, 0.03 * scale, _COLLISION[1], 0.8)
+        legend.append((_COLLISION[0], "collision: " + " – ".join(check.bodies or ())))
+    return commands, legend
+
+
 def animation_command(
     visuals: RobotVisuals, motion: Playback, speed: float, loop: bool, play: bool
 ) -> ms.Command:
@@ -347,12 +408,19 @@ def build_scene(
     parts, _ = visuals.placements_over(sampled.q[:: max(1, len(sampled.q) // 60)])
     cloud = [bounding_points(visuals, parts), *sampled.points()]
     cloud.append(np.array([p for _, p in points]).reshape(-1, 3))
+    cell = getattr(motion, "cell", None)
+    if cell is not None:  # the obstacles' centres in view
+        centres = [body.pose.translation for body in cell.obstacles.values()]
+        cloud.append(np.array(centres, dtype=float).reshape(-1, 3))
     view = frame_view(np.vstack(cloud))
     commands = environment_commands(view, page_background=True)
     commands += robot_commands(visuals, sampled.q[0])
     commands += triad_commands(LAYERS["tool"], 0.08 * view.radius)
     overlay, legend = overlay_commands(visuals, sampled, points, view.radius)
     commands += overlay
+    obstacles, cell_legend = cell_commands(motion, view.radius)
+    commands += obstacles
+    legend += cell_legend
     if len(sampled.t) > 1:
         commands.append(animation_command(visuals, sampled, 1.0, loop, autoplay))
     return Scene(commands, view, legend, sampled)

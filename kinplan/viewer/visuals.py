@@ -88,7 +88,7 @@ class RobotVisuals:
         triangles: Triangles drawn for the whole robot.
     """
 
-    def __init__(self, robot: Robot, triangle_budget: int = TRIANGLE_BUDGET):
+    def __init__(self, robot: Robot, triangle_budget: int = TRIANGLE_BUDGET) -> None:
         """Read the robot's URDF visuals and build their MeshCat objects.
 
         Args:

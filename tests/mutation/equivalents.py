@@ -2,13 +2,22 @@
 with the reason. ``tools/mutation.py`` leaves them out of the score and lists them in
 ``tests/bench/MUTATION.md``.
 
-An entry matches a surviving mutant of ``module`` whose removed lines read ``original`` and whose
-added lines read ``mutant`` (whitespace-insensitive; several lines joined by a space), so the list
-survives line moves and mutmut's renumbering.
+An entry matches a surviving mutant of ``module`` (a path, or a tuple of paths) whose removed
+lines read ``original`` and whose added lines read ``mutant`` (whitespace-insensitive; several
+lines joined by a space), so the list survives line moves and mutmut's renumbering.
 """
 
 from __future__ import annotations
 
+#: The numerical IK, and the closed forms, before and after kinplan.ik became a package.
+_NUMERIC = ("kinplan/ik.py", "kinplan/ik/numeric.py")
+_CLOSED_FORMS = (
+    "kinplan/analytic_ik.py",
+    "kinplan/ik/base.py",
+    "kinplan/ik/screws.py",
+    "kinplan/ik/planar.py",
+    "kinplan/ik/ur.py",
+)
 _FAST_PATH = (
     "the condition only picks the fast path for a float already in range; otherwise "
     "checks.number validates it and returns the same float"
@@ -42,14 +51,14 @@ _POLISH = "if perr > position_tolerance or rerr > rotation_tolerance:"
 _POLISHED = "if perr <= position_tolerance and rerr <= rotation_tolerance:"
 
 
-def _module(module: str):
+def _module(module: tuple[str, ...]):
     def entry(original: str, mutant: str, reason: str) -> dict[str, str]:
         return {"module": module, "original": original, "mutant": mutant, "reason": reason}
 
     return entry
 
 
-_paths = _module("cartesian/paths.py")
+_paths = _module(("cartesian/paths.py",))
 _analytic = _module("kinplan/ik/ur.py")
 _AS_S = "if type(s) is np.ndarray and s.dtype == np.float64 and s.ndim == 1:  # the common case"
 _RODRIGUES = "cos = np.where(small, 0.0, 1.0 - np.cos(theta))[:, None, None]"

@@ -1,0 +1,529 @@
+"""Inverse kinematics for many targets at once: what :meth:`kinplan.Robot.ik_batch` runs.
+
+Three solvers, chosen per arm:
+
+* **closed form, vectorised** (planar 2R, UR family): every branch of every target in one numpy
+  pass of the arm's closed-form solver (``Robot.closed_form_ik``), then per target the branch
+  and the 2π-equivalents nearest its seed, the choice :meth:`kinplan.Robot.ik` makes; the
+  solutions are checked by forward kinematics and polished by a few Newton steps where the
+  rounding left them outside the tolerances, as :meth:`Robot.ik` does;
+* **closed form, per target** (panda-type arms, θ7 searched): the solver's ``nearest`` target
+  after target, checked the same way;
+* **Levenberg–Marquardt over targets** (any other serial arm): the damped least-squares iteration
+  of :class:`kinplan.ik.IKSolver` run on all unfinished targets at once, with numpy's batched
+  Cholesky solves; targets that stall restart from the same Halton configurations as
+  :meth:`Robot.ik`.
+
+:class:`BatchKinematics` evaluates forward kinematics and tool Jacobians of a serial chain of
+revolute and prismatic joints for many configurations at once, from the Pinocchio model's joint
+placements; it is checked against Pinocchio on construction (an arm it cannot represent — a
+mimic joint, say — gets None, and the caller loops over :meth:`Robot.ik`).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+
+import numpy as np
+import pinocchio as pin
+
+from kinplan import checks
+from kinplan.errors import InputError
+from kinplan.ik import frobenius_tolerance
+from kinplan.ik.numeric import DAMPING_FLOOR, DAMPING_GAIN, MAX_STEP, STALL_ITERATIONS
+
+logger = logging.getLogger(__name__)
+
+TAU = 2.0 * math.pi
+#: Joint values this far outside a limit [rad] are accepted and clipped onto it (as the closed
+#: forms do).
+_LIMIT_TOL = 1e-12
+#: Below π by this margin, the 2π-equivalent nearest a reference is unambiguous (no tie).
+_HALF_TURN_SAFE = math.pi - 1e-9
+#: Newton iterations that polish a closed-form solution the rounding left outside the
+#: tolerances (as :meth:`kinplan.ik.IKSolver.solve` does).
+_POLISH_ITERATIONS = 3
+#: Targets solved per numpy pass (bounds the memory of the per-branch arrays: ~1 kB a target).
+CHUNK = 16384
+
+
+class BatchKinematics:
+    """Forward kinematics and tool Jacobians of a serial arm for many configurations.
+
+    Built from the Pinocchio model of a :class:`kinplan.Robot`: per joint its placement in the
+    parent joint's frame, its kind (revolute or prismatic) and its axis; then the tool frame's
+    placement. Use :meth:`of`, which checks the result against Pinocchio.
+    """
+
+    def __init__(self, robot) -> None:
+        model = robot.model
+        self.nq = robot.nq
+        tip_joint = model.frames[robot.tip_id].parentJoint
+        self._joints: list[tuple[np.ndarray, np.ndarray, bool, np.ndarray, np.ndarray, int]] = []
+        for j in range(1, tip_joint + 1):
+            joint = model.joints[j]
+            kind = joint.shortname()
+            if model.parents[j] != j - 1 or joint.nq != 1 or joint.nv != 1:
+                raise ValueError(f"joint {model.names[j]} is not a 1-dof joint of a serial chain")
+            if kind in ("JointModelRX", "JointModelRY", "JointModelRZ"):
+                axis, revolute = np.eye(3)["XYZ".index(kind[-1])], True
+            elif kind in ("JointModelPX", "JointModelPY", "JointModelPZ"):
+                axis, revolute = np.eye(3)["XYZ".index(kind[-1])], False
+            elif kind in ("JointModelRevoluteUnaligned", "JointModelPrismaticUnaligned"):
+                axis = np.array(joint.extract().axis, dtype=float).reshape(3)
+                revolute = kind.startswith("JointModelR")
+            else:
+                raise ValueError(f"joint {model.names[j]} is a {kind}")
+            placement = model.jointPlacements[j]
+            K = np.array(
+                [[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0]]
+            )
+            self._joints.append(
+                (
+                    placement.rotation.copy(),
+                    placement.translation.copy(),
+                    revolute,
+                    axis,
+                    K,
+                    joint.idx_q,
+                )
+            )
+        if len(self._joints) != self.nq or sorted(j[5] for j in self._joints) != list(
+            range(self.nq)
+        ):
+            raise ValueError("the tool frame is not moved by every joint")
+        tool = model.frames[robot.tip_id].placement
+        self._tool_rotation = tool.rotation.copy()
+        self._tool_translation = tool.translation.copy()
+
+    @classmethod
+    def of(cls, robot) -> BatchKinematics | None:
+        """The batch kinematics of ``robot``, or None when its model has other joints (mimic,
+        spherical, ...) or the result disagrees with Pinocchio on random configurations."""
+        try:
+            kinematics = cls(robot)
+        except ValueError as exc:
+            logger.debug("no batch kinematics for %s: %s", robot.name, exc)
+            return None
+        rng = np.random.default_rng(2024)
+        q = np.array([robot.random_configuration(rng) for _ in range(8)])
+        positions, rotations, jacobians = kinematics.fk_jacobian(q)
+        for k, row in enumerate(q):
+            pose, J = robot.pose_and_jacobian(row)
+            if (
+                np.abs(pose.translation - positions[k]).max() > 1e-9
+                or np.abs(pose.rotation - rotations[k]).max() > 1e-9
+                or np.abs(J - jacobians[k]).max() > 1e-9
+            ):
+                logger.debug("batch kinematics of %s disagree with Pinocchio", robot.name)
+                return None
+        return kinematics
+
+    def _chain(self, q: np.ndarray, with_axes: bool):
+        count = len(q)
+        rotation = np.broadcast_to(np.eye(3), (count, 3, 3))
+        position = np.zeros((count, 3))
+        axes = np.empty((count, self.nq, 3)) if with_axes else None
+        origins = np.empty((count, self.nq, 3)) if with_axes else None
+        revolute = np.empty(self.nq, dtype=bool)
+        for k, (R_j, p_j, is_revolute, axis, K, index) in enumerate(self._joints):
+            position = position + rotation @ p_j
+            rotation = rotation @ R_j
+            value = q[:, index]
+            if with_axes:
+                axes[:, k] = rotation @ axis
+                origins[:, k] = position
+                revolute[k] = is_revolute
+            if is_revolute:  # R·Rot(axis, θ) = R + sin θ·(R K) + (1 − cos θ)·(R K²)
+                RK = rotation @ K
+                rotation = (
+                    rotation
+                    + np.sin(value)[:, None, None] * RK
+                    + (1.0 - np.cos(value))[:, None, None] * (RK @ K)
+                )
+            else:
+                position = position + (rotation @ axis) * value[:, None]
+        tool_position = position + rotation @ self._tool_translation
+        tool_rotation = rotation @ self._tool_rotation
+        return tool_position, tool_rotation, axes, origins, revolute
+
+    def fk(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Tool positions (N, 3) [m] and rotations (N, 3, 3) in the base frame of joint rows
+        ``q`` (N, nq)."""
+        position, rotation, *_ = self._chain(np.asarray(q, dtype=float), False)
+        return position, rotation
+
+    def fk_jacobian(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`fk` and the tool Jacobians (N, 6, nq), rows [linear; angular], world-aligned
+        at the tool (as :meth:`kinplan.Robot.jacobian`)."""
+        q = np.asarray(q, dtype=float)
+        position, rotation, axes, origins, revolute = self._chain(q, True)
+        J = np.zeros((len(q), 6, self.nq))
+        columns = [j[5] for j in self._joints]
+        lever = position[:, None, :] - origins
+        linear = np.where(revolute[None, :, None], np.cross(axes, lever), axes)
+        angular = np.where(revolute[None, :, None], axes, 0.0)
+        J[:, :3, columns] = np.swapaxes(linear, 1, 2)
+        J[:, 3:, columns] = np.swapaxes(angular, 1, 2)
+        return position, rotation, J
+
+
+def log3(rotations: np.ndarray) -> np.ndarray:
+    """Rotation vectors (N, 3) [rad] of rotation matrices (N, 3, 3) (Pinocchio's ``log3``, stacked).
+
+    Near a half turn the axis comes from the symmetric part (R + Rᵀ)/2 = cos θ·I +
+    (1 − cos θ)·a aᵀ and its sign from the skew part, which sin θ makes too small to use alone.
+    """
+    trace = np.einsum("nii->n", rotations)
+    cosine = np.clip(0.5 * (trace - 1.0), -1.0, 1.0)
+    angle = np.arccos(cosine)
+    vee = 0.5 * np.stack(
+        (
+            rotations[:, 2, 1] - rotations[:, 1, 2],
+            rotations[:, 0, 2] - rotations[:, 2, 0],
+            rotations[:, 1, 0] - rotations[:, 0, 1],
+        ),
+        axis=-1,
+    )
+    sine = np.sin(angle)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        scale = np.where(angle < 1e-6, 1.0 + angle**2 / 6.0, angle / sine)
+    out = vee * scale[:, None]
+    near_pi = angle > math.pi - 1e-3
+    if near_pi.any():
+        R = rotations[near_pi]
+        c = cosine[near_pi][:, None, None]
+        symmetric = (0.5 * (R + np.swapaxes(R, 1, 2)) - c * np.eye(3)) / (1.0 - c)  # a aᵀ
+        diagonal = np.einsum("nii->ni", symmetric)
+        column = np.argmax(diagonal, axis=1)
+        axis = np.take_along_axis(symmetric, column[:, None, None], axis=2)[..., 0]
+        axis /= np.linalg.norm(axis, axis=1, keepdims=True)
+        sign = np.where(np.sum(axis * vee[near_pi], axis=1) < 0.0, -1.0, 1.0)
+        out[near_pi] = axis * (sign * angle[near_pi])[:, None]
+    return out
+
+
+def _errors(
+    positions: np.ndarray,
+    rotations: np.ndarray | None,
+    reached_positions: np.ndarray,
+    reached_rotations: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Squared position errors [m²] and ‖R* − R‖_F² (0 for position only), each (N,)."""
+    position2 = np.sum((positions - reached_positions) ** 2, axis=1)
+    if rotations is None:
+        return position2, np.zeros(len(positions))
+    return position2, np.sum((rotations - reached_rotations) ** 2, axis=(1, 2))
+
+
+def nearest_equivalent(
+    values: np.ndarray, ref: np.ndarray, lower: np.ndarray, upper: np.ndarray
+) -> np.ndarray:
+    """The 2π-equivalent of each joint value within the limits nearest ``ref`` (clipped into the
+    limits), NaN where none: the rule of the closed-form solvers.
+
+    The equivalent nearest the reference (clipped into the limits) is taken at once when it lies
+    within the limits and less than half a turn from the reference (its neighbours at ±2π are
+    then farther); the other values try the three equivalents around it.
+
+    Args:
+        values: Joint values [rad] (NaN allowed), shape (..., n).
+        ref: Reference configurations, broadcastable to ``values``.
+        lower: Lower limits, shape (n,).
+        upper: Upper limits, shape (n,).
+    """
+    ref = np.broadcast_to(np.clip(ref, lower, upper), values.shape)
+    low, high = lower - _LIMIT_TOL, upper + _LIMIT_TOL
+    with np.errstate(invalid="ignore"):
+        near = values + TAU * np.round((ref - values) / TAU)
+        done = (near >= low) & (near <= high) & (np.abs(near - ref) < _HALF_TURN_SAFE)
+    out = np.where(done, np.clip(near, lower, upper), np.nan)
+    rest = np.nonzero(~done & np.isfinite(values))
+    if rest[0].size:
+        v, r = values[rest], ref[rest]
+        lo, hi = np.broadcast_to(low, values.shape)[rest], np.broadcast_to(high, values.shape)[rest]
+        k0 = np.round((r - v) / TAU)
+        candidates = v[:, None] + TAU * (k0[:, None] + np.array([-1.0, 0.0, 1.0]))
+        inside = (candidates >= lo[:, None]) & (candidates <= hi[:, None])
+        distance = np.where(inside, np.abs(candidates - r[:, None]), np.inf)
+        best = np.argmin(distance, axis=1)  # ties: the first, as the closed forms choose
+        chosen = candidates[np.arange(len(best)), best]
+        found = np.isfinite(distance[np.arange(len(best)), best])
+        lo_clip = np.broadcast_to(lower, values.shape)[rest]
+        hi_clip = np.broadcast_to(upper, values.shape)[rest]
+        out[rest] = np.where(found, np.clip(chosen, lo_clip, hi_clip), np.nan)
+    return out
+
+
+def parse_targets(targets: object) -> tuple[np.ndarray, np.ndarray | None]:
+    """Positions (N, 3) [m] and rotations (N, 3, 3) (None for positions) of
+    :meth:`Robot.ik_batch`'s targets: an (N, 4, 4) array, a list of ``pin.SE3`` or an (N, 3)
+    array.
+
+    Raises:
+        InputError: another shape, non-finite values, a last row that is not 0 0 0 1, a
+            rotation part that is not a rotation (‖RᵀR − I‖_F > 1e-6 or a reflection).
+    """
+    wanted = "an (N, 4, 4) array of poses, a list of pinocchio.SE3 or an (N, 3) array [m]"
+    if isinstance(targets, (list, tuple)) and targets and isinstance(targets[0], pin.SE3):
+        if not all(isinstance(t, pin.SE3) for t in targets):
+            raise InputError(f"targets must be {wanted}; the list mixes SE3 with other values")
+        matrices = np.array([t.homogeneous for t in targets])
+    else:
+        try:
+            matrices = np.asarray(targets, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"targets must be {wanted}, got {checks.describe(targets)}") from None
+        if matrices.ndim == 2 and matrices.shape[1] == 3:
+            if not np.all(np.isfinite(matrices)):
+                bad = int(np.flatnonzero(~np.all(np.isfinite(matrices), axis=1))[0])
+                raise InputError(f"targets must be finite; target {bad} is {matrices[bad]}")
+            return matrices, None
+        if matrices.shape == (0,):
+            return np.zeros((0, 3)), None
+        if matrices.ndim != 3 or matrices.shape[1:] != (4, 4):
+            raise InputError(f"targets must be {wanted}; got an array of shape {matrices.shape}")
+    rotations = matrices[:, :3, :3]
+    defect = np.sum((np.swapaxes(rotations, 1, 2) @ rotations - np.eye(3)) ** 2, axis=(1, 2))
+    finite = np.all(np.isfinite(matrices), axis=(1, 2))
+    bottom = np.all(matrices[:, 3] == (0.0, 0.0, 0.0, 1.0), axis=1)
+    with np.errstate(invalid="ignore"):
+        bad = ~finite | ~(defect <= 1e-12) | (np.linalg.det(rotations) < 0) | ~bottom
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        if not finite[k]:
+            problem = "is not finite"
+        elif not bottom[k]:
+            problem = f"has the last row {matrices[k, 3].tolist()} (must be 0 0 0 1)"
+        else:
+            problem = "has a rotation part that is not a rotation matrix: " + (
+                checks.rotation_problem(rotations[k]) or "it is not orthonormal"
+            )
+        raise InputError(f"target {k} {problem}; {checks.ROTATION_ADVICE}")
+    return matrices[:, :3, 3].copy(), rotations.copy()
+
+
+class BatchSolver:
+    """Batch IK of one robot (built by :meth:`kinplan.Robot.ik_batch` on first use).
+
+    Args:
+        robot: The arm.
+    """
+
+    def __init__(self, robot) -> None:
+        self.robot = robot
+        self.kinematics = BatchKinematics.of(robot)
+        closed_form = robot.closed_form_ik
+        self.closed_form = closed_form
+        #: The closed form lists every branch of many poses in one pass (planar 2R, UR family).
+        self.vectorised = closed_form is not None and hasattr(closed_form, "_raw")
+        self.lower, self.upper = robot.lower, robot.upper
+        self._restarts = robot.ik_solver.restart_configuration
+        #: Set by :meth:`solve` for closed forms that list branches (−1 / 0 otherwise): the
+        #: branch of each target's solution, and a bit mask of every branch that reaches the
+        #: target within the limits (bit b for branch b).
+        self.branches: np.ndarray = np.empty(0, dtype=np.int8)
+        self.branch_masks: np.ndarray = np.empty(0, dtype=np.uint16)
+
+    def method(self, position_only: bool) -> str:
+        """``"closed-form"``, ``"closed-form-loop"``, ``"levenberg-marquardt"`` or ``"loop"``."""
+        closed = self.closed_form is not None and not (
+            position_only and self.closed_form.needs_rotation
+        )
+        if closed and self.kinematics is not None:
+            return "closed-form" if self.vectorised else "closed-form-loop"
+        return "levenberg-marquardt" if self.kinematics is not None else "loop"
+
+    def solve(
+        self,
+        positions: np.ndarray,
+        rotations: np.ndarray | None,
+        seeds: np.ndarray,
+        position_tolerance: float,
+        rotation_tolerance: float,
+        max_iterations: int,
+        max_restarts: int,
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Solve every target; see :meth:`kinplan.Robot.ik_batch` (inputs already checked,
+        seeds within 2π of the limits).
+
+        Returns:
+            (q (N, nq), success (N,)); :attr:`branches` holds each target's branch.
+        """
+        count = len(positions)
+        method = self.method(rotations is None)
+        q = np.clip(seeds, self.lower, self.upper)
+        success = np.zeros(count, dtype=bool)
+        self.branches = np.full(count, -1, dtype=np.int8)
+        self.branch_masks = np.zeros(count, dtype=np.uint16)
+        tolerances = (position_tolerance, rotation_tolerance)
+        for start in range(0, count, CHUNK):
+            part = slice(start, min(start + CHUNK, count))
+            rot = None if rotations is None else rotations[part]
+            if method == "closed-form":
+                q[part], success[part], self.branches[part], self.branch_masks[part] = (
+                    self._closed_form(positions[part], rot, seeds[part], tolerances)
+                )
+            elif method == "closed-form-loop":
+                q[part], success[part] = self._closed_form_loop(
+                    positions[part], rot, seeds[part], tolerances
+                )
+            elif method == "levenberg-marquardt":
+                q[part], success[part] = self._numerical(
+                    positions[part], rot, seeds[part], tolerances, max_iterations, max_restarts
+                )
+            else:
+                q[part], success[part] = self._loop(
+                    positions[part], rot, seeds[part], tolerances, max_iterations, max_restarts
+                )
+        return q, success
+
+    # ------------------------------------------------------------ closed forms
+    def _closed_form(self, positions, rotations, seeds, tolerances):
+        solver = self.closed_form
+        raw, _ = solver._raw(positions, rotations, seeds)  # (N, S, nq), every branch
+        candidates = nearest_equivalent(raw, seeds[:, None, :], self.lower, self.upper)
+        distance = ((candidates - seeds[:, None, :]) ** 2) @ solver.weights
+        distance = np.nan_to_num(distance, nan=np.inf)
+        branch = np.argmin(distance, axis=1)  # ties: the lower branch index, as nearest()
+        found = np.isfinite(distance[np.arange(len(branch)), branch])
+        q = candidates[np.arange(len(branch)), branch]
+        q = np.where(found[:, None], q, np.clip(seeds, self.lower, self.upper))
+        q, success = self._verify(positions, rotations, q, found, tolerances)
+        bits = np.isfinite(distance) << np.arange(distance.shape[1], dtype=np.uint16)
+        mask = np.bitwise_or.reduce(bits.astype(np.uint16), axis=1)
+        return q, success, np.where(found, branch, -1).astype(np.int8), mask
+
+    def _closed_form_loop(self, positions, rotations, seeds, tolerances):
+        solver = self.closed_form
+        q = np.clip(seeds, self.lower, self.upper)
+        found = np.zeros(len(positions), dtype=bool)
+        for k in range(len(positions)):
+            rotation = None if rotations is None else rotations[k]
+            solution = solver.nearest(positions[k], rotation, seeds[k])
+            if solution is not None:
+                q[k], found[k] = solution, True
+        return self._verify(positions, rotations, q, found, tolerances)
+
+    def _verify(self, positions, rotations, q, found, tolerances):
+        """FK check of closed-form solutions; a few Newton steps where rounding left them just
+        outside the tolerances."""
+        position_tolerance, rotation_tolerance = tolerances
+        reached, reached_rotations = self.kinematics.fk(q)
+        position2, frobenius2 = _errors(positions, rotations, reached, reached_rotations)
+        good = (position2 <= position_tolerance**2) & (
+            frobenius2 <= frobenius_tolerance(rotation_tolerance)
+        )
+        success = found & good
+        retry = np.flatnonzero(found & ~good)
+        if retry.size:
+            rot = None if rotations is None else rotations[retry]
+            q[retry], success[retry], _ = self._descend(
+                positions[retry], rot, q[retry], tolerances, _POLISH_ITERATIONS
+            )
+        return q, success
+
+    # ------------------------------------------------------------ numerical
+    def _numerical(self, positions, rotations, seeds, tolerances, max_iterations, max_restarts):
+        q, success, score = self._descend(positions, rotations, seeds, tolerances, max_iterations)
+        for attempt in range(1, max_restarts + 1):
+            left = np.flatnonzero(~success)
+            if left.size == 0:
+                break
+            start = np.broadcast_to(self._restarts(attempt), (left.size, self.robot.nq))
+            rot = None if rotations is None else rotations[left]
+            q_new, ok, new_score = self._descend(
+                positions[left], rot, start, tolerances, max_iterations
+            )
+            better = ok | (new_score < score[left])
+            q[left[better]] = q_new[better]
+            score[left[better]] = new_score[better]
+            success[left] = ok
+        return q, success
+
+    def _descend(self, positions, rotations, q, tolerances, max_iterations):
+        """:meth:`kinplan.ik.IKSolver.descend` on all targets at once.
+
+        Returns:
+            (q, converged, score) with score the position plus rotation error [m + rad] of q.
+        """
+        lower, upper = self.lower, self.upper
+        q = np.clip(np.array(q, dtype=float), lower, upper)
+        count, nq = q.shape
+        position_tolerance, rotation_tolerance = tolerances
+        position_tolerance2 = position_tolerance**2
+        frobenius_tolerance2 = frobenius_tolerance(rotation_tolerance)
+        rows = 3 if rotations is None else 6
+        converged = np.zeros(count, dtype=bool)
+        score = np.full(count, np.inf)
+        best_cost = np.full(count, np.inf)
+        stalled = np.zeros(count, dtype=int)
+        active = np.arange(count)
+        eye = np.eye(nq)
+        for it in range(max_iterations + 1):
+            if active.size == 0:
+                break
+            qa = q[active]
+            rot = None if rotations is None else rotations[active]
+            reached, reached_rotations, J = self.kinematics.fk_jacobian(qa)
+            position2, frobenius2 = _errors(positions[active], rot, reached, reached_rotations)
+            done = (position2 <= position_tolerance2) & (frobenius2 <= frobenius_tolerance2)
+            rotation_error = 2.0 * np.arcsin(np.minimum(np.sqrt(frobenius2) / math.sqrt(8.0), 1.0))
+            score[active] = np.sqrt(position2) + rotation_error
+            converged[active[done]] = True
+            keep = ~done
+            if it == max_iterations:
+                break
+            e = np.zeros((len(qa), 6))
+            e[:, :3] = positions[active] - reached
+            if rot is not None:
+                er = log3(rot @ np.swapaxes(reached_rotations, 1, 2))
+                e[:, 3:] = er
+                rotation2 = np.sum(er**2, axis=1)
+            else:
+                rotation2 = np.zeros(len(qa))
+            cost = 0.5 * (position2 + rotation2)
+            improved = cost < 0.999 * best_cost[active]
+            best_cost[active] = np.where(improved, cost, best_cost[active])
+            stalled[active] = np.where(improved, 0, stalled[active] + 1)
+            keep &= stalled[active] < STALL_ITERATIONS
+            J, e, qa, cost = J[keep, :rows], e[keep, :rows], qa[keep], cost[keep]
+            active = active[keep]
+            if active.size == 0:
+                break
+            Jt = np.swapaxes(J, 1, 2)
+            A = Jt @ J + (DAMPING_GAIN * cost + DAMPING_FLOOR)[:, None, None] * eye
+            g = (Jt @ e[..., None])[..., 0]
+            dq = np.linalg.solve(A, g[..., None])[..., 0]
+            blocked = ((qa <= lower) & (dq < 0)) | ((qa >= upper) & (dq > 0))
+            hit = np.flatnonzero(blocked.any(axis=1))
+            if hit.size:  # active set: blocked joints leave the step
+                free = (~blocked[hit]).astype(float)
+                A_hit = A[hit] * (free[:, :, None] * free[:, None, :])
+                A_hit += blocked[hit][:, :, None] * eye
+                dq[hit] = np.linalg.solve(A_hit, (g[hit] * free)[..., None])[..., 0]
+            step = np.abs(dq).max(axis=1)
+            dq *= np.where(step > MAX_STEP, MAX_STEP / np.maximum(step, 1e-300), 1.0)[:, None]
+            q[active] = np.clip(qa + dq, lower, upper)
+        return q, converged, score
+
+    def _loop(self, positions, rotations, seeds, tolerances, max_iterations, max_restarts):
+        """:meth:`kinplan.Robot.ik` target after target (arms :class:`BatchKinematics` cannot
+        represent)."""
+        robot = self.robot
+        q = np.empty((len(positions), robot.nq))
+        success = np.zeros(len(positions), dtype=bool)
+        for k in range(len(positions)):
+            target = positions[k] if rotations is None else pin.SE3(rotations[k], positions[k])
+            result = robot.ik(
+                target,
+                q_seed=seeds[k],
+                position_only=rotations is None,
+                position_tolerance=tolerances[0],
+                rotation_tolerance=tolerances[1],
+                max_iterations=max_iterations,
+                max_restarts=max_restarts,
+            )
+            q[k], success[k] = result.q, result.success
+        return q, success

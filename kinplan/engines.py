@@ -1,0 +1,343 @@
+"""Where batch work runs: in this process, on a Dask ``LocalCluster``, or on a Dask scheduler.
+
+Every batch job of kinplan (:func:`kinplan.reach.capability_map`, :func:`kinplan.placement.place`,
+:func:`kinplan.batch.plan_many`) is a list of **work items**: a module-level function called as
+``function(chunk, payload=payload)``, pure in its arguments (the payload holds the URDF or
+program *text* and the options, never an object of this process), so the same items give
+bit-identical results wherever they run. :func:`open_engine` gives the engine that runs them:
+
+* ``"local"`` (default): in this process, one item after the other; needs nothing;
+* ``"dask"`` with ``jobs=N``: a ``LocalCluster`` of N single-threaded worker processes started
+  for the job and closed after it;
+* ``"dask"`` with ``scheduler="tcp://HOST:8786"``: an existing Dask scheduler, whose workers
+  must have the same kinplan installed (and see the same files for URDF paths, meshes and
+  programs given by path);
+* a ``distributed.Client`` the caller already has.
+
+Dask is an optional dependency (``pip install "kinplan[dask]"``). The Dask engine submits the
+items with retries; a worker that dies mid-job has its items rerun elsewhere by the scheduler.
+A bad scheduler address fails within :data:`CONNECT_TIMEOUT` seconds with one
+:class:`~kinplan.errors.KinplanError`. Ctrl-C cancels the submitted items.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import logging
+import os
+import tempfile
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from kinplan import checks
+from kinplan.errors import InputError, KinplanError
+
+logger = logging.getLogger(__name__)
+
+#: Seconds to wait for a Dask scheduler before failing.
+CONNECT_TIMEOUT = 3.0
+#: Times the Dask engine reruns a work item that raised (a worker that dies is handled by the
+#: scheduler itself: its items move to another worker).
+RETRIES = 2
+ENGINES = ("local", "dask")
+
+Progress = Callable[[int, int], None]
+
+
+class EngineError(KinplanError):
+    """An engine could not start (Dask missing, scheduler unreachable) or a work item failed."""
+
+
+class LocalEngine:
+    """Runs work items in this process, in order."""
+
+    name = "local"
+    workers = 1
+
+    def map(
+        self,
+        function: Callable,
+        chunks: Sequence[Any],
+        payload: Any,
+        progress: Progress | None = None,
+    ) -> list[Any]:
+        """``[function(chunk, payload=payload) for chunk in chunks]``, reporting progress."""
+        results = []
+        for done, chunk in enumerate(chunks):
+            results.append(function(chunk, payload=payload))
+            if progress is not None:
+                progress(done + 1, len(chunks))
+        return results
+
+    def describe(self) -> str:
+        return "in-process"
+
+
+class DaskEngine:
+    """Runs work items on a Dask cluster through ``client``.
+
+    Args:
+        client: A ``distributed.Client``.
+        description: How the cluster is named in messages.
+    """
+
+    name = "dask"
+
+    def __init__(self, client, description: str):
+        self.client = client
+        self._description = description
+
+    @property
+    def workers(self) -> int:
+        try:
+            return max(1, len(self.client.scheduler_info(n_workers=-1)["workers"]))
+        except Exception:  # noqa: BLE001 - only for messages
+            return 1
+
+    def describe(self) -> str:
+        return self._description
+
+    def map(
+        self,
+        function: Callable,
+        chunks: Sequence[Any],
+        payload: Any,
+        progress: Progress | None = None,
+    ) -> list[Any]:
+        """The results of ``function(chunk, payload=payload)`` for every chunk, in order.
+
+        The payload is sent to the workers once; items are retried :data:`RETRIES` times.
+        Ctrl-C (or any error) cancels what is still queued.
+        """
+        from distributed import as_completed
+
+        client = self.client
+        if not chunks:
+            return []
+        # a list of one: scatter would send a dict's values as separate keys
+        [shared] = client.scatter([payload], broadcast=True, hash=False)
+        futures = client.map(function, list(chunks), payload=shared, retries=RETRIES, pure=False)
+        try:
+            done = 0
+            for future in as_completed(futures):
+                if future.status == "error":
+                    future.result()  # raises the item's exception
+                done += 1
+                if progress is not None:
+                    progress(done, len(futures))
+            return client.gather(futures)
+        except BaseException:
+            client.cancel(futures)
+            raise
+
+
+def _dask_missing() -> EngineError:
+    return EngineError(
+        "the Dask engine needs dask.distributed: pip install 'kinplan[dask]' "
+        "(or run with engine='local' / without --jobs and --scheduler)"
+    )
+
+
+@contextmanager
+def open_engine(
+    engine: object = "local",
+    scheduler: str | None = None,
+    jobs: int | None = None,
+    timeout: float = CONNECT_TIMEOUT,
+) -> Iterator[LocalEngine | DaskEngine]:
+    """The engine to run work items on, closed (a cluster it started shut down) on exit.
+
+    Args:
+        engine: ``"local"``, ``"dask"``, or a ``distributed.Client``.
+        scheduler: Address of a Dask scheduler (``tcp://HOST:8786``); implies ``"dask"``.
+        jobs: Worker processes of a ``LocalCluster`` started for the job (``"dask"`` without a
+            scheduler; default: the machine's cores). ``jobs=1`` without a scheduler runs
+            locally.
+        timeout: Seconds to wait for the scheduler [s].
+
+    Raises:
+        InputError: an unknown engine, ``jobs`` not an integer ≥ 1, both ``jobs`` and
+            ``scheduler``.
+        EngineError: Dask is not installed, the scheduler cannot be reached in ``timeout``,
+            the cluster cannot start.
+    """
+    if jobs is not None:
+        jobs = checks.count(jobs, "jobs (worker processes)", minimum=1)
+    if scheduler is not None:
+        scheduler = checks.text(scheduler, "scheduler (a Dask scheduler address)")
+        if jobs is not None:
+            raise InputError(
+                "give either jobs (a LocalCluster of worker processes started here) or "
+                "scheduler (the address of a running Dask scheduler), not both"
+            )
+        if engine == "local":
+            engine = "dask"
+    if not isinstance(engine, str):
+        if type(engine).__name__ != "Client" or not hasattr(engine, "map"):
+            raise InputError(
+                f"engine must be one of {', '.join(ENGINES)} or a distributed.Client, got "
+                f"{checks.describe(engine)}"
+            )
+        yield DaskEngine(engine, f"Dask cluster of {engine.scheduler.address}")
+        return
+    engine = checks.choice(engine, "engine", ENGINES)
+    if engine == "local" and (jobs is None or jobs == 1):
+        yield LocalEngine()
+        return
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise _dask_missing() from None
+    if scheduler is not None:
+        client = _connect(Client, scheduler, timeout)
+        try:
+            yield DaskEngine(client, f"Dask scheduler {scheduler}")
+        finally:
+            client.close()
+        return
+    workers = jobs or os.cpu_count() or 1
+    try:
+        cluster = LocalCluster(
+            n_workers=workers,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=logging.ERROR,
+        )
+    except Exception as exc:  # noqa: BLE001 - a cluster that cannot start: one line
+        raise EngineError(f"cannot start a Dask LocalCluster of {workers} workers: {exc}") from exc
+    client = Client(cluster)
+    try:
+        yield DaskEngine(client, f"Dask LocalCluster of {workers} workers")
+    finally:
+        client.close()
+        cluster.close()
+
+
+def _connect(client_class, address: str, timeout: float):
+    try:
+        return client_class(address, timeout=timeout)
+    except (OSError, ValueError, TypeError) as exc:  # unreachable, refused, malformed
+        reason = " ".join(str(exc).split()) or type(exc).__name__
+        raise EngineError(
+            f"cannot reach the Dask scheduler at {address} within {timeout:g} s ({reason}); "
+            "start one with `dask scheduler` and workers with `dask worker ADDRESS`, check the "
+            "address, or run locally with --jobs N"
+        ) from None
+
+
+# ---------------------------------------------------------------------------- robots as text
+def robot_payload(robot) -> dict[str, Any]:
+    """What a worker needs to rebuild ``robot``: its URDF text and load options (plain data).
+
+    The joint limits are passed as overrides, so a robot loaded with ``limits=`` (or with a
+    tool, :meth:`kinplan.Robot.with_tool`) is rebuilt the same.
+    """
+    text = Path(robot.urdf_path).read_text(encoding="utf-8")
+    limits: dict[str, dict[str, float]] = {}
+    for k, name in enumerate(robot.joint_names):
+        entry = {}
+        for key, values in (
+            ("lower", robot.lower),
+            ("upper", robot.upper),
+            ("velocity", robot.velocity_limit),
+            ("acceleration", robot.acceleration_limit),
+        ):
+            if np.isfinite(values[k]):
+                entry[key] = float(values[k])
+        if entry:
+            limits[name] = entry
+    base = robot.base_pose
+    return {
+        "urdf": text,
+        "urdf_folder": str(Path(robot.urdf_path).parent),
+        "name": robot.name,
+        "tip": robot.tip_frame,
+        "locked_joints": {k: float(v) for k, v in robot.locked_joints.items()},
+        "base_pose": None if base.isIdentity() else base.homogeneous.tolist(),
+        "limits": limits,
+        "package_dirs": [str(p) for p in robot.package_dirs],
+    }
+
+
+def payload_digest(payload: dict[str, Any]) -> str:
+    """A hash of a robot payload (the key of the worker's robot cache)."""
+    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
+
+
+_ROBOTS: dict[str, Any] = {}
+
+
+def robot_from_payload(payload: dict[str, Any]):
+    """The robot of :func:`robot_payload`, built once per process (cached by content)."""
+    key = payload_digest(payload)
+    robot = _ROBOTS.get(key)
+    if robot is not None:
+        return robot
+    import pinocchio as pin
+
+    from kinplan.robot import Robot
+    from kinplan.sources import RobotSpec
+
+    text = payload["urdf"]
+    folder = Path(tempfile.gettempdir()) / "kinplan-urdf"
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"work_{hashlib.sha256(text.encode()).hexdigest()[:20]}.urdf"
+    if not path.is_file() or path.read_text(encoding="utf-8") != text:
+        handle, temporary = tempfile.mkstemp(dir=folder, suffix=".urdf.tmp")
+        with os.fdopen(handle, "w", encoding="utf-8") as stream:
+            stream.write(text)
+        os.replace(temporary, path)
+    dirs = tuple(Path(p) for p in payload["package_dirs"]) + (Path(payload["urdf_folder"]),)
+    spec = RobotSpec(name=payload["name"], urdf_path=path, package_dirs=dirs)
+    base = payload["base_pose"]
+    robot = Robot(
+        spec,
+        payload["tip"],
+        locked_joints=payload["locked_joints"] or None,
+        base_pose=None if base is None else pin.SE3(np.array(base)),
+        limits=payload["limits"] or None,
+    )
+    if len(_ROBOTS) > 16:
+        _ROBOTS.clear()
+    _ROBOTS[key] = robot
+    return robot
+
+
+def write_atomically(path: str | os.PathLike[str], write: Callable[[Any], None], binary: bool):
+    """Write a file through ``write(stream)`` into a temporary file beside it, then rename it
+    into place: an interrupted write (Ctrl-C, a crash) leaves no half-written file.
+
+    Returns:
+        The path written.
+    """
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    handle, temporary = tempfile.mkstemp(
+        dir=target.parent, prefix=f".{target.name}.", suffix=".tmp"
+    )
+    try:
+        with os.fdopen(
+            handle, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8"})
+        ) as stream:
+            write(stream)
+        os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes it private: as open() would
+        os.replace(temporary, target)
+    except BaseException:
+        try:
+            os.unlink(temporary)
+        except OSError:
+            pass
+        raise
+    return target
+
+
+def _umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask

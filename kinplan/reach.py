@@ -1,0 +1,673 @@
+"""Reachability (capability) maps: where an arm reaches, with which tool orientations.
+
+:func:`capability_map` cuts the workspace into cubic voxels (by default a cube about the first
+joint that holds the arm's reach; voxels whose centre lies beyond the reach are not solved) and
+solves IK at every voxel centre for a fixed set of tool orientations:
+
+* the whole rotation group (``orientations`` near-uniform rotations: a super-Fibonacci spiral,
+  Alexa 2022), or
+* a tool direction: the tool frame's z axis within ``cone_deg`` of ``direction`` (torch down ±
+  20°: ``direction=(0, 0, -1), cone_deg=20``), spread evenly over the cone and the roll about
+  the axis.
+
+Per voxel the map holds the share of those orientations that are reachable within the joint
+limits (and collision-free in ``cell``): the reachability index of Zacharias et al. (2007)
+that ROS's reuleaux computes; the best manipulability over them (of the solution
+:meth:`kinplan.Robot.ik` would return from the arm's neutral configuration); and, for arms
+with a closed form that lists branches (UR family, planar 2R), a bit mask of the branches
+(shoulder, wrist, elbow: bit ``4·shoulder + 2·wrist + elbow``) that reach at least one
+orientation. Arms with fewer than 6 joints get position-only maps (one "orientation").
+
+The work is cut into chunks of voxels; each chunk is a pure function of the robot's URDF text,
+the options and the voxel centres (:mod:`kinplan.engines`), so a map is bit-identical whether it
+runs in this process, on a Dask ``LocalCluster`` or on a remote Dask scheduler.
+
+:class:`ReachMap` saves to one ``.npz`` file (robot, tip, resolution, options and kinplan's
+version recorded), loads back, draws slices as PNG (:meth:`ReachMap.save_png`) and the voxels
+in MeshCat (:meth:`ReachMap.save_html`, one offline HTML file).
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+import os
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from kinplan import checks
+from kinplan.engines import Progress, open_engine, robot_from_payload, robot_payload
+from kinplan.engines import write_atomically as _write_atomically
+from kinplan.errors import InputError, KinplanError
+
+__all__ = ["ReachMap", "capability_map", "orientation_set"]
+
+logger = logging.getLogger(__name__)
+
+#: Version of the ``.npz`` layout written by :meth:`ReachMap.save`.
+FORMAT = 1
+#: IK targets per work item, by solver (a closed-form chunk is ~0.2 s of work on one core).
+CHUNK_TARGETS = {
+    "closed-form": 16384,
+    "closed-form-loop": 2048,
+    "levenberg-marquardt": 4096,
+    "loop": 256,
+}
+#: Numerical restarts per target in maps of arms without a closed form (Robot.ik uses 40).
+MAP_RESTARTS = 4
+_GOLDEN = (1.0 + 5.0**0.5) / 2.0
+
+
+# ---------------------------------------------------------------------------- orientations
+def orientation_set(
+    count: int, direction: Sequence[float] | None = None, cone_deg: float = 0.0
+) -> np.ndarray:
+    """Tool orientations of a map: rotation matrices (count, 3, 3), deterministic.
+
+    Args:
+        count: How many.
+        direction: None: spread over all rotations (a super-Fibonacci spiral of unit
+            quaternions, Alexa 2022). A 3-vector: the tool's z axis within ``cone_deg`` of it
+            (spread evenly over the spherical cap by area), with its roll about that axis spread
+            over the full turn.
+        cone_deg: Half-angle of the cone [deg], 0..180.
+
+    Raises:
+        InputError: count not an integer ≥ 1, a zero or non-finite direction, a cone outside
+            [0, 180].
+    """
+    count = checks.count(count, "orientations", minimum=1)
+    cone_deg = checks.number(cone_deg, "cone_deg", minimum=0.0, maximum=180.0, unit="deg")
+    s = np.arange(count) + 0.5
+    if direction is None:
+        phi, psi = math.sqrt(2.0), 1.533751168755204288118041
+        r, R = np.sqrt(s / count), np.sqrt(1.0 - s / count)
+        alpha, beta = 2.0 * np.pi * s / phi, 2.0 * np.pi * s / psi
+        x, y, z, w = r * np.sin(alpha), r * np.cos(alpha), R * np.sin(beta), R * np.cos(beta)
+        return _quaternion_matrices(x, y, z, w)
+    d = checks.vector(direction, "direction", 3)
+    norm = float(np.linalg.norm(d))
+    if not norm > 1e-12:
+        raise InputError(f"direction must be a non-zero 3-vector (the tool's z axis), got {d}")
+    d = d / norm
+    # the R3 low-discrepancy sequence (Roberts 2018) spreads cap area, azimuth and roll
+    g = 1.2207440846057596  # root of x⁴ = x + 1
+    u = np.mod(0.5 + np.outer(np.arange(1, count + 1), [1 / g, 1 / g**2, 1 / g**3]), 1.0)
+    if count == 1:
+        u = np.array([[0.0, 0.0, 0.0]])
+    cos_cone = math.cos(math.radians(cone_deg))
+    cos_tilt = 1.0 - (1.0 - cos_cone) * u[:, 0]
+    sin_tilt = np.sqrt(np.maximum(0.0, 1.0 - cos_tilt**2))
+    azimuth, roll = 2.0 * np.pi * u[:, 1], 2.0 * np.pi * u[:, 2]
+    helper = np.eye(3)[int(np.argmin(np.abs(d)))]
+    b1 = np.cross(d, helper)
+    b1 /= np.linalg.norm(b1)
+    b2 = np.cross(d, b1)
+    frame = np.stack((b1, b2, d), axis=1)  # columns: a frame whose z is the direction
+    # tilt about the horizontal axis at ``azimuth`` of the frame, then roll about the new z
+    ca, sa = np.cos(azimuth), np.sin(azimuth)
+    axis = np.stack((-sa, ca, np.zeros(count)), axis=1)  # in frame coordinates
+    tilt = _axis_angle_matrices(axis, np.arctan2(sin_tilt, cos_tilt))
+    spin = _axis_angle_matrices(np.tile([0.0, 0.0, 1.0], (count, 1)), roll)
+    return frame @ tilt @ spin
+
+
+def _quaternion_matrices(x, y, z, w) -> np.ndarray:
+    return np.stack(
+        [
+            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
+            np.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
+            np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1),
+        ],
+        axis=1,
+    )
+
+
+def _axis_angle_matrices(axes: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    half = 0.5 * angles
+    x, y, z = (axes * np.sin(half)[:, None]).T
+    return _quaternion_matrices(x, y, z, np.cos(half))
+
+
+# ---------------------------------------------------------------------------- the map
+@dataclass
+class ReachMap:
+    """A capability map: per voxel of a regular grid, what the arm reaches there.
+
+    Attributes:
+        centers: Voxel centres [m], base frame, shape (N, 3): the grid ``shape`` in C order
+            (x slowest).
+        index: Share of the map's orientations reachable at each centre, 0..1, shape (N,).
+        manipulability: Best manipulability over the reachable orientations (0 where none),
+            shape (N,).
+        branches: Bit mask of the closed-form branches that reach some orientation (0 for
+            arms without branch information), shape (N,).
+        resolution: Voxel edge [m].
+        shape: Voxels along x, y, z.
+        robot: Robot name.
+        tip: Tool frame.
+        orientations: Orientations tried per voxel (1: position only).
+        direction: Tool z direction of a cone map, or None (all orientations).
+        cone_deg: Cone half-angle [deg] of a cone map.
+        kinplan_version: Version that computed the map.
+        shoulder: The first joint's origin [m] (where the default region is centred).
+        reach: The arm's reach [m] from the shoulder (voxels beyond it are not solved).
+        info: Other facts: ``method`` (IK solver), ``seconds``, ``engine``, ``poses``,
+            ``chunks``, ``urdf_sha256``, ``base_pose``, ``cell`` (obstacle names) ...
+    """
+
+    centers: np.ndarray
+    index: np.ndarray
+    manipulability: np.ndarray
+    branches: np.ndarray
+    resolution: float
+    shape: tuple[int, int, int]
+    robot: str
+    tip: str
+    orientations: int
+    direction: np.ndarray | None = None
+    cone_deg: float = 0.0
+    kinplan_version: str = ""
+    shoulder: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    reach: float = math.nan
+    info: dict[str, Any] = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        reachable = int(np.count_nonzero(self.index))
+        return (
+            f"ReachMap({self.robot!r}, tip={self.tip!r}, {self.resolution:g} m, "
+            f"{len(self.index)} voxels ({reachable} reachable), {self.orientations} orientations)"
+        )
+
+    @property
+    def reachable(self) -> np.ndarray:
+        """Voxels where some orientation is reachable, (N,) booleans."""
+        return self.index > 0.0
+
+    def grid(self, values: np.ndarray | None = None) -> np.ndarray:
+        """``values`` (default :attr:`index`) as a 3-D array indexed [x, y, z]."""
+        return (self.index if values is None else np.asarray(values)).reshape(self.shape)
+
+    def lookup(self, points: Sequence[float] | np.ndarray) -> np.ndarray:
+        """Reachability index at points [m] (base frame), shape (K,) for (K, 3) points (a float
+        for one point); 0 outside the grid."""
+        p = np.asarray(points, dtype=float)
+        single = p.ndim == 1
+        p = np.atleast_2d(p)
+        first = self.centers[0]
+        k = np.round((p - first) / self.resolution).astype(int)
+        inside = np.all((k >= 0) & (k < np.array(self.shape)), axis=1)
+        out = np.zeros(len(p))
+        flat = np.ravel_multi_index(tuple(np.clip(k, 0, np.array(self.shape) - 1).T), self.shape)
+        out[inside] = self.index[flat[inside]]
+        return float(out[0]) if single else out
+
+    def summary(self) -> list[str]:
+        """A few lines describing the map."""
+        reachable = self.reachable
+        lines = [
+            f"{self.robot} (tip {self.tip}): {len(self.index)} voxels of {self.resolution:g} m, "
+            f"{int(reachable.sum())} reachable",
+            "orientations per voxel: "
+            + (
+                "position only"
+                if self.orientations == 1 and self.direction is None
+                else f"{self.orientations}"
+                + (
+                    ""
+                    if self.direction is None
+                    else f" (tool z within {self.cone_deg:g}° of {np.round(self.direction, 3)})"
+                )
+            ),
+        ]
+        if reachable.any():
+            lines.append(
+                f"mean index over reachable voxels {float(self.index[reachable].mean()):.3f}, "
+                f"voxels with every orientation {int(np.sum(self.index >= 1.0))}"
+            )
+        seconds = self.info.get("seconds")
+        if seconds is not None:
+            poses = self.info.get("poses", 0)
+            lines.append(
+                f"{poses} IK targets in {seconds:.1f} s ({poses / max(seconds, 1e-9):,.0f}/s, "
+                f"{self.info.get('method')}, {self.info.get('engine')})"
+            )
+        return lines
+
+    # ------------------------------------------------------------ files
+    def save(self, path: str | os.PathLike[str]) -> Path:
+        """Write the map to one ``.npz`` file (written beside and renamed into place, so an
+        interrupted save leaves no half-written file).
+
+        Returns:
+            The path written.
+
+        Raises:
+            KinplanError: the file cannot be written.
+        """
+        meta = {
+            "format": FORMAT,
+            "robot": self.robot,
+            "tip": self.tip,
+            "resolution": self.resolution,
+            "shape": list(self.shape),
+            "orientations": self.orientations,
+            "direction": None if self.direction is None else self.direction.tolist(),
+            "cone_deg": self.cone_deg,
+            "kinplan_version": self.kinplan_version,
+            "shoulder": self.shoulder.tolist(),
+            "reach": self.reach,
+            "info": self.info,
+        }
+        arrays = {
+            "centers": self.centers,
+            "index": self.index,
+            "manipulability": self.manipulability,
+            "branches": self.branches,
+            "meta": np.array(json.dumps(meta)),
+        }
+        try:
+            return _write_atomically(path, lambda f: np.savez_compressed(f, **arrays), True)
+        except OSError as exc:
+            raise KinplanError(f"cannot write the map to {path}: {exc.strerror or exc}") from exc
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str]) -> ReachMap:
+        """Read a map written by :meth:`save`.
+
+        Raises:
+            KinplanError: no such file, or not a kinplan map.
+        """
+        path = Path(checks.file_path(path, "path (a .npz map)"))
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                meta = json.loads(str(data["meta"]))
+                arrays = {k: data[k] for k in ("centers", "index", "manipulability", "branches")}
+        except FileNotFoundError:
+            raise KinplanError(f"no map file {str(path)!r}") from None
+        except (OSError, ValueError, KeyError) as exc:
+            raise KinplanError(
+                f"{path} is not a kinplan reachability map (.npz from `kinplan reach` or "
+                f"ReachMap.save): {exc}"
+            ) from None
+        if meta.get("format") != FORMAT:
+            raise KinplanError(
+                f"{path}: map format {meta.get('format')!r}; this kinplan reads format {FORMAT}"
+            )
+        direction = meta["direction"]
+        return cls(
+            centers=arrays["centers"],
+            index=arrays["index"],
+            manipulability=arrays["manipulability"],
+            branches=arrays["branches"],
+            resolution=float(meta["resolution"]),
+            shape=tuple(meta["shape"]),
+            robot=meta["robot"],
+            tip=meta["tip"],
+            orientations=int(meta["orientations"]),
+            direction=None if direction is None else np.array(direction),
+            cone_deg=float(meta["cone_deg"]),
+            kinplan_version=meta["kinplan_version"],
+            shoulder=np.array(meta["shoulder"]),
+            reach=float(meta["reach"]),
+            info=meta["info"],
+        )
+
+    # ------------------------------------------------------------ pictures
+    def slice(self, axis: str = "z", at: float | None = None) -> tuple[np.ndarray, tuple, float]:
+        """The index on the grid plane normal to ``axis`` nearest ``at`` [m] (default: through
+        the shoulder).
+
+        Returns:
+            (values (rows, columns) with rows along the second remaining axis, extent
+            (left, right, bottom, top) [m] for ``imshow``, the plane's coordinate [m]).
+        """
+        axis = checks.choice(axis, "axis", ("x", "y", "z"))
+        a = "xyz".index(axis)
+        first = self.centers[0]
+        value = self.shoulder[a] if at is None else checks.number(at, "at", unit="m")
+        layer = int(np.clip(round((value - first[a]) / self.resolution), 0, self.shape[a] - 1))
+        values = np.take(self.grid(), layer, axis=a)  # (u, v) of the two other axes
+        u, v = [i for i in range(3) if i != a]
+        half = 0.5 * self.resolution
+        extent = (
+            first[u] - half,
+            first[u] + (self.shape[u] - 1) * self.resolution + half,
+            first[v] - half,
+            first[v] + (self.shape[v] - 1) * self.resolution + half,
+        )
+        return values.T, extent, float(first[a] + layer * self.resolution)
+
+    def save_png(
+        self, path: str | os.PathLike[str], axes: Sequence[str] = ("z", "y"), at=None
+    ) -> Path:
+        """Draw slices of the map (one panel per axis, through the shoulder or ``at`` [m]).
+
+        Args:
+            path: Image file (PNG, or any type Matplotlib writes).
+            axes: The slice normals, e.g. ``("z",)`` (top view) or ``("z", "y")``.
+            at: A point [m] the slices pass through (default: the shoulder).
+
+        Returns:
+            The path written.
+        """
+        import matplotlib
+
+        matplotlib.use("Agg", force=False)
+        import matplotlib.pyplot as plt
+
+        if isinstance(axes, str):
+            axes = tuple(axes)
+        point = self.shoulder if at is None else checks.vector(at, "at", 3, "m")
+        figure, panels = plt.subplots(1, len(axes), figsize=(5.2 * len(axes), 4.6), squeeze=False)
+        image = None
+        for panel, axis in zip(panels[0], axes):
+            values, extent, plane = self.slice(axis, point["xyz".index(axis)])
+            shown = np.ma.masked_where(values <= 0.0, values)
+            image = panel.imshow(
+                shown, origin="lower", extent=extent, vmin=0.0, vmax=1.0, cmap="viridis"
+            )
+            names = [c for c in "xyz" if c != axis]
+            panel.set_xlabel(f"{names[0]} [m]")
+            panel.set_ylabel(f"{names[1]} [m]")
+            panel.set_title(f"{axis} = {plane:.3f} m", fontsize=10)
+            panel.set_aspect("equal")
+            panel.set_facecolor("#eeeeee")
+            u, v = ["xyz".index(c) for c in names]
+            panel.plot(self.shoulder[u], self.shoulder[v], "r+", markersize=10)
+        what = (
+            "position only"
+            if self.orientations == 1 and self.direction is None
+            else f"{self.orientations} orientations"
+            + ("" if self.direction is None else f", tool z within {self.cone_deg:g}°")
+        )
+        figure.suptitle(f"{self.robot}: reachability index, {self.resolution:g} m voxels, {what}")
+        figure.colorbar(image, ax=panels[0].tolist(), label="share of orientations reachable")
+        try:
+            return _write_atomically(
+                path, lambda f: figure.savefig(f, dpi=110, format=_format(path)), True
+            )
+        except OSError as exc:
+            raise KinplanError(f"cannot write {path}: {exc.strerror or exc}") from exc
+        finally:
+            plt.close(figure)
+
+    def save_html(self, path: str | os.PathLike[str], robot=None) -> Path:
+        """One offline HTML page with the reachable voxels in MeshCat, coloured by index
+        (viridis: dark = few orientations, yellow = all), and the arm at its neutral
+        configuration as a stick figure when ``robot`` is given.
+
+        Returns:
+            The path written.
+        """
+        from kinplan.reach_view import map_page
+
+        text = map_page(self, robot)
+        try:
+            return _write_atomically(path, lambda f: f.write(text), False)
+        except OSError as exc:
+            raise KinplanError(f"cannot write {path}: {exc.strerror or exc}") from exc
+
+
+def _format(path: str | os.PathLike[str]) -> str:
+    suffix = Path(path).suffix.lower().lstrip(".")
+    return suffix or "png"
+
+
+# ---------------------------------------------------------------------------- computing maps
+def _grid(robot, resolution: float, region) -> tuple[np.ndarray, np.ndarray]:
+    """(first voxel centre (3,), voxels per axis (3,))."""
+    shoulder = np.array(robot.model.jointPlacements[1].translation)
+    if region is None:
+        reach = robot.reach()
+        count = int(math.ceil(reach / resolution - 1e-9))
+        first = shoulder - count * resolution
+        shape = np.full(3, 2 * count + 1)
+        if robot.planar_reach() is not None:  # a planar arm: one layer, in its plane
+            plane = robot.fk(robot.neutral()).translation[2]
+            first[2], shape[2] = plane, 1
+        return first, shape
+    box = checks.matrix(region, "region ((xmin, xmax), (ymin, ymax), (zmin, zmax)) [m]", (3, 2))
+    if np.any(box[:, 1] < box[:, 0]):
+        raise InputError(f"region: every max must be ≥ its min, got {box.tolist()}")
+    shape = np.maximum(1, np.ceil((box[:, 1] - box[:, 0]) / resolution - 1e-9)).astype(int)
+    first = box[:, 0] + 0.5 * resolution
+    if np.prod(shape.astype(float)) > 5e7:
+        raise InputError(
+            f"region holds {int(np.prod(shape.astype(float)))} voxels of {resolution:g} m; "
+            "use a coarser resolution or a smaller region"
+        )
+    return first, shape
+
+
+def _cell_payload(cell, robot) -> dict[str, Any] | None:
+    if cell is None:
+        return None
+    from kinplan.cell import WorkCell
+
+    if not isinstance(cell, WorkCell):
+        raise InputError(f"cell must be a kinplan.WorkCell or None, got {checks.describe(cell)}")
+    if cell.robot is not robot:
+        raise InputError("cell must be a WorkCell of the same robot object (WorkCell(robot))")
+    allowed = [
+        (pair.bodies[0], pair.bodies[1], pair.reason)
+        for pair in cell.excluded_pairs
+        if pair.reason.startswith("allowed")
+    ]
+    return {
+        "obstacles": dict(cell.obstacles),
+        "allowed": allowed,
+        "srdf": None if cell.srdf_path is None else str(cell.srdf_path),
+    }
+
+
+def capability_map(
+    robot,
+    resolution: float = 0.05,
+    orientations: int = 32,
+    region=None,
+    engine: object = "local",
+    scheduler: str | None = None,
+    cell=None,
+    *,
+    direction: Sequence[float] | None = None,
+    cone_deg: float = 0.0,
+    jobs: int | None = None,
+    progress: Progress | None = None,
+    max_restarts: int = MAP_RESTARTS,
+    chunk_targets: int | None = None,
+) -> ReachMap:
+    """Compute the capability map of ``robot`` (see the module docstring).
+
+    Args:
+        robot: The arm (:func:`kinplan.load_robot`).
+        resolution: Voxel edge [m].
+        orientations: Tool orientations per voxel (ignored for arms with fewer than 6 joints:
+            position only).
+        region: ((xmin, xmax), (ymin, ymax), (zmin, zmax)) [m], base frame; default a cube
+            about the first joint that holds the reach (a planar arm: its plane only).
+        engine: ``"local"`` (this process), ``"dask"`` (a LocalCluster of ``jobs`` workers, or
+            ``scheduler``) or a ``distributed.Client`` (see :func:`kinplan.engines.open_engine`).
+        scheduler: Address of a Dask scheduler, ``tcp://HOST:8786``.
+        cell: A :class:`kinplan.WorkCell` of this robot: orientations whose solutions all
+            collide (with obstacles or the robot itself) do not count.
+        direction: Tool z direction (3-vector): orientations within ``cone_deg`` of it only.
+        cone_deg: Cone half-angle [deg] around ``direction``.
+        jobs: Worker processes of a LocalCluster (``engine="dask"``; ``jobs > 1`` implies it).
+        progress: Called as ``progress(done, total)`` in chunks of work.
+        max_restarts: Numerical IK restarts per target (arms without a closed form).
+        chunk_targets: IK targets per work item (default by solver, :data:`CHUNK_TARGETS`);
+            a work item holds about 1 kB per target while it runs.
+
+    Returns:
+        The map (:class:`ReachMap`).
+
+    Raises:
+        InputError: a resolution that is not > 0, malformed region, direction or cone, a cell
+            of another robot.
+        EngineError: the engine cannot start or the scheduler cannot be reached.
+    """
+    from kinplan import Robot, __version__
+
+    if not isinstance(robot, Robot):
+        raise InputError(f"robot must be a kinplan.Robot, got {checks.describe(robot)}")
+    resolution = checks.number(resolution, "resolution", positive=True, unit="m")
+    orientations = checks.count(orientations, "orientations", minimum=1)
+    max_restarts = checks.count(max_restarts, "max_restarts", minimum=0)
+    position_only = robot.default_position_only()
+    if direction is not None:
+        direction = checks.vector(direction, "direction", 3)
+    rotations = None
+    if not position_only:
+        rotations = orientation_set(orientations, direction, cone_deg)
+    else:
+        orientations = 1
+    if jobs is not None and jobs > 1 and engine == "local":
+        engine = "dask"
+    first, shape = _grid(robot, resolution, region)
+    axes = [first[a] + resolution * np.arange(shape[a]) for a in range(3)]
+    centers = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    shoulder = np.array(robot.model.jointPlacements[1].translation)
+    reach = robot.reach()
+    solved = np.flatnonzero(np.linalg.norm(centers - shoulder, axis=1) <= reach + 1e-9)
+    method = robot.batch_solver.method(position_only)
+    if chunk_targets is None:
+        chunk_targets = CHUNK_TARGETS[method]
+    chunk_targets = checks.count(chunk_targets, "chunk_targets", minimum=1)
+    per_chunk = max(1, chunk_targets // (1 if rotations is None else len(rotations)))
+    chunks = [centers[solved[k : k + per_chunk]] for k in range(0, len(solved), per_chunk)]
+    payload = {
+        "robot": robot_payload(robot),
+        "rotations": rotations,
+        "max_restarts": max_restarts,
+        "cell": _cell_payload(cell, robot),
+    }
+    started = time.perf_counter()
+    with open_engine(engine, scheduler, jobs if engine != "local" else None) as runner:
+        results = runner.map(_map_chunk, chunks, payload, progress)
+        engine_text = runner.describe()
+    seconds = time.perf_counter() - started
+    index = np.zeros(len(centers))
+    manipulability = np.zeros(len(centers))
+    branches = np.zeros(len(centers), dtype=np.uint16)
+    if results:
+        index[solved] = np.concatenate([r["index"] for r in results])
+        manipulability[solved] = np.concatenate([r["manipulability"] for r in results])
+        branches[solved] = np.concatenate([r["branches"] for r in results])
+    import hashlib
+
+    info = {
+        "method": method,
+        "seconds": seconds,
+        "engine": engine_text,
+        "poses": int(len(solved) * (1 if rotations is None else len(rotations))),
+        "chunks": len(chunks),
+        "solved_voxels": int(len(solved)),
+        "urdf_sha256": hashlib.sha256(payload["robot"]["urdf"].encode()).hexdigest(),
+        "base_pose": robot.base_pose.homogeneous.tolist(),
+        "max_restarts": max_restarts,
+        "cell": None if cell is None else sorted(cell.obstacles),
+    }
+    return ReachMap(
+        centers=centers,
+        index=index,
+        manipulability=manipulability,
+        branches=branches,
+        resolution=resolution,
+        shape=tuple(int(n) for n in shape),
+        robot=robot.name,
+        tip=robot.tip_frame,
+        orientations=orientations,
+        direction=None if direction is None else direction / np.linalg.norm(direction),
+        cone_deg=float(cone_deg) if direction is not None else 0.0,
+        kinplan_version=__version__,
+        shoulder=shoulder,
+        reach=reach,
+        info=info,
+    )
+
+
+_CELLS: dict[str, Any] = {}
+
+
+def _cell_of(robot, spec: dict[str, Any]):
+    """The work cell of a chunk's payload, built once per worker process."""
+    import hashlib
+    import pickle
+
+    key = hashlib.sha256(pickle.dumps((id(robot), spec))).hexdigest()
+    cell = _CELLS.get(key)
+    if cell is None:
+        from kinplan.cell import WorkCell
+
+        cell = WorkCell(robot, srdf=spec["srdf"] if spec["srdf"] is not None else False)
+        for name, body in spec["obstacles"].items():
+            cell.add(name, body)
+        for first, second, reason in spec["allowed"]:
+            cell.allow(first, second, reason)
+        _CELLS.clear()
+        _CELLS[key] = cell
+    return cell
+
+
+def _map_chunk(centers: np.ndarray, payload: dict[str, Any]) -> dict[str, np.ndarray]:
+    """One work item of :func:`capability_map`: the index, manipulability and branch mask of
+    the voxels at ``centers`` (K, 3). Pure: depends only on its arguments."""
+    from kinplan.robot import manipulability_of
+
+    robot = robot_from_payload(payload["robot"])
+    rotations = payload["rotations"]
+    solver = robot.batch_solver
+    count = len(centers)
+    per_voxel = 1 if rotations is None else len(rotations)
+    positions = np.repeat(centers, per_voxel, axis=0)
+    targets = None if rotations is None else np.tile(rotations, (count, 1, 1))
+    seeds = np.tile(robot.neutral(), (len(positions), 1))
+    q, ok = solver.solve(positions, targets, seeds, 1e-6, 1e-6, 40, payload["max_restarts"])
+    masks = solver.branch_masks.copy()
+    if payload["cell"] is not None:
+        ok, q = _collision_free(robot, payload["cell"], positions, targets, q, ok)
+    manipulability = np.zeros(len(positions))
+    if ok.any():
+        position_only = rotations is None
+        rows, rank = robot.task_rows(position_only), robot.task_rank(position_only)
+        if solver.kinematics is not None:
+            jacobians = solver.kinematics.fk_jacobian(q[ok])[2]
+        else:
+            jacobians = np.array([robot.jacobian(row) for row in q[ok]])
+        manipulability[ok] = manipulability_of(jacobians[:, rows], rank)
+    ok = ok.reshape(count, per_voxel)
+    masks = np.where(ok, masks.reshape(count, per_voxel), 0)
+    return {
+        "index": ok.sum(axis=1) / per_voxel,
+        "manipulability": manipulability.reshape(count, per_voxel).max(axis=1),
+        "branches": np.bitwise_or.reduce(masks.astype(np.uint16), axis=1),
+    }
+
+
+def _collision_free(robot, spec, positions, rotations, q, ok):
+    """``ok`` where the solution, or another solution of the closed form, is collision-free."""
+    cell = _cell_of(robot, spec)
+    closed_form = robot.batch_solver.closed_form
+    ok = ok.copy()
+    for k in np.flatnonzero(ok):
+        if not cell.collisions(q[k]):
+            continue
+        ok[k] = False
+        if closed_form is not None and hasattr(closed_form, "solutions"):
+            rotation = None if rotations is None else rotations[k]
+            try:
+                others = closed_form.solutions(positions[k], rotation)
+            except (KinplanError, TypeError):
+                others = ()
+            for other in others:
+                if not cell.collisions(other):
+                    q[k], ok[k] = other, True
+                    break
+    return ok, q
