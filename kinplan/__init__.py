@@ -48,7 +48,10 @@ __all__ = [
 
 def __getattr__(name: str) -> ModuleType:
     # Submodules imported on first use: `kinplan.trajectory`, `kinplan.viewer`, `kinplan.plot`.
-    if name in ("trajectory", "viewer", "plot", "program", "cli", "teach", "demos", "export"):
+    if name in (
+        "trajectory", "viewer", "plot", "program", "cli", "teach", "demos", "export",
+        "reach", "batch", "placement",
+    ):  # fmt: skip
         import importlib
 
         return importlib.import_module(f"kinplan.{name}")

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from kinplan import checks
-from kinplan.engines import Progress, open_engine
+from kinplan.engines import Progress, open_engine, tune_allocator
 from kinplan.errors import InputError, KinplanError
 
 __all__ = ["PlanSummary", "plan_many"]
@@ -95,6 +95,7 @@ def plan_text(text: str, base_dir: str, source: str, dt: float):
 def _plan_item(item: tuple[str, str, str], payload: dict[str, Any]) -> dict[str, Any]:
     """One work item of :func:`plan_many`: (path as given, YAML text, folder) → summary dict."""
     path, text, base_dir = item
+    tune_allocator()
     started = time.perf_counter()
     program, plan, reason = plan_text(text, base_dir, path, payload["dt"])
     seconds = time.perf_counter() - started

@@ -31,7 +31,15 @@ import pinocchio as pin
 from kinplan import checks
 from kinplan.errors import InputError
 from kinplan.ik import frobenius_tolerance
-from kinplan.ik.numeric import DAMPING_FLOOR, DAMPING_GAIN, MAX_STEP, STALL_ITERATIONS
+from kinplan.ik.numeric import (
+    DAMPING_FLOOR,
+    DAMPING_GAIN,
+    MAX_STEP,
+    POLISH_DAMPING_FLOOR,
+    POLISH_ITERATIONS,
+    POLISH_STALL_ITERATIONS,
+    STALL_ITERATIONS,
+)
 
 logger = logging.getLogger(__name__)
 
@@ -46,6 +54,10 @@ _HALF_TURN_SAFE = math.pi - 1e-9
 _POLISH_ITERATIONS = 3
 #: Targets solved per numpy pass (bounds the memory of the per-branch arrays: ~1 kB a target).
 CHUNK = 16384
+#: Numerical restarts tried side by side per target when few targets are left: as many as
+#: make about SIDE_BY_SIDE_ROWS rows, at most RESTARTS_AT_ONCE.
+RESTARTS_AT_ONCE = 8
+SIDE_BY_SIDE_ROWS = 1024
 
 
 class BatchKinematics:
@@ -89,10 +101,12 @@ class BatchKinematics:
                     joint.idx_q,
                 )
             )
-        if len(self._joints) != self.nq or sorted(j[5] for j in self._joints) != list(
-            range(self.nq)
-        ):
+        if sorted(joint[5] for joint in self._joints) != list(range(self.nq)):
             raise ValueError("the tool frame is not moved by every joint")
+        #: Revolute joints (a whole turn leaves them alike), by joint index.
+        self.revolute = np.zeros(self.nq, dtype=bool)
+        for joint in self._joints:
+            self.revolute[joint[5]] = joint[2]
         tool = model.frames[robot.tip_id].placement
         self._tool_rotation = tool.rotation.copy()
         self._tool_translation = tool.translation.copy()
@@ -124,8 +138,8 @@ class BatchKinematics:
         count = len(q)
         rotation = np.broadcast_to(np.eye(3), (count, 3, 3))
         position = np.zeros((count, 3))
-        axes = np.empty((count, self.nq, 3)) if with_axes else None
-        origins = np.empty((count, self.nq, 3)) if with_axes else None
+        rows = count if with_axes else 0  # the joint axes and origins only when asked for
+        axes, origins = np.empty((rows, self.nq, 3)), np.empty((rows, self.nq, 3))
         revolute = np.empty(self.nq, dtype=bool)
         for k, (R_j, p_j, is_revolute, axis, K, index) in enumerate(self._joints):
             position = position + rotation @ p_j
@@ -317,14 +331,9 @@ class BatchSolver:
         closed_form = robot.closed_form_ik
         self.closed_form = closed_form
         #: The closed form lists every branch of many poses in one pass (planar 2R, UR family).
-        self.vectorised = closed_form is not None and hasattr(closed_form, "_raw")
+        self.vectorised = closed_form is not None and hasattr(closed_form, "all_branches")
         self.lower, self.upper = robot.lower, robot.upper
         self._restarts = robot.ik_solver.restart_configuration
-        #: Set by :meth:`solve` for closed forms that list branches (−1 / 0 otherwise): the
-        #: branch of each target's solution, and a bit mask of every branch that reaches the
-        #: target within the limits (bit b for branch b).
-        self.branches: np.ndarray = np.empty(0, dtype=np.int8)
-        self.branch_masks: np.ndarray = np.empty(0, dtype=np.uint16)
 
     def method(self, position_only: bool) -> str:
         """``"closed-form"``, ``"closed-form-loop"``, ``"levenberg-marquardt"`` or ``"loop"``."""
@@ -344,26 +353,51 @@ class BatchSolver:
         rotation_tolerance: float,
         max_iterations: int,
         max_restarts: int,
+        rescue: bool = True,
     ) -> tuple[np.ndarray, np.ndarray]:
         """Solve every target; see :meth:`kinplan.Robot.ik_batch` (inputs already checked,
-        seeds within 2π of the limits).
+        seeds within 2π of the limits). ``rescue=False`` leaves out the last numerical tries
+        of targets every attempt failed (see :meth:`_rescue`).
 
         Returns:
-            (q (N, nq), success (N,)); :attr:`branches` holds each target's branch.
+            (q (N, nq), success (N,)).
+        """
+        return self.solve_with_branches(
+            positions, rotations, seeds, position_tolerance, rotation_tolerance,
+            max_iterations, max_restarts, rescue,
+        )[:2]  # fmt: skip
+
+    def solve_with_branches(
+        self,
+        positions: np.ndarray,
+        rotations: np.ndarray | None,
+        seeds: np.ndarray,
+        position_tolerance: float,
+        rotation_tolerance: float,
+        max_iterations: int,
+        max_restarts: int,
+        rescue: bool = True,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`solve`, and for closed forms that list branches (UR family, planar 2R) the
+        branch of each solution and a bit mask of every branch that reaches the target within
+        the limits (bit b for branch b); −1 and 0 for other solvers.
+
+        Returns:
+            (q (N, nq), success (N,), branch (N,) int8, mask (N,) uint16).
         """
         count = len(positions)
         method = self.method(rotations is None)
         q = np.clip(seeds, self.lower, self.upper)
         success = np.zeros(count, dtype=bool)
-        self.branches = np.full(count, -1, dtype=np.int8)
-        self.branch_masks = np.zeros(count, dtype=np.uint16)
+        branches = np.full(count, -1, dtype=np.int8)
+        masks = np.zeros(count, dtype=np.uint16)
         tolerances = (position_tolerance, rotation_tolerance)
         for start in range(0, count, CHUNK):
             part = slice(start, min(start + CHUNK, count))
             rot = None if rotations is None else rotations[part]
             if method == "closed-form":
-                q[part], success[part], self.branches[part], self.branch_masks[part] = (
-                    self._closed_form(positions[part], rot, seeds[part], tolerances)
+                q[part], success[part], branches[part], masks[part] = self._closed_form(
+                    positions[part], rot, seeds[part], tolerances
                 )
             elif method == "closed-form-loop":
                 q[part], success[part] = self._closed_form_loop(
@@ -373,16 +407,23 @@ class BatchSolver:
                 q[part], success[part] = self._numerical(
                     positions[part], rot, seeds[part], tolerances, max_iterations, max_restarts
                 )
+                left = np.flatnonzero(~success[part])
+                if rescue and max_restarts > 0 and left.size:
+                    index = left + start
+                    rot = None if rotations is None else rotations[index]
+                    q[index], success[index] = self._rescue(
+                        positions[index], rot, q[index], seeds[index], tolerances, max_iterations
+                    )
             else:
                 q[part], success[part] = self._loop(
                     positions[part], rot, seeds[part], tolerances, max_iterations, max_restarts
                 )
-        return q, success
+        return q, success, branches, masks
 
     # ------------------------------------------------------------ closed forms
     def _closed_form(self, positions, rotations, seeds, tolerances):
         solver = self.closed_form
-        raw, _ = solver._raw(positions, rotations, seeds)  # (N, S, nq), every branch
+        raw, _ = solver.all_branches(positions, rotations, seeds)  # (N, S, nq)
         candidates = nearest_equivalent(raw, seeds[:, None, :], self.lower, self.upper)
         distance = ((candidates - seeds[:, None, :]) ** 2) @ solver.weights
         distance = np.nan_to_num(distance, nan=np.inf)
@@ -410,6 +451,7 @@ class BatchSolver:
         """FK check of closed-form solutions; a few Newton steps where rounding left them just
         outside the tolerances."""
         position_tolerance, rotation_tolerance = tolerances
+        assert self.kinematics is not None  # the closed-form methods need it (method())
         reached, reached_rotations = self.kinematics.fk(q)
         position2, frobenius2 = _errors(positions, rotations, reached, reached_rotations)
         good = (position2 <= position_tolerance**2) & (
@@ -426,29 +468,92 @@ class BatchSolver:
 
     # ------------------------------------------------------------ numerical
     def _numerical(self, positions, rotations, seeds, tolerances, max_iterations, max_restarts):
+        """The seeded attempt, then the Halton restarts of :meth:`kinplan.ik.IKSolver.solve`
+        for the targets still unsolved.
+
+        Several restarts run side by side when few targets are left (up to
+        :data:`RESTARTS_AT_ONCE`, about :data:`SIDE_BY_SIDE_ROWS` rows), each target keeping
+        its first converged restart in restart order (else its best one, earliest on ties):
+        the answers of trying them one after the other, in fewer numpy passes.
+        """
         q, success, score = self._descend(positions, rotations, seeds, tolerances, max_iterations)
-        for attempt in range(1, max_restarts + 1):
+        attempt = 1
+        while attempt <= max_restarts:
             left = np.flatnonzero(~success)
             if left.size == 0:
                 break
-            start = np.broadcast_to(self._restarts(attempt), (left.size, self.robot.nq))
-            rot = None if rotations is None else rotations[left]
+            # side by side only when few are left (the others would mostly be wasted)
+            width = min(RESTARTS_AT_ONCE, -(-SIDE_BY_SIDE_ROWS // left.size))
+            width = max(1, min(width, max_restarts - attempt + 1))
+            starts = np.array([self._restarts(attempt + k) for k in range(width)])
+            rows = np.repeat(left, width)  # target-major: row j·width + k is restart k of j
+            rot = None if rotations is None else rotations[rows]
             q_new, ok, new_score = self._descend(
-                positions[left], rot, start, tolerances, max_iterations
+                positions[rows], rot, np.tile(starts, (left.size, 1)), tolerances, max_iterations
             )
-            better = ok | (new_score < score[left])
-            q[left[better]] = q_new[better]
-            score[left[better]] = new_score[better]
-            success[left] = ok
+            ok, new_score = ok.reshape(-1, width), new_score.reshape(-1, width)
+            q_new = q_new.reshape(left.size, width, -1)
+            solved = ok.any(axis=1)
+            first = np.argmax(ok, axis=1)  # the first converged restart
+            for j in range(width):  # failures: the best score in restart order
+                better = ~solved & (new_score[:, j] < score[left])
+                q[left[better]] = q_new[better, j]
+                score[left[better]] = new_score[better, j]
+            q[left[solved]] = q_new[solved, first[solved]]
+            success[left] = solved
+            attempt += width
         return q, success
 
-    def _descend(self, positions, rotations, q, tolerances, max_iterations):
-        """:meth:`kinplan.ik.IKSolver.descend` on all targets at once.
+    def _rescue(self, positions, rotations, q_best, seeds, tolerances, max_iterations):
+        """What :meth:`kinplan.ik.IKSolver.solve` tries when every attempt failed, on all such
+        targets at once: polish the best attempt with Gauss–Newton-like steps; then solve from
+        the seed ignoring the limits and turn the revolute joints by whole turns into them."""
+        floor, patience = POLISH_DAMPING_FLOOR, POLISH_STALL_ITERATIONS
+        long = POLISH_ITERATIONS * max_iterations
+        q, success, _ = self._descend(
+            positions, rotations, q_best, tolerances, long, floor=floor, patience=patience
+        )
+        left = np.flatnonzero(~success)
+        if left.size == 0:
+            return q, success
+        rot = None if rotations is None else rotations[left]
+        free, ok, _ = self._descend(
+            positions[left], rot, seeds[left], tolerances, long, clamp=False
+        )
+        turns = np.ceil((self.lower - free) / TAU - 1e-12)
+        assert self.kinematics is not None  # the numerical method needs it (method())
+        free = free + TAU * np.where(self.kinematics.revolute & np.isfinite(turns), turns, 0.0)
+        ok &= np.all((free >= self.lower) & (free <= self.upper), axis=1)
+        turned = left[ok]
+        if turned.size:
+            rot = None if rotations is None else rotations[turned]
+            polished, good, _ = self._descend(
+                positions[turned], rot, free[ok], tolerances, max_iterations,
+                floor=floor, patience=patience,
+            )  # fmt: skip
+            q[turned[good]], success[turned[good]] = polished[good], True
+        return q, success
+
+    def _descend(
+        self,
+        positions,
+        rotations,
+        q,
+        tolerances,
+        max_iterations,
+        *,
+        floor: float = DAMPING_FLOOR,
+        patience: int = STALL_ITERATIONS,
+        clamp: bool = True,
+    ):
+        """:meth:`kinplan.ik.IKSolver.descend` on all targets at once (``floor``: the damping
+        λ₀; ``patience``: iterations without progress before a target stops; ``clamp=False``
+        ignores the limits).
 
         Returns:
             (q, converged, score) with score the position plus rotation error [m + rad] of q.
         """
-        lower, upper = self.lower, self.upper
+        lower, upper = (self.lower, self.upper) if clamp else (-np.inf, np.inf)
         q = np.clip(np.array(q, dtype=float), lower, upper)
         count, nq = q.shape
         position_tolerance, rotation_tolerance = tolerances
@@ -459,14 +564,17 @@ class BatchSolver:
         score = np.full(count, np.inf)
         best_cost = np.full(count, np.inf)
         stalled = np.zeros(count, dtype=int)
+        touching = np.ones(count, dtype=bool)  # q may sit on a limit: the active set is checked
         active = np.arange(count)
         eye = np.eye(nq)
+        kinematics = self.kinematics
+        assert kinematics is not None  # the numerical method needs it (method())
         for it in range(max_iterations + 1):
             if active.size == 0:
                 break
             qa = q[active]
             rot = None if rotations is None else rotations[active]
-            reached, reached_rotations, J = self.kinematics.fk_jacobian(qa)
+            reached, reached_rotations, J = kinematics.fk_jacobian(qa)
             position2, frobenius2 = _errors(positions[active], rot, reached, reached_rotations)
             done = (position2 <= position_tolerance2) & (frobenius2 <= frobenius_tolerance2)
             rotation_error = 2.0 * np.arcsin(np.minimum(np.sqrt(frobenius2) / math.sqrt(8.0), 1.0))
@@ -487,16 +595,17 @@ class BatchSolver:
             improved = cost < 0.999 * best_cost[active]
             best_cost[active] = np.where(improved, cost, best_cost[active])
             stalled[active] = np.where(improved, 0, stalled[active] + 1)
-            keep &= stalled[active] < STALL_ITERATIONS
+            keep &= stalled[active] < patience
             J, e, qa, cost = J[keep, :rows], e[keep, :rows], qa[keep], cost[keep]
             active = active[keep]
             if active.size == 0:
                 break
             Jt = np.swapaxes(J, 1, 2)
-            A = Jt @ J + (DAMPING_GAIN * cost + DAMPING_FLOOR)[:, None, None] * eye
+            A = Jt @ J + (DAMPING_GAIN * cost + floor)[:, None, None] * eye
             g = (Jt @ e[..., None])[..., 0]
             dq = np.linalg.solve(A, g[..., None])[..., 0]
             blocked = ((qa <= lower) & (dq < 0)) | ((qa >= upper) & (dq > 0))
+            blocked &= touching[active][:, None]
             hit = np.flatnonzero(blocked.any(axis=1))
             if hit.size:  # active set: blocked joints leave the step
                 free = (~blocked[hit]).astype(float)
@@ -505,7 +614,9 @@ class BatchSolver:
                 dq[hit] = np.linalg.solve(A_hit, (g[hit] * free)[..., None])[..., 0]
             step = np.abs(dq).max(axis=1)
             dq *= np.where(step > MAX_STEP, MAX_STEP / np.maximum(step, 1e-300), 1.0)[:, None]
-            q[active] = np.clip(qa + dq, lower, upper)
+            free_q = qa + dq
+            q[active] = np.clip(free_q, lower, upper)
+            touching[active] = np.any(q[active] != free_q, axis=1)
         return q, converged, score
 
     def _loop(self, positions, rotations, seeds, tolerances, max_iterations, max_restarts):

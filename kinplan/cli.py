@@ -697,6 +697,7 @@ def _cmd_place(args: argparse.Namespace) -> int:
         "margin",
         "min manip.",
         "joint margin",
+        "clearance",
         "duration [s]",
     ):
         table.add_column(column, justify="right")
@@ -704,10 +705,11 @@ def _cmd_place(args: argparse.Namespace) -> int:
         table.add_row(
             str(rank + 1),
             _fmt(p.xyz, 3),
-            _fmt(np.asarray(p.rpy_deg) + 0.0, 1),
+            _fmt([angle + 0.0 for angle in p.rpy_deg], 1),  # + 0.0: no "-0.0"
             f"{p.margin:.3f}" if p.ok else f"fails: {p.reason}"[:60],
             "-" if math.isnan(p.min_manipulability) else f"{p.min_manipulability:.4g}",
             "-" if not math.isfinite(p.joint_margin) else f"{p.joint_margin:.3f}",
+            "-" if not math.isfinite(p.clearance) else f"{p.clearance:.3f} m",
             f"{p.duration:.3f}",
         )
     _console().print(table)

@@ -35,7 +35,7 @@ import yaml
 
 from kinplan import checks
 from kinplan.batch import joint_margin, plan_text
-from kinplan.engines import Progress, open_engine, write_atomically
+from kinplan.engines import Progress, open_engine, tune_allocator, write_atomically
 from kinplan.errors import InputError, KinplanError
 
 __all__ = ["Placement", "PlacementSearch", "heat_map", "place", "with_base_pose"]
@@ -167,17 +167,18 @@ def _axis(values: Sequence[float] | None, default: float, step: float, what: str
     """Grid values along one axis: None → (default,); one value; (start, stop) stepped."""
     if values is None:
         return np.array([default])
-    values = checks.vector(values, what)
-    if values.size == 1:
-        return values
-    if values.size != 2 or values[1] < values[0]:
+    given = checks.vector(values, what)
+    if given.size == 1:
+        return given
+    if given.size != 2 or given[1] < given[0]:
         raise InputError(f"{what} must be one value or a range START STOP with STOP ≥ START")
-    count = int(math.floor((values[1] - values[0]) / step + 1e-9)) + 1
-    return values[0] + step * np.arange(count)
+    count = int(math.floor((given[1] - given[0]) / step + 1e-9)) + 1
+    return np.round(given[0] + step * np.arange(count), 9)  # 0.1, not 0.10000000000000003
 
 
 def _evaluate(candidates: list[tuple[float, ...]], payload: dict[str, Any]) -> list[dict]:
     """One work item of :func:`place`: plan the program from each candidate base pose."""
+    tune_allocator()
     out = []
     for x, y, z, yaw in candidates:
         xyz, rpy = (x, y, z), (payload["roll"], payload["pitch"], yaw)

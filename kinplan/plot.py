@@ -95,8 +95,10 @@ def plot_trajectory(
     figure = _new_figure((8.0, 9.5 if clearance is not None else 7.5))
     axes = figure.subplots(3 if clearance is None else 4, 1, sharex=True)
     if clearance is not None:  # a plan in a work cell: robot–obstacle distance [mm]
+        plan = items[0]
+        assert isinstance(plan, SampledMotion)  # only planned motions carry a clearance
         axes, clearance_axis = axes[:3], axes[3]
-        clearance_axis.plot(items[0].t, 1e3 * np.asarray(clearance), color="C3")
+        clearance_axis.plot(plan.t, 1e3 * np.asarray(clearance), color="C3")
         clearance_axis.axhline(0.0, color="0.5", linewidth=0.8)
         clearance_axis.set_ylabel("clearance [mm]")
         clearance_axis.grid(True, alpha=0.3)

@@ -17,6 +17,9 @@ that ROS's reuleaux computes; the best manipulability over them (of the solution
 with a closed form that lists branches (UR family, planar 2R), a bit mask of the branches
 (shoulder, wrist, elbow: bit ``4·shoulder + 2·wrist + elbow``) that reach at least one
 orientation. Arms with fewer than 6 joints get position-only maps (one "orientation").
+Arms with a closed form count exactly what :meth:`kinplan.Robot.ik` reaches; arms without
+one get ``max_restarts`` numerical restarts per target (4, where ``ik`` tries 40 and a rescue),
+so a target they miss may still be reachable: a lower bound of the index.
 
 The work is cut into chunks of voxels; each chunk is a pure function of the robot's URDF text,
 the options and the voxel centres (:mod:`kinplan.engines`), so a map is bit-identical whether it
@@ -42,7 +45,13 @@ from typing import Any
 import numpy as np
 
 from kinplan import checks
-from kinplan.engines import Progress, open_engine, robot_from_payload, robot_payload
+from kinplan.engines import (
+    Progress,
+    open_engine,
+    robot_from_payload,
+    robot_payload,
+    tune_allocator,
+)
 from kinplan.engines import write_atomically as _write_atomically
 from kinplan.errors import InputError, KinplanError
 
@@ -66,7 +75,7 @@ _GOLDEN = (1.0 + 5.0**0.5) / 2.0
 
 # ---------------------------------------------------------------------------- orientations
 def orientation_set(
-    count: int, direction: Sequence[float] | None = None, cone_deg: float = 0.0
+    count: int, direction: Sequence[float] | np.ndarray | None = None, cone_deg: float = 0.0
 ) -> np.ndarray:
     """Tool orientations of a map: rotation matrices (count, 3, 3), deterministic.
 
@@ -194,7 +203,7 @@ class ReachMap:
         """``values`` (default :attr:`index`) as a 3-D array indexed [x, y, z]."""
         return (self.index if values is None else np.asarray(values)).reshape(self.shape)
 
-    def lookup(self, points: Sequence[float] | np.ndarray) -> np.ndarray:
+    def lookup(self, points: Sequence[float] | np.ndarray) -> float | np.ndarray:
         """Reachability index at points [m] (base frame), shape (K,) for (K, 3) points (a float
         for one point); 0 outside the grid."""
         p = np.asarray(points, dtype=float)
@@ -273,7 +282,7 @@ class ReachMap:
             "meta": np.array(json.dumps(meta)),
         }
         try:
-            return _write_atomically(path, lambda f: np.savez_compressed(f, **arrays), True)
+            return _write_atomically(path, lambda f: np.savez_compressed(f, **arrays), True)  # type: ignore[arg-type]
         except OSError as exc:
             raise KinplanError(f"cannot write the map to {path}: {exc.strerror or exc}") from exc
 
@@ -388,6 +397,7 @@ class ReachMap:
             + ("" if self.direction is None else f", tool z within {self.cone_deg:g}°")
         )
         figure.suptitle(f"{self.robot}: reachability index, {self.resolution:g} m voxels, {what}")
+        assert image is not None  # at least one panel
         figure.colorbar(image, ax=panels[0].tolist(), label="share of orientations reachable")
         try:
             return _write_atomically(
@@ -521,11 +531,10 @@ def capability_map(
     orientations = checks.count(orientations, "orientations", minimum=1)
     max_restarts = checks.count(max_restarts, "max_restarts", minimum=0)
     position_only = robot.default_position_only()
-    if direction is not None:
-        direction = checks.vector(direction, "direction", 3)
+    axis = None if direction is None else checks.vector(direction, "direction", 3)
     rotations = None
     if not position_only:
-        rotations = orientation_set(orientations, direction, cone_deg)
+        rotations = orientation_set(orientations, axis, cone_deg)
     else:
         orientations = 1
     if jobs is not None and jobs > 1 and engine == "local":
@@ -542,8 +551,9 @@ def capability_map(
     chunk_targets = checks.count(chunk_targets, "chunk_targets", minimum=1)
     per_chunk = max(1, chunk_targets // (1 if rotations is None else len(rotations)))
     chunks = [centers[solved[k : k + per_chunk]] for k in range(0, len(solved), per_chunk)]
+    robot_data = robot_payload(robot)
     payload = {
-        "robot": robot_payload(robot),
+        "robot": robot_data,
         "rotations": rotations,
         "max_restarts": max_restarts,
         "cell": _cell_payload(cell, robot),
@@ -569,7 +579,7 @@ def capability_map(
         "poses": int(len(solved) * (1 if rotations is None else len(rotations))),
         "chunks": len(chunks),
         "solved_voxels": int(len(solved)),
-        "urdf_sha256": hashlib.sha256(payload["robot"]["urdf"].encode()).hexdigest(),
+        "urdf_sha256": hashlib.sha256(robot_data["urdf"].encode()).hexdigest(),
         "base_pose": robot.base_pose.homogeneous.tolist(),
         "max_restarts": max_restarts,
         "cell": None if cell is None else sorted(cell.obstacles),
@@ -580,12 +590,12 @@ def capability_map(
         manipulability=manipulability,
         branches=branches,
         resolution=resolution,
-        shape=tuple(int(n) for n in shape),
+        shape=(int(shape[0]), int(shape[1]), int(shape[2])),
         robot=robot.name,
         tip=robot.tip_frame,
         orientations=orientations,
-        direction=None if direction is None else direction / np.linalg.norm(direction),
-        cone_deg=float(cone_deg) if direction is not None else 0.0,
+        direction=None if axis is None else axis / np.linalg.norm(axis),
+        cone_deg=float(cone_deg) if axis is not None else 0.0,
         kinplan_version=__version__,
         shoulder=shoulder,
         reach=reach,
@@ -621,6 +631,7 @@ def _map_chunk(centers: np.ndarray, payload: dict[str, Any]) -> dict[str, np.nda
     the voxels at ``centers`` (K, 3). Pure: depends only on its arguments."""
     from kinplan.robot import manipulability_of
 
+    tune_allocator()
     robot = robot_from_payload(payload["robot"])
     rotations = payload["rotations"]
     solver = robot.batch_solver
@@ -629,8 +640,9 @@ def _map_chunk(centers: np.ndarray, payload: dict[str, Any]) -> dict[str, np.nda
     positions = np.repeat(centers, per_voxel, axis=0)
     targets = None if rotations is None else np.tile(rotations, (count, 1, 1))
     seeds = np.tile(robot.neutral(), (len(positions), 1))
-    q, ok = solver.solve(positions, targets, seeds, 1e-6, 1e-6, 40, payload["max_restarts"])
-    masks = solver.branch_masks.copy()
+    q, ok, _, masks = solver.solve_with_branches(
+        positions, targets, seeds, 1e-6, 1e-6, 40, payload["max_restarts"], rescue=False
+    )
     if payload["cell"] is not None:
         ok, q = _collision_free(robot, payload["cell"], positions, targets, q, ok)
     manipulability = np.zeros(len(positions))

@@ -95,7 +95,7 @@ def map_page(reach_map, robot=None) -> str:
     if robot is not None:
         segments = _stick_figure(robot).astype(np.float32)
         if len(segments):
-            colour = np.tile(np.float32([0.95, 0.35, 0.1]), (len(segments), 1))
+            colour = np.tile(np.array([0.95, 0.35, 0.1], dtype=np.float32), (len(segments), 1))
             arm = LineSegments(
                 PointsGeometry(segments.T, colour.T), LineBasicMaterial(vertexColors=True)
             )

@@ -20,6 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from kinplan import checks
+from kinplan.batch_ik import BatchSolver, parse_targets
 from kinplan.errors import InputError, RobotNotFoundError
 from kinplan.ik import (
     AnalyticIK,
@@ -483,8 +484,6 @@ class Robot:
             InputError: targets of another shape, not finite, rotations that are not
                 rotations, seeds of the wrong size; tolerances and counts as :meth:`ik`.
         """
-        from kinplan.batch_ik import parse_targets
-
         positions, rotations = parse_targets(targets)
         if checks.flag(position_only, "position_only"):
             rotations = None
@@ -521,12 +520,10 @@ class Robot:
         return q, success
 
     @property
-    def batch_solver(self):
+    def batch_solver(self) -> BatchSolver:
         """The solver behind :meth:`ik_batch` (:class:`kinplan.batch_ik.BatchSolver`), built
         on first use."""
         if "_batch_solver" not in self.__dict__:
-            from kinplan.batch_ik import BatchSolver
-
             self._batch_solver = BatchSolver(self)
         return self._batch_solver
 

@@ -692,3 +692,105 @@ def test_fast_nearest_equals_batch_path_on_modified_geometries(tmp_path, variant
         batch = ClosedFormIK.solutions(solver, target.translation, target.rotation)
         np.testing.assert_allclose(fast, batch, rtol=0.0, atol=1e-9)
     assert used_fast >= 140
+
+
+def test_self_check_refuses_solvers_that_miss_the_pose(ur5):
+    """The FK self-check behind analytic_solver_for: a closed form that returns the
+    configuration itself passes; one that misses it, or adds a solution off in position or
+    only in the tool's rotation (the last joint turned: the UR tool stays put), fails."""
+    from kinplan.ik import self_check
+
+    exact = solver_of("ur5")
+    assert self_check(ur5, lambda pose, q: exact.solutions(pose.translation, pose.rotation))
+    assert self_check(ur5, lambda pose, q: q[None])
+    assert not self_check(ur5, lambda pose, q: (q + 0.01)[None])
+    assert not self_check(ur5, lambda pose, q: np.zeros((0, 6)))
+    turned = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 1e-3])
+    assert not self_check(ur5, lambda pose, q: np.array([q, q + turned]))
+    moved = np.array([1e-3, 0.0, 0.0, 0.0, 0.0, 0.0])
+    assert not self_check(ur5, lambda pose, q: np.array([q, q + moved]))
+
+
+def test_solutions_are_listed_nearest_the_middle_of_asymmetric_limits(ur5):
+    """With limits [−π/2, 3π] on every joint, each solution is given as its 2π-equivalent
+    nearest the middle 1.25π of the range, within the limits, still reaching the target."""
+    lower, upper = np.full(6, -np.pi / 2), np.full(6, 3 * np.pi)
+    solver = URIK(solver_of("ur5").geometry, lower, upper)
+    middle = 0.5 * (lower + upper)
+    rng = np.random.default_rng(41)
+    for _ in range(30):
+        target = ur5.fk(ur5.random_configuration(rng))
+        solutions = solver.solutions(target.translation, target.rotation)
+        assert len(solutions) >= 2
+        assert np.all(solutions >= lower) and np.all(solutions <= upper)
+        assert np.all(np.abs(solutions - middle) <= np.pi + 1e-9)
+        for q in solutions:
+            position, rotation = pose_errors(ur5, q, target)
+            assert position < 1e-9 and rotation < 1e-9
+
+
+@pytest.mark.parametrize(
+    ("call", "name"),
+    [
+        (lambda s: s.nearest_batch(np.zeros((2, 2)), np.tile(np.eye(3), (2, 1, 1)), np.zeros(6)),
+         "positions"),
+        (lambda s: s.nearest_batch(np.zeros((2, 3)), np.tile(np.eye(3), (2, 1, 1)), np.zeros(5)),
+         "q_ref"),
+        (lambda s: s.nearest_batch(np.zeros((2, 3)), np.tile(np.eye(3), (3, 1, 1)), np.zeros(6)),
+         "rotations"),
+        (lambda s: s.nearest(np.zeros(3), np.eye(3), [np.nan] * 6), "q_ref"),
+        (lambda s: s.nearest(np.zeros(2), np.eye(3), np.zeros(6)), "position"),
+    ],
+    ids=["positions shape", "q_ref size", "rotations count", "q_ref NaN", "position size"],
+)  # fmt: skip
+def test_closed_form_inputs_are_refused_by_name(call, name):
+    with pytest.raises(InputError, match=name):
+        call(solver_of("ur5"))
+
+
+def test_fast_nearest_equals_batch_path_with_joints_on_their_limits(ur5):
+    """Configurations with joints exactly on (narrow) limits, as taught points often are: the
+    closed form returns those joints a rounding error beyond the limit, which both paths must
+    take as on it (LIMIT_TOL) and clip; references on either side, and half a turn away."""
+    half = np.array([3.0, 2.0, 2.5, 3.0, 2.0, 3.0])
+    solver = URIK(solver_of("ur5").geometry, -half, half)
+    rng = np.random.default_rng(43)
+    on_limit = 0
+    for i in range(200):
+        q = rng.uniform(-half, half)
+        joints = rng.choice(6, size=1 + i % 3, replace=False)
+        q[joints] = np.where(rng.random(len(joints)) < 0.5, -half[joints], half[joints])
+        target = ur5.fk(q)
+        q_ref = q + rng.normal(0.0, 0.05, 6) if i % 2 else q + rng.choice([-3.1, 3.1], 6)
+        found = assert_same_answer(solver, ur5, target, q_ref)
+        if found is None:
+            continue
+        assert np.all(found >= -half) and np.all(found <= half)
+        on_limit += np.any(np.abs(np.abs(found) - half) == 0.0)
+    assert on_limit > 50
+
+
+def test_planar_2r_closed_form_on_a_moved_and_tilted_base():
+    """The lecture's 2R on a base shifted and tilted in space: both elbow solutions of random
+    targets (and only those: none off the arm's tilted plane) reach them, and nearest() keeps
+    the reference's branch; targets on the first joint's axis leave θ1 free at the reference."""
+    base = pin.SE3(pin.utils.rpyToMatrix(0.3, -0.2, 0.5), np.array([0.4, -0.3, 0.2]))
+    robot = kinplan.load_robot("planar_2r", base_pose=base)
+    solver = robot.closed_form_ik
+    assert isinstance(solver, Planar2RIK)
+    rng = np.random.default_rng(44)
+    for _ in range(50):
+        q = rng.uniform(-3.0, 3.0, 2)
+        target = robot.fk(q)
+        solutions = solver.solutions(target.translation, None)
+        assert contains(solutions, q) and len(solutions) == 2
+        for s in solutions:
+            reached = robot.fk(s).translation
+            np.testing.assert_allclose(reached, target.translation, atol=1e-9)
+        near = solver.nearest(target.translation, None, q + rng.normal(0.0, 0.05, 2))
+        np.testing.assert_allclose(near, q, atol=1e-9)
+        off_plane = target.translation + 0.01 * base.rotation[:, 2]
+        assert len(solver.solutions(off_plane, None)) == 0
+    axis_point = robot.fk([0.0, np.pi]).translation  # folded (l1 = l2): on joint 1's axis
+    folded = solver.nearest(axis_point, None, np.array([0.7, 3.0]))
+    np.testing.assert_allclose(folded, [0.7, np.pi], atol=1e-9)

@@ -89,6 +89,18 @@ class ClosedFormIK:
         """
         raise NotImplementedError
 
+    def all_branches(
+        self, positions: np.ndarray, rotations: np.ndarray | None, fill: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Every branch's solution of many poses in one vectorised pass (inputs unchecked):
+        :meth:`_raw`, for batch solvers (:meth:`kinplan.Robot.ik_batch`).
+
+        Returns:
+            ``raw`` (N, S, nq) [rad], NaN rows for branches without a solution, and
+            ``singular`` (N,), as :meth:`_raw`.
+        """
+        return self._raw(positions, rotations, fill)
+
     # ------------------------------------------------------------ input checks
     def _check_q(self, q: np.ndarray, what: str) -> np.ndarray:
         q = np.asarray(q, dtype=float)

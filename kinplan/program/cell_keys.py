@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Literal
 
 import numpy as np
 import pinocchio as pin
@@ -89,7 +90,9 @@ def _clearance(checker: Checker, value: object) -> float | None:
     return to_float(value)
 
 
-def _tool(checker: Checker, spec: object, base_dir: Path) -> tuple[pin.SE3, Body | None] | bool:
+def _tool(
+    checker: Checker, spec: object, base_dir: Path
+) -> tuple[pin.SE3, Body | None] | Literal[False]:
     """``tool: {xyz, rpy_deg, body}`` → (TCP in the flange frame, body or None); False after
     a problem."""
     path: KeyPath = ("tool",)
@@ -157,10 +160,10 @@ def _obstacles(
 
 
 def _pose(checker: Checker, spec: dict, path: KeyPath, what: str) -> pin.SE3 | None:
-    xyz = np.zeros(3)
+    xyz: np.ndarray | None = np.zeros(3)
     if "xyz" in spec:
         xyz = checker.numbers(spec["xyz"], path + ("xyz",), 3, what, bound=MAX_COORDINATE)
-    rpy = np.zeros(3)
+    rpy: np.ndarray | None = np.zeros(3)
     if "rpy_deg" in spec:
         rpy = checker.numbers(spec["rpy_deg"], path + ("rpy_deg",), 3, "roll, pitch, yaw [deg]")
     if xyz is None or rpy is None:

@@ -22,6 +22,7 @@ SCRIPTS = [
     ("Cartesian following", ["bench_cartesian.py"]),
     ("Trajectory sampling", ["bench_trajectory.py"]),
     ("Joint timing: S-curve and time-optimal", ["bench_timing.py"]),
+    ("Batch IK and capability maps", ["bench_reach.py"]),
 ]
 
 

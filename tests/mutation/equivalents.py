@@ -67,7 +67,75 @@ _FLOAT_INPUT = (
     "conversion to float is a no-op"
 )
 
+_screws = _module(("kinplan/ik/screws.py",))
+_QUICK = (
+    "the quick test only decides whether the exact search (near_angle) runs; a value it lets "
+    "through wrongly fails its own check and goes to the exact search, which finds the same"
+)
+_JOINT_CHOICE = "if not (lower <= q <= upper and -HALF_TURN_SAFE < q - clipped < HALF_TURN_SAFE):"
+_JOINT_Q = "q = value + TAU * round((clipped - value) / TAU)"
+_ROTATE = "cross_t = skew(axis).T if cross_t is None else cross_t"
+
 EQUIVALENTS: list[dict[str, str]] = [
+    *[
+        _screws(_JOINT_CHOICE, _JOINT_CHOICE.replace(a, b), _QUICK)
+        for a, b in (
+            ("lower <= q", "lower < q"),
+            ("q <= upper", "q < upper"),
+            ("-HALF_TURN_SAFE <", "+HALF_TURN_SAFE <"),
+            ("-HALF_TURN_SAFE <", "-HALF_TURN_SAFE <="),
+            ("q - clipped", "q + clipped"),
+            ("clipped < HALF", "clipped <= HALF"),
+        )
+    ],
+    *[
+        _screws(_JOINT_Q, _JOINT_Q.replace(a, b), _QUICK)
+        for a, b in (
+            ("value + TAU", "value - TAU"),
+            ("/ TAU", "* TAU"),
+            ("clipped - value", "clipped + value"),
+        )
+    ],
+    _screws(
+        _ROTATE,
+        _ROTATE.replace("cross_t is None", "(cross_t is None) or True"),
+        "recomputing skew(axis).T gives the matrix the caller passed",
+    ),
+    _screws(
+        "return point + rotate_about(x - point, axis, angle, cross_t)",
+        "return point + rotate_about(x - point, axis, angle, None)",
+        "rotate_about computes skew(axis).T itself when cross_t is None: the same matrix",
+    ),
+    _screws(
+        "return point + rotate_about(x - point, axis, angle, cross_t)",
+        "return point + rotate_about(x - point, axis, angle, )",
+        "rotate_about computes skew(axis).T itself when cross_t is None: the same matrix",
+    ),
+    _screws(
+        "while offset < len(prefix):",
+        "while offset <= len(prefix):",
+        "the extra pass composes an empty slice",
+    ),
+    _screws(
+        "prefix[offset:] = np.take_along_axis(prefix[offset:], prefix[:-offset], axis=1)",
+        "prefix[offset:] = np.take_along_axis(prefix[offset:], prefix[:-offset], )",
+        "take_along_axis defaults to the last axis, axis 1 of these 2-D maps",
+    ),
+    _screws(
+        "return bool(np.linalg.norm(np.cross(u, v)) < STRUCTURE_TOL)",
+        "return bool(np.linalg.norm(np.cross(u, v)) <= STRUCTURE_TOL)",
+        _NEVER_EQUAL,
+    ),
+    _screws(
+        "serial = all(model.parents[j] == j - 1 for j in range(1, model.njoints))",
+        "serial = all(model.parents[j] == j - 1 for j in range(2, model.njoints))",
+        "joint 1's parent is the universe, 0, in every Pinocchio model",
+    ),
+    _screws(
+        "no_pitch = np.abs(np.sum(linear * angular, axis=1)) < STRUCTURE_TOL",
+        "no_pitch = np.abs(np.sum(linear * angular, axis=1)) <= STRUCTURE_TOL",
+        _NEVER_EQUAL,
+    ),
     _paths(
         _AS_S,
         _AS_S.replace("s.ndim == 1", "s.ndim != 1"),
@@ -139,6 +207,67 @@ EQUIVALENTS: list[dict[str, str]] = [
         "if cost < best_cost or (cost == best_cost and index < best_index):",
         "if cost < best_cost or (cost == best_cost and index <= best_index):",
         "each branch index is visited once, so index never equals best_index",
+    ),
+    _analytic(
+        "self.upper = np.asarray(upper, dtype=float)",
+        "self.upper = np.asarray(upper, dtype=None)",
+        _FLOAT_INPUT,
+    ),
+    _analytic(
+        "self.upper = np.asarray(upper, dtype=float)",
+        "self.upper = np.asarray(upper, )",
+        _FLOAT_INPUT,
+    ),
+    _analytic(
+        "rotations = np.asarray(rotations, dtype=float)",
+        "rotations = np.asarray(rotations, )",
+        _FLOAT_INPUT,
+    ),
+    _analytic(
+        "position = np.asarray(position, dtype=float)",
+        "position = np.asarray(position, dtype=None)",
+        _FLOAT_INPUT,
+    ),
+    _analytic(
+        "position = np.asarray(position, dtype=float)",
+        "position = np.asarray(position, )",
+        _FLOAT_INPUT,
+    ),
+    _analytic("q = np.asarray(q, dtype=float)", "q = np.asarray(q, )", _FLOAT_INPUT),
+    _analytic(
+        "rotations = None if rotation is None else np.asarray(rotation, dtype=float)[None]",
+        "rotations = None if rotation is None else np.asarray(rotation, dtype=None)[None]",
+        _FLOAT_INPUT,
+    ),
+    _analytic(
+        "self.weights = np.ones(self.nq) if weights is None else np.asarray(weights, dtype=float)",
+        "self.weights = np.ones(self.nq) if weights is None else np.asarray(weights, dtype=None)",
+        "the weights only enter Σ wᵢ Δqᵢ², computed in floats whatever their dtype",
+    ),
+    _analytic(
+        "self.weights = np.ones(self.nq) if weights is None else np.asarray(weights, dtype=float)",
+        "self.weights = np.ones(self.nq) if weights is None else np.asarray(weights, )",
+        "the weights only enter Σ wᵢ Δqᵢ², computed in floats whatever their dtype",
+    ),
+    _analytic(
+        "repeated = np.triu(gap <= 1e-9, k=1).any(axis=0)  # equal to an earlier row",
+        "repeated = np.triu(gap <= 1e-9, k=1).any(axis=1)  # equal to an earlier row",
+        "keeps the last instead of the first of solutions equal to 1e-9 rad: the same solutions",
+    ),
+    _analytic(
+        "if not any(np.max(np.abs(wrap_angle(s - q))) < 1e-7 for s in found):",
+        "if not any(np.max(np.abs(wrap_angle(s - q))) <= 1e-7 for s in found):",
+        _NEVER_EQUAL,
+    ),
+    _analytic(
+        "if np.linalg.norm(reached.translation - pose.translation) > 1e-8:",
+        "if np.linalg.norm(reached.translation - pose.translation) >= 1e-8:",
+        _NEVER_EQUAL,
+    ),
+    _analytic(
+        "if np.linalg.norm(pin.log3(reached.rotation.T @ pose.rotation)) > 1e-8:",
+        "if np.linalg.norm(pin.log3(reached.rotation.T @ pose.rotation)) >= 1e-8:",
+        _NEVER_EQUAL,
     ),
     _analytic(
         'logger.debug("closed-form IK of %s disagrees with its forward kinematics", robot.name)',
