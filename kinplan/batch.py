@@ -15,13 +15,17 @@ import time
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from kinplan import checks
 from kinplan.engines import Progress, open_engine, tune_allocator
 from kinplan.errors import InputError, KinplanError
+
+if TYPE_CHECKING:  # type-only: imported where used (the program package loads much)
+    from kinplan.program import Program, ProgramPlan
+    from kinplan.robot import Robot
 
 __all__ = ["PlanSummary", "plan_many"]
 
@@ -64,7 +68,7 @@ class PlanSummary:
         return asdict(self)
 
 
-def joint_margin(robot, q: np.ndarray) -> float:
+def joint_margin(robot: Robot, q: np.ndarray) -> float:
     """Smallest distance [rad or m] of the joint samples ``q`` (N, nq) from the limits (inf when
     no joint has limits or there are no samples)."""
     if len(q) == 0:
@@ -75,7 +79,9 @@ def joint_margin(robot, q: np.ndarray) -> float:
     return float(finite.min()) if finite.size else math.inf
 
 
-def plan_text(text: str, base_dir: str, source: str, dt: float):
+def plan_text(
+    text: str, base_dir: str, source: str, dt: float
+) -> tuple[Program | None, ProgramPlan | None, str]:
     """Validate and plan a program given as text: (program or None, plan or None, reason).
 
     Raises nothing kinplan raises on purpose: a failure is the reason text.
@@ -99,7 +105,7 @@ def _plan_item(item: tuple[str, str, str], payload: dict[str, Any]) -> dict[str,
     started = time.perf_counter()
     program, plan, reason = plan_text(text, base_dir, path, payload["dt"])
     seconds = time.perf_counter() - started
-    if plan is None:
+    if program is None or plan is None:
         return asdict(PlanSummary(path, False, "invalid", reason, seconds=seconds))
     manip = plan.manipulability
     return asdict(

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import logging
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
@@ -31,6 +32,7 @@ import pinocchio as pin
 from kinplan import checks
 from kinplan.errors import InputError
 from kinplan.ik import frobenius_tolerance
+from kinplan.ik.base import ClosedFormIK
 from kinplan.ik.numeric import (
     DAMPING_FLOOR,
     DAMPING_GAIN,
@@ -40,6 +42,9 @@ from kinplan.ik.numeric import (
     POLISH_STALL_ITERATIONS,
     STALL_ITERATIONS,
 )
+
+if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
+    from kinplan.robot import Robot
 
 logger = logging.getLogger(__name__)
 
@@ -68,7 +73,7 @@ class BatchKinematics:
     placement. Use :meth:`of`, which checks the result against Pinocchio.
     """
 
-    def __init__(self, robot) -> None:
+    def __init__(self, robot: Robot) -> None:
         model = robot.model
         self.nq = robot.nq
         tip_joint = model.frames[robot.tip_id].parentJoint
@@ -112,7 +117,7 @@ class BatchKinematics:
         self._tool_translation = tool.translation.copy()
 
     @classmethod
-    def of(cls, robot) -> BatchKinematics | None:
+    def of(cls, robot: Robot) -> BatchKinematics | None:
         """The batch kinematics of ``robot``, or None when its model has other joints (mimic,
         spherical, ...) or the result disagrees with Pinocchio on random configurations."""
         try:
@@ -325,7 +330,7 @@ class BatchSolver:
         robot: The arm.
     """
 
-    def __init__(self, robot) -> None:
+    def __init__(self, robot: Robot) -> None:
         self.robot = robot
         self.kinematics = BatchKinematics.of(robot)
         closed_form = robot.closed_form_ik
@@ -423,6 +428,7 @@ class BatchSolver:
     # ------------------------------------------------------------ closed forms
     def _closed_form(self, positions, rotations, seeds, tolerances):
         solver = self.closed_form
+        assert isinstance(solver, ClosedFormIK)  # vectorised: it lists every branch at once
         raw, _ = solver.all_branches(positions, rotations, seeds)  # (N, S, nq)
         candidates = nearest_equivalent(raw, seeds[:, None, :], self.lower, self.upper)
         distance = ((candidates - seeds[:, None, :]) ** 2) @ solver.weights
@@ -438,6 +444,7 @@ class BatchSolver:
 
     def _closed_form_loop(self, positions, rotations, seeds, tolerances):
         solver = self.closed_form
+        assert solver is not None  # "closed-form-loop": the arm has a closed form
         q = np.clip(seeds, self.lower, self.upper)
         found = np.zeros(len(positions), dtype=bool)
         for k in range(len(positions)):

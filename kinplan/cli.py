@@ -67,7 +67,7 @@ def _fail(message: str) -> int:
     return 1
 
 
-def _fmt(values: Sequence[float], digits: int = 4) -> str:
+def _fmt(values: Sequence[float] | np.ndarray, digits: int = 4) -> str:
     return "[" + ", ".join(f"{v:.{digits}f}" for v in values) + "]"
 
 
@@ -349,7 +349,7 @@ def _summary_table(plan, title: str):
     for row in rows:
         status = row["status"]
         manip = row["min_manipulability"]
-        clearance = float(row.get("min_clearance", math.inf))  # type: ignore[arg-type]
+        clearance = float(row.get("min_clearance", math.inf))
         extra = [f"{1e3 * clearance:.1f}" if math.isfinite(clearance) else "-"] * with_clearance
         table.add_row(
             str(row["number"]),
@@ -423,7 +423,7 @@ def _write_outputs(plan, args: argparse.Namespace, plot: Path | None) -> list[st
     if failed is not None and len(plan.t) < 2:
         why = f"move {failed.number} failed before any motion, so there is no motion to write"
         return [f"{flag} {value}: {why}" for flag, value in requests]
-    partial = "" if plan.ok else f" up to the failure in move {failed.number}"
+    partial = "" if failed is None else f" up to the failure in move {failed.number}"
     note = "" if plan.ok else " (for inspection, not a valid motion)"
     title = f"{args.program}: {robot.name}" + (
         f", failed at move {failed.number}" if failed else ""

@@ -31,12 +31,17 @@ import tempfile
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
-from typing import IO, Any
+from typing import IO, TYPE_CHECKING, Any, cast
 
 import numpy as np
 
 from kinplan import checks
 from kinplan.errors import InputError, KinplanError
+
+if TYPE_CHECKING:  # type-only: Dask and the robot are imported where they are used
+    from distributed import Client
+
+    from kinplan.robot import Robot
 
 logger = logging.getLogger(__name__)
 
@@ -89,7 +94,7 @@ class DaskEngine:
 
     name = "dask"
 
-    def __init__(self, client, description: str):
+    def __init__(self, client: Client, description: str) -> None:
         self.client = client
         self._description = description
 
@@ -185,7 +190,8 @@ def open_engine(
                 f"{checks.describe(engine)}"
             )
         address = getattr(getattr(engine, "scheduler", None), "address", "?")
-        yield DaskEngine(engine, f"Dask cluster of {address}")
+        # a distributed.Client, recognised above without importing distributed
+        yield DaskEngine(cast("Client", engine), f"Dask cluster of {address}")
         return
     engine = checks.choice(engine, "engine", ENGINES)
     if engine == "local" and (jobs is None or jobs == 1):
@@ -256,7 +262,7 @@ def _connect(client_class, address: str, timeout: float):
 
 
 # ---------------------------------------------------------------------------- robots as text
-def robot_payload(robot) -> dict[str, Any]:
+def robot_payload(robot: Robot) -> dict[str, Any]:
     """What a worker needs to rebuild ``robot``: its URDF text and load options (plain data).
 
     The joint limits are passed as overrides, so a robot loaded with ``limits=`` (or with a
@@ -300,7 +306,7 @@ def payload_digest(payload: dict[str, Any]) -> str:
 _ROBOTS: dict[str, Any] = {}
 
 
-def robot_from_payload(payload: dict[str, Any]):
+def robot_from_payload(payload: dict[str, Any]) -> Robot:
     """The robot of :func:`robot_payload`, built once per process and thread (cached by
     content: a robot's kinematics data are its own, so threads of a worker do not share one)."""
     import threading
@@ -341,7 +347,9 @@ def robot_from_payload(payload: dict[str, Any]):
     return robot
 
 
-def write_atomically(path: str | os.PathLike[str], write: Callable[[Any], None], binary: bool):
+def write_atomically(
+    path: str | os.PathLike[str], write: Callable[[Any], None], binary: bool
+) -> Path:
     """Write a file through ``write(stream)`` into a temporary file beside it, then rename it
     into place: an interrupted write (Ctrl-C, a crash) leaves no half-written file.
 

@@ -186,7 +186,7 @@ def _evaluate(candidates: list[tuple[float, ...]], payload: dict[str, Any]) -> l
         program, plan, reason = plan_text(
             text, payload["base_dir"], payload["source"], payload["dt"]
         )
-        if plan is None:
+        if program is None or plan is None:
             out.append(asdict(Placement(xyz, rpy, False, 0, payload["moves"], reason)))
             continue
         robot = program.robot

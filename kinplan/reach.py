@@ -40,7 +40,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -54,6 +54,10 @@ from kinplan.engines import (
 )
 from kinplan.engines import write_atomically as _write_atomically
 from kinplan.errors import InputError, KinplanError
+
+if TYPE_CHECKING:  # type-only: imported where they are used
+    from kinplan.cell import WorkCell
+    from kinplan.robot import Robot
 
 __all__ = ["ReachMap", "capability_map", "orientation_set"]
 
@@ -274,15 +278,19 @@ class ReachMap:
             "reach": self.reach,
             "info": self.info,
         }
-        arrays = {
-            "centers": self.centers,
-            "index": self.index,
-            "manipulability": self.manipulability,
-            "branches": self.branches,
-            "meta": np.array(json.dumps(meta)),
-        }
+
+        def write(stream: IO[bytes]) -> None:
+            np.savez_compressed(
+                stream,
+                centers=self.centers,
+                index=self.index,
+                manipulability=self.manipulability,
+                branches=self.branches,
+                meta=np.array(json.dumps(meta)),
+            )
+
         try:
-            return _write_atomically(path, lambda f: np.savez_compressed(f, **arrays), True)  # type: ignore[arg-type]
+            return _write_atomically(path, write, True)
         except OSError as exc:
             raise KinplanError(f"cannot write the map to {path}: {exc.strerror or exc}") from exc
 
@@ -354,7 +362,10 @@ class ReachMap:
         return values.T, extent, float(first[a] + layer * self.resolution)
 
     def save_png(
-        self, path: str | os.PathLike[str], axes: Sequence[str] = ("z", "y"), at=None
+        self,
+        path: str | os.PathLike[str],
+        axes: Sequence[str] = ("z", "y"),
+        at: Sequence[float] | np.ndarray | None = None,
     ) -> Path:
         """Draw slices of the map (one panel per axis, through the shoulder or ``at`` [m]).
 
@@ -408,7 +419,7 @@ class ReachMap:
         finally:
             plt.close(figure)
 
-    def save_html(self, path: str | os.PathLike[str], robot=None) -> Path:
+    def save_html(self, path: str | os.PathLike[str], robot: Robot | None = None) -> Path:
         """One offline HTML page with the reachable voxels in MeshCat, coloured by index
         (viridis: dark = few orientations, yellow = all), and the arm at its neutral
         configuration as a stick figure when ``robot`` is given.
@@ -478,13 +489,13 @@ def _cell_payload(cell, robot) -> dict[str, Any] | None:
 
 
 def capability_map(
-    robot,
+    robot: Robot,
     resolution: float = 0.05,
     orientations: int = 32,
-    region=None,
+    region: Sequence[Sequence[float]] | np.ndarray | None = None,
     engine: object = "local",
     scheduler: str | None = None,
-    cell=None,
+    cell: WorkCell | None = None,
     *,
     direction: Sequence[float] | None = None,
     cone_deg: float = 0.0,

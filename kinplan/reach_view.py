@@ -13,8 +13,13 @@ import base64
 import html
 import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:  # type-only: kinplan.reach imports this module where it draws
+    from kinplan.reach import ReachMap
+    from kinplan.robot import Robot
 
 #: Files of MeshCat's viewer bundle inside the ``meshcat`` package.
 _BUNDLE = ("viewer", "dist", "main.min.js")
@@ -69,7 +74,7 @@ def _stick_figure(robot) -> np.ndarray:
     return np.array([p for pair in pairs for p in pair]).reshape(-1, 3)
 
 
-def map_page(reach_map, robot=None) -> str:
+def map_page(reach_map: ReachMap, robot: Robot | None = None) -> str:
     """The HTML page of a map (see the module docstring)."""
     import matplotlib
 

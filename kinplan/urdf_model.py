@@ -723,7 +723,9 @@ def _hold_uncoupled(
     """
     for name in sorted(uncoupled):
         j = model.getJointId(name)
-        master, multiplier, offset = joints[name].mimic  # type: ignore[misc]
+        relation = joints[name].mimic
+        assert relation is not None  # an uncoupled joint is a mimic joint
+        master, multiplier, offset = relation
         master_id = model.getJointId(master) if model.existJointName(master) else None
         if j in chain and master_id in chain - hold and name not in locked:
             raise URDFError(

@@ -291,8 +291,8 @@ def self_pairs(
                     checked.append((a, b))
                 continue
             else:
-                groups = tuple(sorted((geometry.group[names[0]], geometry.group[names[1]])))
-                joint = geometry.adjacent.get(groups)  # type: ignore[arg-type]
+                first, second = sorted((geometry.group[names[0]], geometry.group[names[1]]))
+                joint = geometry.adjacent.get((first, second))
                 if joint is not None:
                     reason = f"adjacent links (joint {joint})"
                 elif key in disabled:

@@ -281,6 +281,12 @@ def _floats(v: np.ndarray) -> Vec:
     return (float(v[0]), float(v[1]), float(v[2]))
 
 
+def _matrix_floats(m: np.ndarray) -> Mat:
+    """A 3×3 matrix as 9 floats, row by row."""
+    m00, m01, m02, m10, m11, m12, m20, m21, m22 = (float(x) for x in m.reshape(9))
+    return (m00, m01, m02, m10, m11, m12, m20, m21, m22)
+
+
 def _line_intersection(p: np.ndarray, u: np.ndarray, q: np.ndarray, v: np.ndarray):
     """The common point of the lines p + t·u and q + r·v (unit u, v), or None when they are
     parallel or miss each other by more than the structure tolerance."""
@@ -350,7 +356,7 @@ def panda_geometry(robot: Robot) -> PandaGeometry | None:
         points=tuple(_floats(x) for x in p),
         shoulder=_floats(shoulder),
         wrist=_floats(wrist),
-        tool_rotation=tuple(float(x) for x in tool.rotation.reshape(-1)),  # type: ignore[arg-type]
+        tool_rotation=_matrix_floats(tool.rotation),
         tool_translation=_floats(tool.translation),
     )
 

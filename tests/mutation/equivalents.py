@@ -33,9 +33,9 @@ _CACHE = (
 )
 
 
-def _ik(original: str, mutant: str, reason: str) -> dict[str, str]:
+def _ik(original: str, mutant: str, reason: str) -> dict[str, object]:
     return {
-        "module": "kinplan/ik/numeric.py",
+        "module": _NUMERIC,
         "original": original,
         "mutant": mutant,
         "reason": reason,
@@ -59,7 +59,7 @@ def _module(module: tuple[str, ...]):
 
 
 _paths = _module(("cartesian/paths.py",))
-_analytic = _module("kinplan/ik/ur.py")
+_analytic = _module(_CLOSED_FORMS)
 _AS_S = "if type(s) is np.ndarray and s.dtype == np.float64 and s.ndim == 1:  # the common case"
 _RODRIGUES = "cos = np.where(small, 0.0, 1.0 - np.cos(theta))[:, None, None]"
 _FLOAT_INPUT = (
