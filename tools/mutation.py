@@ -451,8 +451,8 @@ def main(argv: list[str] | None = None) -> int:
         "with the current equivalents.py), without running mutmut",
     )
     args = parser.parse_args(argv)
-    if args.report_only:
-        results = load_results()
+    if args.report_only:  # (rows of modules no longer in MODULES or the checkout are dropped)
+        results = {m: r for m, r in load_results().items() if m in MODULES and (ROOT / m).is_file()}
         for result in results.values():
             for survivor in result.survivors:
                 classify(result.module, survivor)
