@@ -123,24 +123,16 @@ def trace_geometry(tracker: Tracker, path: Path, s: np.ndarray, seed: np.ndarray
             tracker.accepts(
                 q, position.tolist(), None if rotation is None else rotation.reshape(9).tolist()
             )
-        j = tracker.beyond_limit(q)
-        if j is not None:
-            events.append(tracker.limit_event(k, 0.0, sk, q, j, position))
-            break
-        J = tracker.jacobian()
-        m = tracker.factor(J)
-        event = tracker.singular_event(k, 0.0, sk, m, position)
-        dq = None
-        if event is None:
-            dq = tracker.rates(dx)
-            h = sk - solved_s[-1] if solved_s else 0.0
-            rate_prev = dqs[-1] if dqs else None
-            if corrected:  # an uncorrected prediction cannot jump
-                event = tracker.jump_event(k, 0.0, sk, q, q_prev, dq, rate_prev, h, position)
+        # the follower's own checks, with rates per unit s instead of per second
+        h = sk - solved_s[-1] if solved_s else 0.0
+        rate_prev = dqs[-1] if dqs else None
+        event, J, _, dq = tracker.check_sample(
+            k, 0.0, sk, q, q_prev, rate_prev, h, dx, position, int(corrected)
+        )
         if event is not None:
             events.append(event)
             break
-        assert dq is not None  # no event: the rates were computed
+        assert J is not None and dq is not None  # no event: both were computed
         pending.pop()
         solved_s.append(sk)
         qs.append(q)

@@ -83,21 +83,20 @@ def timing_from_speeds(s: np.ndarray, speed: np.ndarray, dt: float) -> PathTimin
 
     Between grid points i and i+1 the law is s_i + ṡ_i τ + ½ s̈_i τ² with s̈_i = (ṡ_(i+1)² −
     ṡ_i²) / (2 Δs_i), reached in τ_i = 2 Δs_i / (ṡ_i + ṡ_(i+1)); evaluated for all samples at
-    once.
+    once by :meth:`kinplan.phase_plane.PathLaw.evaluate`.
     """
     ds = np.diff(s)
     pair = speed[:-1] + speed[1:]
     if np.any(pair <= 0):
         return None
     durations = 2.0 * ds / pair
-    accel = (speed[1:] - speed[:-1]) / durations
     knots = np.concatenate(([0.0], np.cumsum(durations)))
-    duration = float(knots[-1])
-    t = time_grid(duration, motion_step(duration, dt))
-    piece = np.clip(np.searchsorted(knots, t, side="right") - 1, 0, len(ds) - 1)
-    tau = t - knots[piece]
-    s_t = np.clip(s[piece] + (speed[piece] + 0.5 * accel[piece] * tau) * tau, 0.0, 1.0)
-    sd = speed[piece] + accel[piece] * tau
-    sdd = accel[piece]
+    law = phase_plane.PathLaw(
+        t=knots[:-1], s=s[:-1], sd=speed[:-1], sdd=(speed[1:] - speed[:-1]) / durations,
+        h=durations, piece=np.zeros(len(ds), dtype=int),
+    )  # fmt: skip
+    t = time_grid(law.duration, motion_step(law.duration, dt))
+    s_t, sd, sdd = law.evaluate(t)
+    s_t = np.clip(s_t, 0.0, 1.0)
     s_t[-1], sd[-1], sdd[-1] = 1.0, 0.0, 0.0
-    return PathTiming(t, s_t, sd, sdd, duration)
+    return PathTiming(t, s_t, sd, sdd, law.duration)

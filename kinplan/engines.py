@@ -269,19 +269,7 @@ def robot_payload(robot: Robot) -> dict[str, Any]:
     tool, :meth:`kinplan.Robot.with_tool`) is rebuilt the same.
     """
     text = Path(robot.urdf_path).read_text(encoding="utf-8")
-    limits: dict[str, dict[str, float]] = {}
-    for k, name in enumerate(robot.joint_names):
-        entry = {}
-        for key, values in (
-            ("lower", robot.lower),
-            ("upper", robot.upper),
-            ("velocity", robot.velocity_limit),
-            ("acceleration", robot.acceleration_limit),
-        ):
-            if np.isfinite(values[k]):
-                entry[key] = float(values[k])
-        if entry:
-            limits[name] = entry
+    limits = robot.limit_overrides()
     base = robot.base_pose
     return {
         "urdf": text,

@@ -602,6 +602,25 @@ class Robot:
             self._closed_form = analytic_solver_for(self)
         return self._closed_form
 
+    def limit_overrides(self) -> dict[str, dict[str, float]]:
+        """The robot's joint limits as ``load_robot(limits=...)`` overrides (finite values only:
+        continuous joints stay unbounded, unknown speeds stay unknown), to rebuild the same
+        robot from its URDF."""
+        limits: dict[str, dict[str, float]] = {}
+        for k, name in enumerate(self.joint_names):
+            entry = {}
+            for key, values in (
+                ("lower", self.lower),
+                ("upper", self.upper),
+                ("velocity", self.velocity_limit),
+                ("acceleration", self.acceleration_limit),
+            ):
+                if np.isfinite(values[k]):
+                    entry[key] = float(values[k])
+            if entry:
+                limits[name] = entry
+        return limits
+
     def with_tool(
         self, pose: pin.SE3 | np.ndarray | Sequence[float], body: Body | None = None
     ) -> Robot:

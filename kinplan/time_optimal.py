@@ -49,6 +49,7 @@ import numpy as np
 
 from kinplan import _profiles, phase_plane
 from kinplan.errors import InfeasibleError
+from kinplan.phase_plane import PathLaw
 
 __all__ = [
     "ANGLE_TOLERANCE",
@@ -310,48 +311,6 @@ def _stack(rows: list, n: int) -> _Pieces:
 # ----------------------------------------------------------------------------------------------
 # Phase-plane timing
 # ----------------------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True, eq=False)
-class PathLaw:
-    """The path parameter against time: one constant path acceleration per phase.
-
-    Phase k starts at time ``t[k]`` at path parameter ``s[k]`` with path speed ``sd[k]`` and
-    lasts ``h[k]`` with path acceleration ``sdd[k]``: s(t) = s[k] + sd[k] τ + sdd[k] τ² / 2,
-    τ = t − t[k]. Phases lie within one piece of the path (``piece[k]``).
-    """
-
-    t: np.ndarray
-    s: np.ndarray
-    sd: np.ndarray
-    sdd: np.ndarray
-    h: np.ndarray
-    piece: np.ndarray
-
-    @property
-    def duration(self) -> float:
-        """End time [s]."""
-        return float(self.t[-1] + self.h[-1]) if self.t.size else 0.0
-
-    def evaluate(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """s, ṡ and s̈ at the times ``t`` (clipped to the motion), each of shape (len(t),)."""
-        t = np.clip(np.atleast_1d(np.asarray(t, dtype=float)), 0.0, self.duration)
-        k = np.clip(np.searchsorted(self.t, t, side="right") - 1, 0, self.t.size - 1)
-        tau = t - self.t[k]
-        s = self.s[k] + (self.sd[k] + 0.5 * self.sdd[k] * tau) * tau
-        return s, self.sd[k] + self.sdd[k] * tau, self.sdd[k].copy()
-
-    def stretched(self, factor: float) -> PathLaw:
-        """The same law played ``factor`` ≥ 1 times slower (speeds / factor, accelerations /
-        factor²)."""
-        return PathLaw(
-            self.t * factor,
-            self.s,
-            self.sd / factor,
-            self.sdd / factor**2,
-            self.h * factor,
-            self.piece,
-        )
 
 
 @dataclass(frozen=True, eq=False)

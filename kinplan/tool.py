@@ -24,7 +24,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import numpy as np
 import pinocchio as pin
 
 from kinplan import checks
@@ -109,7 +108,7 @@ def attach_tool(robot: Robot, pose: object, body: Body | None = None) -> Robot:
         tcp_link,
         locked_joints=robot.locked_joints or None,
         base_pose=None if robot.base_pose.isIdentity() else robot.base_pose,
-        limits=_limits(robot),
+        limits=robot.limit_overrides(),
     )
     tooled.tool = Tool(pin.SE3(tcp), body, robot.tip_frame, tcp_link, body_link)
     tooled.tool_links = tuple(getattr(robot, "tool_links", ())) + (
@@ -212,25 +211,6 @@ def _absolute_meshes(root: ET.Element, urdf_path: Path, package_dirs) -> None:
         found, _ = resolve_mesh(mesh.get("filename", ""), urdf_path, folders)
         if found is not None:
             mesh.set("filename", str(found.resolve()))
-
-
-def _limits(robot) -> dict[str, dict[str, float]]:
-    """The robot's joint limits as ``load_robot(limits=...)`` overrides (finite values only:
-    continuous joints stay unbounded, unknown speeds stay unknown)."""
-    limits: dict[str, dict[str, float]] = {}
-    for k, name in enumerate(robot.joint_names):
-        entry = {}
-        for key, values in (
-            ("lower", robot.lower),
-            ("upper", robot.upper),
-            ("velocity", robot.velocity_limit),
-            ("acceleration", robot.acceleration_limit),
-        ):
-            if np.isfinite(values[k]):
-                entry[key] = float(values[k])
-        if entry:
-            limits[name] = entry
-    return limits
 
 
 def _write(text: str, stem: str) -> Path:
