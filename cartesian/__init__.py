@@ -1,13 +1,15 @@
 """Cartesian paths for the tool and their following by a robot arm.
 
 Paths (:class:`Line`, :class:`Arc`, :func:`Circle`, :func:`Polyline`, :class:`PathSequence`,
-:class:`FunctionPath`) are parametrised by the path-length fraction s ∈ [0, 1]. :func:`follow`
-times a path and solves IK at every sample with reachability and singularity monitoring;
-:func:`check_reachability` is the fast geometric pre-check.
+:class:`FunctionPath`; corners blended by :func:`blend_corners`; weaving :class:`Weave`; torch
+angles :class:`TorchOrientation`) are parametrised by the path-length fraction s ∈ [0, 1].
+:func:`follow` times a path and solves IK at every sample with reachability and singularity
+monitoring; :func:`check_reachability` is the fast geometric pre-check.
 """
 
 from __future__ import annotations
 
+from cartesian.blends import CornerBlend, SubPath, blend_corners
 from cartesian.events import Event, Status
 from cartesian.follow import CartesianPlan, follow
 from cartesian.geometry import Reachability, check_reachability
@@ -23,12 +25,14 @@ from cartesian.paths import (
     Polyline,
     Weave,
 )
+from cartesian.torch import TorchOrientation, torch_rotations
 
 __all__ = [
     "Arc",
     "CartesianPlan",
     "Circle",
     "CircularArc",
+    "CornerBlend",
     "Event",
     "FunctionPath",
     "HeldOrientation",
@@ -38,7 +42,11 @@ __all__ = [
     "Polyline",
     "Reachability",
     "Status",
+    "SubPath",
+    "TorchOrientation",
     "Weave",
+    "blend_corners",
     "check_reachability",
     "follow",
+    "torch_rotations",
 ]

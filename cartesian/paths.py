@@ -52,7 +52,7 @@ def _points(
     return [p for p, _ in parsed], [r for r in rotations if r is not None]
 
 
-def _as_s(s: ArrayLike) -> np.ndarray:
+def as_fractions(s: ArrayLike) -> np.ndarray:
     """Path fractions as a 1-D float array (values outside [0, 1] are clipped by the callers).
 
     Raises:
@@ -136,11 +136,11 @@ class Path:
         """Tool rotations (N, 3, 3) in the world frame, or None for a position-only path."""
         if not self.has_orientation:
             return None
-        return self._rotation(np.clip(_as_s(s), 0.0, 1.0))
+        return self._rotation(np.clip(as_fractions(s), 0.0, 1.0))
 
     def position_derivatives(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """(dp/ds, d²p/ds²), each (N, 3) [m]; central finite differences unless overridden."""
-        s = _as_s(s)
+        s = as_fractions(s)
         h = self._fd_step
         lo, hi = np.clip(s - h, 0, 1), np.clip(s + h, 0, 1)
         mid = 0.5 * (lo + hi)
@@ -152,7 +152,7 @@ class Path:
 
     def angular_rates(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """(ω_s, dω_s/ds), each (N, 3) in the world frame: ω = ω_s ṡ [rad/s]."""
-        s = _as_s(s)
+        s = as_fractions(s)
         if not self.has_orientation:
             zeros = np.zeros((len(s), 3))
             return zeros, zeros
@@ -215,11 +215,11 @@ class Line(Path):
         return f"Line({self.a.round(4).tolist()} → {self.b.round(4).tolist()}, {self.length:.4g} m)"
 
     def position(self, s: ArrayLike) -> np.ndarray:
-        s = _as_s(s).clip(0.0, 1.0)
+        s = as_fractions(s).clip(0.0, 1.0)
         return self.a + s[:, None] * self.delta
 
     def position_derivatives(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-        n = len(_as_s(s))
+        n = len(as_fractions(s))
         return np.tile(self.delta, (n, 1)), np.zeros((n, 3))
 
 
@@ -281,13 +281,13 @@ class CircularArc(Path):
         )
 
     def position(self, s: ArrayLike) -> np.ndarray:
-        phi = self.sweep * np.clip(_as_s(s), 0.0, 1.0)
+        phi = self.sweep * np.clip(as_fractions(s), 0.0, 1.0)
         return self.center + self.radius * (
             np.cos(phi)[:, None] * self.e1 + np.sin(phi)[:, None] * self.e2
         )
 
     def position_derivatives(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-        phi = self.sweep * np.clip(_as_s(s), 0.0, 1.0)
+        phi = self.sweep * np.clip(as_fractions(s), 0.0, 1.0)
         cos, sin = np.cos(phi)[:, None], np.sin(phi)[:, None]
         k = self.radius * self.sweep
         first = k * (-sin * self.e1 + cos * self.e2)
@@ -432,7 +432,7 @@ class PathSequence(Path):
         return f"PathSequence({len(self.paths)} pieces, {self.length:.4g} m)"
 
     def _split(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-        s = _as_s(s).clip(0.0, 1.0)
+        s = as_fractions(s).clip(0.0, 1.0)
         index = np.clip(np.searchsorted(self.breaks, s, side="right") - 1, 0, len(self.paths) - 1)
         width = self.breaks[index + 1] - self.breaks[index]
         return index, (s - self.breaks[index]) / width
@@ -548,7 +548,7 @@ class Weave(Path):
 
     Args:
         path: The seam (any path).
-        amplitude: A, the largest lateral offset [m] (> 0).
+        amplitude: A, the largest lateral offset [m] (> 0, below half the seam length).
         wavelength: λ, the seam distance of one full oscillation [m] (> 2 dwell).
         pattern: "sine", "triangle" or "trapezoid".
         dwell: Travel held at each side [m] (≥ 0).
@@ -573,6 +573,11 @@ class Weave(Path):
         self.wavelength = checks.number(wavelength, "wavelength", positive=True, unit="m")
         self.pattern = checks.choice(pattern, "pattern", WEAVE_PATTERNS)
         self.dwell = checks.number(dwell, "dwell", minimum=0.0, unit="m")
+        if self.amplitude >= 0.5 * path.length:
+            raise InputError(
+                f"weave amplitude {self.amplitude:g} m is not small against the seam "
+                f"({path.length:.4g} m long); give an amplitude below half the seam length"
+            )
         if 2.0 * self.dwell >= self.wavelength:
             raise InputError(
                 f"dwell {self.dwell} m at each side leaves no travel to sweep across in a "
@@ -611,7 +616,7 @@ class Weave(Path):
 
     def offset(self, s: ArrayLike) -> np.ndarray:
         """The lateral offset w [m] at path fractions ``s`` (N,)."""
-        u = np.clip(_as_s(s), 0.0, 1.0) * self.length
+        u = np.clip(as_fractions(s), 0.0, 1.0) * self.length
         cycle = np.mod(u, self.wavelength)
         # warp the cycle so that the shape's extremes (phases 1/4 and 3/4) last `dwell` longer
         moving = self.wavelength - 2.0 * self.dwell
@@ -629,13 +634,13 @@ class Weave(Path):
 
     def across(self, s: ArrayLike) -> np.ndarray:
         """The unit direction across the seam (N, 3) at path fractions ``s``."""
-        s = _as_s(s).clip(0.0, 1.0)
+        s = as_fractions(s).clip(0.0, 1.0)
         tangent, _ = self.path.position_derivatives(s)
         side = np.cross(self._normals(s), tangent)
         return side / np.linalg.norm(side, axis=1)[:, None]
 
     def position(self, s: ArrayLike) -> np.ndarray:
-        s = _as_s(s).clip(0.0, 1.0)
+        s = as_fractions(s).clip(0.0, 1.0)
         return self.path.position(s) + self.offset(s)[:, None] * self.across(s)
 
     def _rotation(self, s: np.ndarray) -> np.ndarray:
@@ -712,7 +717,7 @@ class FunctionPath(Path):
         return values
 
     def position(self, s: ArrayLike) -> np.ndarray:
-        s = _as_s(s).clip(0.0, 1.0)
+        s = as_fractions(s).clip(0.0, 1.0)
         return self._evaluate(np.interp(s, self._s_table, self._u_table))
 
     def _rotation(self, s: np.ndarray) -> np.ndarray:

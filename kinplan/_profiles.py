@@ -173,6 +173,36 @@ def heuristic_velocities(
     return np.vstack([v0, inner, vf])
 
 
+def hermite_peaks(
+    points: np.ndarray, times: np.ndarray, velocities: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Exact peak |velocity| and |acceleration| per joint of Hermite cubics through knots.
+
+    On a segment of duration h the acceleration is linear, from a₀ = (6Δ/h − 4v₀ − 2v₁)/h to
+    a₁ = (−6Δ/h + 2v₀ + 4v₁)/h, so its peak is at a knot; the velocity is quadratic, with its
+    extreme v₀ + a₀τ*/2 where the acceleration crosses zero at τ* = h a₀/(a₀ − a₁).
+
+    Args:
+        points: Positions, shape (m, n) [rad].
+        times: Strictly increasing knot times, shape (m,) [s].
+        velocities: Knot velocities, shape (m, n) [rad/s].
+
+    Returns:
+        (peak speed, peak acceleration), each shape (n,) [rad/s, rad/s²].
+    """
+    h = np.diff(times)[:, None]
+    delta = np.diff(points, axis=0)
+    v0, v1 = velocities[:-1], velocities[1:]
+    a0 = (6.0 * delta / h - 4.0 * v0 - 2.0 * v1) / h
+    a1 = (-6.0 * delta / h + 2.0 * v0 + 4.0 * v1) / h
+    crossing = a0 * a1 < 0.0
+    tau = np.where(crossing, h * a0 / np.where(crossing, a0 - a1, 1.0), 0.0)
+    inner = np.where(crossing, np.abs(v0 + 0.5 * a0 * tau), 0.0)
+    speed = np.max(np.vstack([np.abs(velocities), inner]), axis=0)
+    acceleration = np.max(np.vstack([np.abs(a0), np.abs(a1)]), axis=0)
+    return speed, acceleration
+
+
 def hermite_pieces(points: np.ndarray, times: np.ndarray, velocities: np.ndarray) -> Pieces:
     """One Hermite cubic per segment through ``points`` with the given knot velocities."""
     coefficients = [

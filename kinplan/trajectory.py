@@ -63,6 +63,7 @@ __all__ = [
     "four_three_four",
     "quintic",
     "scurve",
+    "spline",
     "time_grid",
     "time_optimal",
     "trapezoid",
@@ -866,6 +867,71 @@ def time_optimal(
         end=points[-1],
         end_velocity=np.zeros(n),
     )  # the end acceleration is the braking one, as for the minimum-time trapezoid
+
+
+def spline(
+    points: ArrayLike,
+    max_velocity: ArrayLike,
+    max_acceleration: ArrayLike,
+    duration: float | None = None,
+) -> Trajectory:
+    """A smooth motion through joint-space points: the clamped cubic spline, timed by the limits.
+
+    The knot times are proportional to the chord lengths (Euclidean distance over the joints
+    between consecutive points), so the shape in joint space does not depend on the timing; the
+    spline is at rest at both ends, with velocity and acceleration continuous at every point
+    (:func:`cubic_via`). The time scale is then the smallest that keeps every joint within its
+    velocity and acceleration limits (peaks computed exactly per cubic, not sampled), or the
+    given ``duration``. Scaling time by k divides the velocities by k and the accelerations by
+    k², so the geometry stays the same.
+
+    Args:
+        points: Joint-space points, shape (m, n), or (m,) for one joint, m ≥ 2 [rad].
+            Consecutive duplicates (closer than 1e-12 rad) are dropped; when every point is the
+            same, the motion has zero duration (or stands still for ``duration``).
+        max_velocity: Velocity limit, scalar or per joint, > 0 [rad/s].
+        max_acceleration: Acceleration limit, scalar or per joint, > 0 [rad/s²].
+        duration: Motion time [s]; default the minimum within the limits.
+
+    Returns:
+        A trajectory of cubic segments, one per pair of consecutive (distinct) points, with the
+        points as waypoints.
+
+    Raises:
+        InputError: bad shapes or values, non-positive or NaN limits.
+        InfeasibleError: ``duration`` shorter than the limits allow (the message states the
+            minimum time and the joint that sets it).
+    """
+    points = _points(points, "points")
+    n = points.shape[1]
+    max_velocity = _magnitudes(max_velocity, "max_velocity", n)
+    max_acceleration = _magnitudes(max_acceleration, "max_acceleration", n)
+    requested = None if duration is None else _duration(duration, "duration")
+    steps = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    points = points[np.concatenate(([True], steps > 1e-12))]
+    zero = np.zeros(n)
+    if len(points) < 2:
+        if requested is None:
+            return trapezoid(points[0], points[0], max_velocity=1.0, max_acceleration=1.0)
+        return cubic(points[0], points[0], requested)
+    chords = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    unit_times = np.concatenate(([0.0], np.cumsum(chords / chords.sum())))
+    velocities = _profiles.spline_velocities(points, unit_times, zero, zero)
+    speed, acceleration = _profiles.hermite_peaks(points, unit_times, velocities)
+    # time scale k: peak speed / k and peak acceleration / k² within the limits
+    by_speed = speed / max_velocity
+    by_acceleration = np.sqrt(acceleration / max_acceleration)
+    minimum = float(max(by_speed.max(), by_acceleration.max()))
+    if requested is not None and requested < minimum * (1.0 - 1e-12):
+        j = int(np.argmax(np.maximum(by_speed, by_acceleration)))
+        what = "velocity" if by_speed[j] >= by_acceleration[j] else "acceleration"
+        raise InfeasibleError(
+            f"duration {requested:g} s is too short for this spline: joint {j} would exceed its "
+            f"{what} limit; the minimum is {minimum:.6g} s"
+        )
+    scale = minimum * (1.0 + 1e-12) if requested is None else requested
+    times = unit_times * scale
+    return cubic_via(points, times)
 
 
 # ----------------------------------------------------------------------------------------------

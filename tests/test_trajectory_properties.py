@@ -894,3 +894,50 @@ def test_four_three_four_points_rest_and_continuity():
         end = rate(c[:, -1], h[:, -1, None], order)
         assert_small(end, scales[:, order], TOL, f"raw order {order} at the end")
     check_sampling(trajectories, rng, scales)
+
+
+# ----------------------------------------------------------------------------------------------
+# Spline through points timed by the limits: 2,000 trajectories × up to 6 joints
+# ----------------------------------------------------------------------------------------------
+
+
+def test_spline_is_as_fast_as_its_limits_allow():
+    """10,000+ cases: the raw cubics pass every (distinct) point at times proportional to the
+    chord lengths, at rest at both ends, C2 at the points; the peak speed and acceleration,
+    found here by an independent dense evaluation of the raw polynomials (every knot plus 200
+    points per segment), are within the limits and one of them reaches its limit to 1e-3
+    (minimum time); with a duration the shape is the same, played slower."""
+    rng = generator("spline")
+    cases = 0
+    while cases < 10_000:
+        m, n = int(rng.integers(2, 7)), int(rng.integers(1, 7))
+        points = rng.normal(scale=rng.uniform(0.01, 3.0), size=(m, n))
+        max_velocity = rng.uniform(0.1, 4.0, n)
+        max_acceleration = rng.uniform(0.1, 10.0, n)
+        traj = trajectory.spline(points, max_velocity, max_acceleration)
+        t0, h, coefficients = pieces(traj)
+        assert len(h) == m - 1
+        chords = np.linalg.norm(np.diff(points, axis=0), axis=1)
+        np.testing.assert_allclose(h / h.sum(), chords / chords.sum(), rtol=1e-12)
+        scale = 1.0 + np.abs(points).max()
+        assert_small(rate(coefficients, 0.0, 0) - points[:-1], scale, TOL, "q at starts")
+        assert_small(rate(coefficients, h[:, None], 0) - points[1:], scale, TOL, "q at ends")
+        assert_small(rate(coefficients[0], 0.0, 1), max_velocity, TOL, "rest at the start")
+        assert_small(rate(coefficients[-1], h[-1], 1), max_velocity, TOL, "rest at the end")
+        for order, limit in ((1, max_velocity), (2, max_acceleration)):
+            assert_small(knot_gaps(coefficients, h, order), limit, 1e-9, f"C{order} at knots")
+        tau = np.linspace(0.0, 1.0, 201)[None, :, None] * h[:, None, None]  # (S, 201, 1)
+        local = coefficients[:, None, :, :]  # (S, 1, n, 4)
+        speed = np.abs(rate(local, tau, 1)).max(axis=(0, 1)) / max_velocity
+        acceleration = np.abs(rate(local, tau, 2)).max(axis=(0, 1)) / max_acceleration
+        assert speed.max() <= 1.0 + 1e-12 and acceleration.max() <= 1.0 + 1e-12
+        assert max(speed.max(), acceleration.max()) >= 1.0 - 1e-3  # the minimum time
+        slower = trajectory.spline(points, max_velocity, max_acceleration, 1.5 * traj.duration)
+        assert slower.duration == pytest.approx(1.5 * traj.duration, rel=1e-12)
+        s = np.linspace(0.0, 1.0, 7)
+        q_fast, _, _ = traj.sample(s * traj.duration)
+        q_slow, _, _ = slower.sample(s * slower.duration)
+        assert_small(q_fast - q_slow, scale, 1e-10, "same shape, slower")
+        with pytest.raises(InfeasibleError, match="minimum is"):
+            trajectory.spline(points, max_velocity, max_acceleration, 0.99 * traj.duration)
+        cases += n

@@ -20,16 +20,25 @@ from kinplan.cell import MotionCheck, WorkCell
 from kinplan.errors import InfeasibleError, KinplanError
 from kinplan.program.checker import describe
 from kinplan.program.plan import MoveReport, ProgramPlan
-from kinplan.program.ptp import peak_speed_ratio, ptp_trajectory
+from kinplan.program.ptp import peak_speed_ratio, ptp_through_trajectory, ptp_trajectory
 from kinplan.program.record import MotionRecord
-from kinplan.program.schema import DEFAULT_DT, DEFAULT_TOOL_SPEED, JOIN_TOLERANCE, Program
+from kinplan.program.schema import (
+    DEFAULT_DT,
+    DEFAULT_TOOL_SPEED,
+    JOIN_TOLERANCE,
+    Program,
+    TorchSpec,
+    WeaveSpec,
+)
 from kinplan.robot import Robot
 from kinplan.sampling import joint_speeds, motion_step
 
-__all__ = ["Goal", "MotionBuilder"]
+__all__ = ["Goal", "MotionBuilder", "SeamPiece"]
 
 Goal: TypeAlias = np.ndarray | Sequence[float] | pin.SE3
 """A Cartesian goal: a tool pose, or a tool position [m]."""
+SeamPiece: TypeAlias = tuple[str, Goal, Goal | None]
+"""One piece of a seam: (``"lin"``, goal, None) or (``"circ"``, goal, via)."""
 
 
 def _where(position: np.ndarray) -> str:
@@ -62,6 +71,21 @@ def _program_remedy(plan: cartesian.CartesianPlan) -> str:
     return event.remedy
 
 
+def _torch_path(path: cartesian.Path, torch: TorchSpec) -> cartesian.Path:
+    return cartesian.TorchOrientation(
+        path, torch.normal, torch.work_angle, torch.travel_angle, torch.roll
+    )
+
+
+def _weave_path(path: cartesian.Path, weave: WeaveSpec, travel_speed: float) -> cartesian.Path:
+    """A ``weave:`` at a travel speed [m/s]: wavelength = speed / frequency, dwell in metres of
+    travel = dwell time × speed."""
+    return cartesian.Weave(
+        path, weave.amplitude, travel_speed / weave.frequency, weave.pattern,
+        dwell=weave.dwell * travel_speed, normal=weave.normal,
+    )  # fmt: skip
+
+
 def _start_turn(path: cartesian.Path, pose: pin.SE3, position_only: bool) -> float:
     """Angle between a path's start orientation and the tool's [rad] (0 if not oriented)."""
     if position_only or not path.has_orientation:
@@ -84,7 +108,9 @@ class MotionBuilder:
         cell: A :class:`kinplan.WorkCell`: every move is checked against it (its obstacles and
             the robot's self-collision, between samples too) and fails with status
             ``collision`` naming the two bodies; None: not checked.
-        clearance: Margin [m] (≥ 0): bodies closer than this collide too.
+        clearance: Margin [m] (≥ 0) between the robot (links and tool body) and the cell's
+            obstacles: closer than this collides too. The robot's own link pairs collide only
+            on contact.
 
     Attributes:
         robot: The arm.
@@ -207,6 +233,63 @@ class MotionBuilder:
             traj = ptp_trajectory(self.robot, self.q, q_goal, duration, speed, profile)
         except InfeasibleError as exc:  # a duration the limits cannot meet: states the minimum
             self._fail("ptp", label, key, status="invalid", why=f"invalid: {exc}")
+        return self._joint_motion(traj, label, key)
+
+    def ptp_through(
+        self,
+        q_points: Sequence[np.ndarray | Sequence[float]],
+        *,
+        duration: float | None = None,
+        speed: float | None = None,
+        profile: str = "time_optimal",
+        blend: float = 0.0,
+        label: str = "ptp",
+        key: str | None = None,
+    ) -> MoveReport:
+        """One joint-space motion from the current configuration through several configurations,
+        without stopping at them.
+
+        Args:
+            q_points: The configurations to pass, in order, the last one the goal [rad], each
+                shape (nq,).
+            duration: Duration [s]; default the minimum time within the scaled limits.
+            speed: Share of the joint velocity and acceleration limits (0, 1]; default
+                :data:`~kinplan.program.DEFAULT_PTP_SPEED`.
+            profile: ``time_optimal`` (straight lines in joint space, corners blended within
+                ``blend``; :func:`kinplan.trajectory.time_optimal`) or ``spline`` (the clamped
+                cubic spline through the points; :func:`kinplan.trajectory.spline`).
+            blend: ``time_optimal``: largest deviation from a corner [rad] (0: through the
+                points exactly, stopping at corners).
+            label: Description for reports.
+            key: Key path in a program, for messages.
+        """
+        self._check_open()
+        points = [self.q] + [
+            self.robot.check_q(q, f"ptp point {k}") for k, q in enumerate(q_points)
+        ]
+        try:
+            traj = ptp_through_trajectory(
+                self.robot, np.array(points), duration, speed, profile, blend
+            )
+        except InfeasibleError as exc:
+            self._fail("ptp", label, key, status="invalid", why=f"invalid: {exc}")
+        except KinplanError as exc:
+            self._fail("ptp", label, key, status="invalid", why=f"invalid: {exc}")
+        return self._joint_motion(traj, label, key)
+
+    def dwell(self, seconds: float, *, label: str = "dwell", key: str | None = None) -> MoveReport:
+        """Stand still for ``seconds`` [s] (an arc-on or arc-off dwell of a weld)."""
+        self._check_open()
+        if not (math.isfinite(seconds) and seconds >= 0):
+            raise KinplanError(f"dwell must be a finite number of seconds >= 0, got {seconds!r}")
+        steps = max(1, math.ceil(seconds / self.dt - 1e-9))
+        t = np.linspace(0.0, seconds, steps + 1)
+        q = np.tile(self.q, (len(t), 1))
+        zero = np.zeros_like(q)
+        return self._record("dwell", label, key, (t, q, zero, zero.copy()))
+
+    def _joint_motion(self, traj, label: str, key: str | None) -> MoveReport:
+        """Sample a joint trajectory from the current configuration, check it and record it."""
         t = traj.time_grid(motion_step(traj.duration, self.dt))
         q, qd, qdd = traj.sample(t)
         ratio = peak_speed_ratio(self.robot, t, q, qd)
@@ -247,6 +330,8 @@ class MotionBuilder:
         duration: float | None = None,
         speed: float | None = None,
         profile: str = "trapezoid",
+        weave: WeaveSpec | None = None,
+        torch: TorchSpec | None = None,
         label: str = "lin",
         key: str | None = None,
     ) -> MoveReport:
@@ -254,14 +339,12 @@ class MotionBuilder:
 
         A position keeps the current orientation (arms with ≥ 6 joints) or is position-only.
         ``speed`` is the tool cruise speed [m/s] (default
-        :data:`~kinplan.program.DEFAULT_TOOL_SPEED`).
+        :data:`~kinplan.program.DEFAULT_TOOL_SPEED`); ``weave`` and ``torch`` as in
+        :meth:`seam`.
         """
-        self._check_open()
-        start, (end,) = self._cartesian_points([goal])
-        path = self._build_path("lin", label, key, lambda: cartesian.Line(start, end))
-        return self.follow(
-            path, duration=duration, speed=speed, profile=profile, label=label, key=key,
-            kind="lin",
+        return self.seam(
+            [("lin", goal, None)], duration=duration, speed=speed, profile=profile, weave=weave,
+            torch=torch, label=label, key=key, kind="lin",
         )  # fmt: skip
 
     def circ(
@@ -272,6 +355,8 @@ class MotionBuilder:
         duration: float | None = None,
         speed: float | None = None,
         profile: str = "trapezoid",
+        weave: WeaveSpec | None = None,
+        torch: TorchSpec | None = None,
         label: str = "circ",
         key: str | None = None,
     ) -> MoveReport:
@@ -280,13 +365,116 @@ class MotionBuilder:
         The tool orientation moves by slerp from the current one to the goal's (the via point's
         orientation is not used). Options as in :meth:`lin`.
         """
+        return self.seam(
+            [("circ", goal, via)], duration=duration, speed=speed, profile=profile, weave=weave,
+            torch=torch, label=label, key=key, kind="circ",
+        )  # fmt: skip
+
+    def seam(
+        self,
+        pieces: Sequence[SeamPiece],
+        *,
+        blend: float | Sequence[float] = 0.0,
+        duration: float | None = None,
+        speed: float | None = None,
+        profile: str = "trapezoid",
+        weave: WeaveSpec | None = None,
+        torch: TorchSpec | None = None,
+        label: str = "seam",
+        key: str | None = None,
+        kind: str = "seam",
+    ) -> MoveReport:
+        """Lines and arcs one after the other as one Cartesian motion, corners blended.
+
+        Each piece starts where the previous one ends; a goal given as a position keeps the
+        orientation the tool has there (arms with ≥ 6 joints). The corners are blended within
+        ``blend`` (:func:`cartesian.blend_corners`), so the tool passes them at cruise speed.
+
+        Args:
+            pieces: (``"lin"``, goal, None) or (``"circ"``, goal, via) for each piece.
+            blend: Blend radius [m] at every corner, or one per corner (0: a sharp corner).
+            duration, speed, profile: As in :meth:`follow`.
+            weave: The torch oscillates across the seam (:class:`cartesian.Weave`, wavelength
+                = travel speed / frequency).
+            torch: The tool held at welding angles to the seam
+                (:class:`cartesian.TorchOrientation`); the seam must start with the tool at
+                that orientation.
+            label, key, kind: For reports.
+        """
         self._check_open()
-        start, (end, middle) = self._cartesian_points([goal, via])
-        path = self._build_path("circ", label, key, lambda: cartesian.Arc(start, middle, end))
+        path = self._build_path(kind, label, key, lambda: self._seam_path(pieces, blend))
+        if torch is not None:
+            if self.robot.default_position_only():
+                why = (
+                    "invalid: torch angles need an arm with 6 or more joints; "
+                    f"{self.robot.name} has {self.robot.nq}"
+                )
+                self._fail(kind, label, key, status="invalid", why=why)
+            path = self._build_path(kind, label, key, lambda: _torch_path(path, torch))
+            self._check_torch_start(path, kind, label, key)
+        if weave is not None:
+            travel = DEFAULT_TOOL_SPEED if speed is None else speed
+            path = self._build_path(kind, label, key, lambda: _weave_path(path, weave, travel))
         return self.follow(
             path, duration=duration, speed=speed, profile=profile, label=label, key=key,
-            kind="circ",
+            kind=kind,
         )  # fmt: skip
+
+    def _seam_path(
+        self, pieces: Sequence[SeamPiece], blend: float | Sequence[float]
+    ) -> cartesian.Path:
+        """The pieces chained from the current tool pose, corners blended."""
+        if not pieces:
+            raise KinplanError("a seam needs at least one piece (lin or circ)")
+        start: pin.SE3 | np.ndarray = self.tool_pose()
+        position_only = self.robot.default_position_only()
+        paths: list[cartesian.Path] = []
+        for kind, goal, via in pieces:
+            here = start if isinstance(start, pin.SE3) else pin.SE3(np.eye(3), start)
+            end = self._goal_from(goal, here)
+            if position_only:
+                start = here.translation.copy()
+                end = end.translation.copy()
+            if kind == "lin":
+                paths.append(cartesian.Line(start, end))
+            elif kind == "circ":
+                if via is None:
+                    raise KinplanError("a circ piece needs its via point")
+                middle = self._goal_from(via, here)
+                middle = middle.translation.copy() if position_only else middle
+                paths.append(cartesian.Arc(start, middle, end))
+            else:
+                raise KinplanError(f"a seam piece is lin or circ, got {kind!r}")
+            start = end
+        if len(paths) == 1:
+            return paths[0]
+        return cartesian.blend_corners(paths, blend)
+
+    def _goal_from(self, goal: Goal, here: pin.SE3) -> pin.SE3:
+        """A Cartesian goal as a pose; a position keeps the orientation ``here``."""
+        if isinstance(goal, pin.SE3):
+            return goal.copy()
+        position = np.asarray(goal, dtype=float)
+        if position.shape != (3,) or not np.all(np.isfinite(position)):
+            raise KinplanError(
+                f"a Cartesian goal is a pin.SE3 or a finite position 3-vector [m], got "
+                f"{describe(goal)}; use ptp_joints for joint values"
+            )
+        return pin.SE3(here.rotation.copy(), position)
+
+    def _check_torch_start(
+        self, path: cartesian.Path, kind: str, label: str, key: str | None
+    ) -> None:
+        turn = _start_turn(path, self.tool_pose(), False)
+        if turn > 1e-3:
+            rpy = np.degrees(pin.rpy.matrixToRpy(path.start.rotation))
+            text = ", ".join(f"{a:.2f}" for a in rpy)
+            why = (
+                f"invalid: the torch angles put the tool at rpy_deg [{text}] at the seam start, "
+                f"{np.degrees(turn):.1f}° away from the tool's orientation; reach the seam start "
+                f"with that orientation first (rpy_deg: [{text}] on the approach point)"
+            )
+            self._fail(kind, label, key, status="invalid", why=why)
 
     def follow(
         self,
@@ -379,6 +567,14 @@ class MotionBuilder:
             cell=self.cell,
         )
 
+    def fail_move(
+        self, kind: str, label: str, key: str | None, *, status: str, why: str
+    ) -> NoReturn:
+        """Record a move that cannot be planned (e.g. a point without an IK solution) and raise
+        :class:`~kinplan.program.MoveError`; ``why`` starts with the status."""
+        self._check_open()
+        self._fail(kind, label, key, status=status, why=why)
+
     # -- helpers -------------------------------------------------------------------------------
     def _check_open(self) -> None:
         if self.reason:
@@ -386,32 +582,10 @@ class MotionBuilder:
 
     def _target(self, goal: Goal) -> tuple[np.ndarray, np.ndarray | None]:
         """(position, rotation or None) of a Cartesian goal, applying the orientation rule."""
-        if isinstance(goal, pin.SE3):
-            position, rotation = np.array(goal.translation), np.array(goal.rotation)
-        else:
-            position = np.asarray(goal, dtype=float)
-            if position.shape != (3,) or not np.all(np.isfinite(position)):
-                raise KinplanError(
-                    f"a Cartesian goal is a pin.SE3 or a finite position 3-vector [m], got "
-                    f"{describe(goal)}; use ptp_joints for joint values"
-                )
-            rotation = None
+        pose = self._goal_from(goal, self.tool_pose())
         if self.robot.default_position_only():
-            return position, None
-        if rotation is None:
-            rotation = self.tool_pose().rotation.copy()
-        return position, rotation
-
-    def _cartesian_points(
-        self, goals: list[Goal]
-    ) -> tuple[pin.SE3 | np.ndarray, list[pin.SE3] | list[np.ndarray]]:
-        """The path start (current tool pose) and the goals, as SE3 or as positions (arms with
-        fewer than 6 joints)."""
-        start = self.tool_pose()
-        targets = [self._target(goal) for goal in goals]
-        if self.robot.default_position_only():
-            return start.translation.copy(), [position for position, _ in targets]
-        return start, [pin.SE3(rotation, position) for position, rotation in targets]
+            return pose.translation.copy(), None
+        return pose.translation.copy(), pose.rotation.copy()
 
     def _build_path(
         self, kind: str, label: str, key: str | None, build: Callable[[], cartesian.Path]

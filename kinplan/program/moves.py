@@ -2,9 +2,25 @@
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
+
+from cartesian.paths import WEAVE_PATTERNS
 from kinplan._profiles import PROFILES, PTP_PROFILES
-from kinplan.program.checker import Checker, describe
-from kinplan.program.schema import MOVE_KINDS, MOVE_OPTIONS, KeyPath, Move, Point
+from kinplan.program.checker import Checker, describe, is_number, to_float
+from kinplan.program.schema import (
+    MOVE_KINDS,
+    MOVE_OPTIONS,
+    THROUGH_PROFILES,
+    TORCH_KEYS,
+    WEAVE_KEYS,
+    KeyPath,
+    Move,
+    Point,
+    TorchSpec,
+    WeaveSpec,
+)
 
 __all__ = ["read_moves"]
 
@@ -31,7 +47,41 @@ def read_moves(checker: Checker, spec: object, points: dict[str, Point]) -> list
         move = _read_move(checker, index, item, points)
         if move is not None:
             moves.append(move)
+    _check_blends(checker, moves, len(spec))
     return moves
+
+
+def _check_blends(checker: Checker, moves: list[Move], count: int) -> None:
+    """A blended lin/circ needs a lin/circ after it; moves blended together share their timing."""
+    by_index = {move.index: move for move in moves}
+    for move in moves:
+        if move.kind == "ptp" or move.blend is None:
+            continue
+        path: KeyPath = ("moves", move.index, "blend")
+        after = by_index.get(move.index + 1)
+        if move.index + 1 >= count:
+            checker.error(path, "the last move has nothing to blend into; remove blend")
+        elif after is not None and after.kind == "ptp":
+            checker.error(path, "a lin/circ blends into the next lin or circ move, not into a ptp")
+        elif after is not None:
+            if move.dwell > 0:
+                checker.error(
+                    ("moves", move.index, "dwell"),
+                    "a blended move does not stop at its end, so it cannot dwell there",
+                )
+            for key in ("speed", "profile", "weave", "torch"):
+                if getattr(after, key) != getattr(move, key):
+                    checker.error(
+                        ("moves", after.index, key),
+                        f"moves blended together are one motion: give the same {key} as "
+                        f"moves[{move.index}] (or none on both)",
+                    )
+            if move.duration is not None or after.duration is not None:
+                checker.error(
+                    path,
+                    "moves blended together are one motion at one tool speed: give speed, "
+                    "not duration",
+                )
 
 
 def _point_name(
@@ -66,7 +116,16 @@ def _read_move(checker: Checker, index: int, spec: object, points: dict[str, Poi
         checker.error(path, f"expected exactly one of {', '.join(MOVE_KINDS)}; {found}")
         return None
     kind = kinds[0]
-    target = _point_name(checker, spec[kind], path + (kind,), points)
+    through: tuple[str, ...] = ()
+    target: str | None
+    if kind == "ptp" and isinstance(spec[kind], list):
+        names = _point_list(checker, spec[kind], path + (kind,), points)
+        if names is None:
+            return None
+        *before, target = names
+        through = tuple(before)
+    else:
+        target = _point_name(checker, spec[kind], path + (kind,), points)
     via = None
     if kind == "circ":
         if "via" not in spec:
@@ -75,13 +134,27 @@ def _read_move(checker: Checker, index: int, spec: object, points: dict[str, Poi
             via = _point_name(checker, spec["via"], path + ("via",), points)
     elif "via" in spec:
         checker.error(path + ("via",), f"via only goes with circ, not {kind}")
-    options = _move_options(checker, kind, spec, path)
+    options = _move_options(checker, kind, spec, path, several=bool(through))
     if target is None or options is None or (kind == "circ" and via is None):
         return None
-    return Move(index, kind, target, via, **options)
+    return Move(index, kind, target, via, through=through, **options)
 
 
-def _move_options(checker: Checker, kind: str, spec: dict, path: KeyPath) -> dict | None:
+def _point_list(
+    checker: Checker, value: list, path: KeyPath, points: dict[str, Point]
+) -> list[str] | None:
+    if not value:
+        checker.error(path, "expected a point name or a non-empty list of point names")
+        return None
+    names = [_point_name(checker, item, path + (k,), points) for k, item in enumerate(value)]
+    if any(name is None for name in names):
+        return None
+    return [name for name in names if name is not None]
+
+
+def _move_options(
+    checker: Checker, kind: str, spec: dict, path: KeyPath, several: bool = False
+) -> dict | None:
     ok = True
     duration = speed = None
     if "duration" in spec:
@@ -101,9 +174,16 @@ def _move_options(checker: Checker, kind: str, spec: dict, path: KeyPath) -> dic
     if duration is not None and speed is not None:
         checker.error(path, "give duration or speed, not both")
         ok = False
-    profile = spec.get("profile", "trapezoid")
+    profile = spec.get("profile", THROUGH_PROFILES[0] if several else "trapezoid")
     profiles = PTP_PROFILES if kind == "ptp" else PROFILES
-    if profile not in profiles:
+    if several and profile not in THROUGH_PROFILES:
+        checker.error(
+            path + ("profile",),
+            f"a ptp through several points is timed as one motion: profile "
+            f"{' or '.join(THROUGH_PROFILES)}, got {describe(profile)}",
+        )
+        ok = False
+    elif not several and profile not in profiles:
         only_ptp = " (scurve and time_optimal time ptp moves only)"
         checker.error(
             path + ("profile",),
@@ -111,10 +191,134 @@ def _move_options(checker: Checker, kind: str, spec: dict, path: KeyPath) -> dic
             + (only_ptp if profile in PTP_PROFILES else ""),
         )
         ok = False
+    blend = None
+    if "blend" in spec:
+        blend = _non_negative(checker, spec["blend"], path + ("blend",), "blend")
+        if blend is not None and kind == "ptp" and not (several and profile == "time_optimal"):
+            checker.error(
+                path + ("blend",),
+                "blend on a ptp is the largest deviation [rad] from the corners of a ptp "
+                "through several points with profile time_optimal, e.g. {ptp: [a, b, c], "
+                "blend: 0.05}",
+            )
+            blend = None
+        ok &= blend is not None
+    weave = torch = None
+    for key in ("weave", "torch"):
+        if key in spec and kind == "ptp":
+            checker.error(path + (key,), f"{key} goes with lin and circ moves, not ptp")
+            ok = False
+    if "weave" in spec and kind != "ptp":
+        weave = _weave(checker, spec["weave"], path + ("weave",))
+        if weave is not None and duration is not None:
+            checker.error(
+                path + ("duration",),
+                "a weave's frequency is per second of travel: give the travel speed, not a "
+                "duration",
+            )
+            weave = None
+        ok &= weave is not None
+    if "torch" in spec and kind != "ptp":
+        torch = _torch(checker, spec["torch"], path + ("torch",))
+        ok &= torch is not None
+    dwell = 0.0
+    if "dwell" in spec:
+        value = _non_negative(checker, spec["dwell"], path + ("dwell",), "dwell [s]")
+        dwell = 0.0 if value is None else value
+        ok &= value is not None
     name = spec.get("name")
     if name is not None and not isinstance(name, str):
         checker.error(path + ("name",), f"expected text, got {describe(name)}")
         ok = False
     if not ok:
         return None
-    return {"duration": duration, "speed": speed, "profile": profile, "name": name}
+    return {
+        "duration": duration, "speed": speed, "profile": profile, "name": name, "blend": blend,
+        "weave": weave, "torch": torch, "dwell": dwell,
+    }  # fmt: skip
+
+
+def _non_negative(checker: Checker, value: object, path: KeyPath, what: str) -> float | None:
+    if not is_number(value) or not math.isfinite(to_float(value)) or value < 0:
+        unit = "[s]" if "dwell" in what else "[m] (lin/circ) or [rad] (ptp)"
+        checker.error(path, f"expected a number >= 0 ({what} {unit}), got {describe(value)}")
+        return None
+    return to_float(value)
+
+
+def _mapping(checker: Checker, value: object, path: KeyPath, keys: tuple[str, ...],
+             example: str) -> dict | None:  # fmt: skip
+    if not isinstance(value, dict):
+        checker.error(path, f"expected a mapping such as {example}, got {describe(value)}")
+        return None
+    unknown = [key for key in value if key not in keys]
+    for key in unknown:
+        checker.error(path + (str(key),), f"unknown key {key!r}; expected {', '.join(keys)}")
+    return None if unknown else value
+
+
+def _weave(checker: Checker, value: object, path: KeyPath) -> WeaveSpec | None:
+    example = "{pattern: sine, amplitude: 0.002, frequency: 2.0}"
+    spec = _mapping(checker, value, path, WEAVE_KEYS, example)
+    if spec is None:
+        return None
+    ok = True
+    for key in ("amplitude", "frequency"):
+        if key not in spec:
+            checker.error(path, f"a weave needs {key} (e.g. {example})")
+            ok = False
+    amplitude = frequency = None
+    if "amplitude" in spec:
+        amplitude = checker.positive(spec["amplitude"], path + ("amplitude",), "amplitude [m]")
+    if "frequency" in spec:
+        frequency = checker.positive(spec["frequency"], path + ("frequency",), "frequency [Hz]")
+    pattern = spec.get("pattern", "sine")
+    if pattern not in WEAVE_PATTERNS:
+        checker.error(
+            path + ("pattern",),
+            f"unknown pattern {describe(pattern)}; expected one of {', '.join(WEAVE_PATTERNS)}",
+        )
+        ok = False
+    dwell = _non_negative(checker, spec.get("dwell", 0.0), path + ("dwell",), "dwell [s]")
+    normal = None
+    if "normal" in spec:
+        normal = _direction(checker, spec["normal"], path + ("normal",))
+        ok &= normal is not None
+    if not ok or amplitude is None or frequency is None or dwell is None:
+        return None
+    return WeaveSpec(pattern, amplitude, frequency, dwell, normal)
+
+
+def _torch(checker: Checker, value: object, path: KeyPath) -> TorchSpec | None:
+    example = "{normal: [0, 0, 1], work_angle_deg: 45, travel_angle_deg: 10}"
+    spec = _mapping(checker, value, path, TORCH_KEYS, example)
+    if spec is None:
+        return None
+    normal: tuple[float, float, float] | None = (0.0, 0.0, 1.0)
+    if "normal" in spec:
+        normal = _direction(checker, spec["normal"], path + ("normal",))
+    angles = []
+    for key, bound in (("work_angle_deg", 90.0), ("travel_angle_deg", 90.0), ("roll_deg", 360.0)):
+        number = spec.get(key, 0.0)
+        if not is_number(number) or not abs(to_float(number)) < bound:
+            checker.error(
+                path + (key,), f"expected a number of degrees within ±{bound:g}, got "
+                f"{describe(number)}",
+            )  # fmt: skip
+            return None
+        angles.append(math.radians(to_float(number)))
+    if normal is None:
+        return None
+    return TorchSpec(normal, *angles)
+
+
+def _direction(checker: Checker, value: object, path: KeyPath) -> tuple[float, float, float] | None:
+    vector = checker.numbers(value, path, 3, "a direction x, y, z", bound=1e6)
+    if vector is None:
+        return None
+    norm = float(np.linalg.norm(vector))
+    if norm < 1e-9:
+        checker.error(path, "expected a non-zero direction, got [0, 0, 0]")
+        return None
+    x, y, z = (float(v) for v in vector / norm)
+    return (x, y, z)

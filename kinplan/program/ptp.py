@@ -17,7 +17,13 @@ from kinplan.robot import Robot
 from kinplan.sampling import joint_speeds
 from kinplan.trajectory import Trajectory
 
-__all__ = ["peak_speed_ratio", "polynomial_duration", "ptp_trajectory"]
+__all__ = [
+    "motion_limits",
+    "peak_speed_ratio",
+    "polynomial_duration",
+    "ptp_through_trajectory",
+    "ptp_trajectory",
+]
 
 
 def ptp_trajectory(
@@ -60,13 +66,7 @@ def ptp_trajectory(
     max_acceleration = max_velocity / PTP_RAMP_TIME
     q0 = q_start
     if profile in ("scurve", "time_optimal"):
-        # The robot's limits (all of them when a duration is given), the trapezoid's ramp
-        # where it has no acceleration limit, jerk from the acceleration ramp time.
-        share = DEFAULT_PTP_SPEED if speed is None else float(speed)
-        share = 1.0 if duration is not None else share
-        velocity = limit * share
-        known = robot.acceleration_limit
-        acceleration = np.where(np.isfinite(known), known * share, velocity / PTP_RAMP_TIME)
+        velocity, acceleration = motion_limits(robot, duration, speed)
         if profile == "scurve":
             return trajectory.scurve(
                 q0, q_goal, velocity, acceleration, acceleration / PTP_JERK_TIME, duration
@@ -85,6 +85,64 @@ def ptp_trajectory(
         return trajectory.trapezoid(q0, q_goal, max_velocity=1.0, max_acceleration=1.0)
     build = trajectory.quintic if profile == "quintic" else trajectory.cubic
     return build(q0, q_goal, duration)
+
+
+def motion_limits(
+    robot: Robot, duration: float | None, speed: float | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Velocity and acceleration limits of a ptp timed by the robot's limits (``scurve``,
+    ``time_optimal``, ``spline``): ``speed`` × the robot's limits (all of them when a duration
+    is given), the trapezoid's ramp time where the robot has no acceleration limit.
+
+    Returns:
+        (velocity [rad/s], acceleration [rad/s²]), each shape (nq,).
+    """
+    limit = robot.velocity_limit
+    limit = np.where(np.isfinite(limit), limit, FALLBACK_JOINT_SPEED)
+    share = DEFAULT_PTP_SPEED if speed is None else float(speed)
+    share = 1.0 if duration is not None else share
+    velocity = limit * share
+    known = robot.acceleration_limit
+    acceleration = np.where(np.isfinite(known), known * share, velocity / PTP_RAMP_TIME)
+    return velocity, acceleration
+
+
+def ptp_through_trajectory(
+    robot: Robot,
+    points: np.ndarray,
+    duration: float | None,
+    speed: float | None,
+    profile: str,
+    blend: float = 0.0,
+) -> Trajectory:
+    """The joint trajectory of a ``ptp`` through several points, one motion rest to rest.
+
+    Args:
+        robot: The arm.
+        points: The start configuration then the points to pass [rad], shape (m, nq).
+        duration: Duration [s], or None for the minimum time within the scaled limits.
+        speed: Share of the joint velocity and acceleration limits in (0, 1], or None for
+            :data:`~kinplan.program.DEFAULT_PTP_SPEED`.
+        profile: ``time_optimal`` (:func:`kinplan.trajectory.time_optimal`, corners within
+            ``blend``) or ``spline`` (:func:`kinplan.trajectory.spline`).
+        blend: Largest deviation from a corner [rad] (``time_optimal``).
+
+    Raises:
+        InfeasibleError: a ``duration`` shorter than the limits allow (states the minimum).
+        KinplanError: an unknown profile, a speed outside (0, 1], or a blend with ``spline``.
+    """
+    if speed is not None and not (0 < speed <= 1):
+        raise KinplanError(f"ptp speed is a share of the joint limits in (0, 1], got {speed}")
+    velocity, acceleration = motion_limits(robot, duration, speed)
+    if profile == "time_optimal":
+        return trajectory.time_optimal(points, velocity, acceleration, blend, duration)
+    if profile == "spline":
+        if blend:
+            raise KinplanError("a spline passes through its points: blend goes with time_optimal")
+        return trajectory.spline(points, velocity, acceleration, duration)
+    raise KinplanError(
+        f"a ptp through several points is time_optimal or spline, got profile {profile!r}"
+    )
 
 
 def polynomial_duration(

@@ -6,6 +6,9 @@ import os
 from collections.abc import Callable
 from typing import TypedDict
 
+import numpy as np
+import pinocchio as pin
+
 from kinplan.program.build import MotionBuilder
 from kinplan.program.errors import MoveError
 from kinplan.program.plan import ProgramPlan
@@ -44,17 +47,63 @@ def plan_program(
         robot, program.start, dt=dt, cell=program.cell, clearance=program.clearance
     )
     total = len(program.moves)
+    done = 0
     try:
-        for done, move in enumerate(program.moves):
+        for group in _motions(program.moves):
             if progress is not None:
-                progress(done, total, move.label)
-            _plan_move(builder, program, move)
+                progress(done, total, group[0].label)
+            if len(group) > 1:
+                _plan_blended(builder, program, group)
+            else:
+                _plan_move(builder, program, group[0])
+            last = group[-1]
+            if last.dwell > 0:
+                builder.dwell(last.dwell, label=f"dwell {last.dwell:g} s", key=f"{last.key}.dwell")
+            done += len(group)
     except MoveError:
         pass
     if progress is not None:
         progress(total, total, "done")
     points = {name: p.tool_position(robot) for name, p in program.points.items()}
     return builder.finish(points=points, program=program)
+
+
+def _motions(moves: list[Move]) -> list[list[Move]]:
+    """The moves grouped into motions: a lin/circ with ``blend`` joins the next move's motion."""
+    groups: list[list[Move]] = []
+    joining = False
+    for move in moves:
+        if joining:
+            groups[-1].append(move)
+        else:
+            groups.append([move])
+        joining = move.kind != "ptp" and move.blend is not None
+    return groups
+
+
+def _plan_blended(builder: MotionBuilder, program: Program, group: list[Move]) -> None:
+    """Lines and arcs blended at their corners: one Cartesian motion, monitored as one."""
+    robot = program.robot
+    pieces = [
+        (
+            move.kind,
+            program.points[move.target].goal(robot),
+            None if move.via is None else program.points[move.via].goal(robot),
+        )
+        for move in group
+    ]
+    first = group[0]
+    builder.seam(
+        pieces,
+        blend=[move.blend or 0.0 for move in group[:-1]],
+        speed=first.speed,
+        profile=first.profile,
+        weave=first.weave,
+        torch=first.torch,
+        label=", blended into ".join(move.label for move in group),
+        key=f"moves[{first.index}..{group[-1].index}]",
+        kind="+".join(move.kind for move in group),
+    )
 
 
 def _plan_move(builder: MotionBuilder, program: Program, move: Move) -> None:
@@ -67,17 +116,54 @@ def _plan_move(builder: MotionBuilder, program: Program, move: Move) -> None:
         "label": move.label,
         "key": move.key,
     }
-    if move.kind == "ptp":
+    if move.kind == "ptp" and move.through:
+        builder.ptp_through(
+            _joint_points(builder, program, [*move.through, move.target], move),
+            duration=move.duration, speed=move.speed, profile=move.profile,
+            blend=move.blend or 0.0, label=move.label, key=move.key,
+        )  # fmt: skip
+    elif move.kind == "ptp":
         if target.joints is not None:
             builder.ptp_joints(target.joints, **options)
         else:
             builder.ptp(target.goal(robot), **options)
     elif move.kind == "lin":
-        builder.lin(target.goal(robot), **options)
+        builder.lin(target.goal(robot), weave=move.weave, torch=move.torch, **options)
     else:
         assert move.via is not None  # a circ move has its via point (validated)
         via = program.points[move.via]
-        builder.circ(target.goal(robot), via.goal(robot), **options)
+        builder.circ(
+            target.goal(robot), via.goal(robot), weave=move.weave, torch=move.torch, **options
+        )
+
+
+def _joint_points(
+    builder: MotionBuilder, program: Program, names: list[str], move: Move
+) -> list[np.ndarray]:
+    """Joint values of a ptp's points: joint points as taught, Cartesian ones by IK seeded from
+    the previous point (so the motion stays on one branch)."""
+    robot = program.robot
+    seed = builder.q
+    values = []
+    for name in names:
+        point = program.points[name]
+        if point.joints is not None:
+            q = point.joints
+        else:
+            goal = point.goal(robot)
+            position_only = not isinstance(goal, pin.SE3)
+            result = robot.ik(goal, q_seed=seed, position_only=position_only)
+            if not result.success:
+                builder.fail_move(
+                    "ptp", move.label, move.key, status="ik",
+                    why=f"ik: no inverse kinematics solution for point {name} within the joint "
+                    f"limits (the closest found is {result.position_error:.4f} m away); move the "
+                    "point",
+                )  # fmt: skip
+            q = result.q
+        values.append(q)
+        seed = q
+    return values
 
 
 def run_program(path: str | os.PathLike[str], dt: float = DEFAULT_DT) -> ProgramPlan:

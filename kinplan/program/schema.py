@@ -31,12 +31,17 @@ __all__ = [
     "POSE_KEYS",
     "PTP_JERK_TIME",
     "PTP_RAMP_TIME",
+    "THROUGH_PROFILES",
     "TOP_KEYS",
+    "TORCH_KEYS",
+    "WEAVE_KEYS",
     "KeyPath",
     "Move",
     "Point",
     "Program",
     "ProgramLoader",
+    "TorchSpec",
+    "WeaveSpec",
 ]
 
 MOVE_KINDS = ("ptp", "lin", "circ")
@@ -79,8 +84,16 @@ POSE_KEYS = ("xyz", "rpy_deg", "quat_xyzw")
 """The keys of a Cartesian pose (``base_pose:``)."""
 POINT_KEYS = ("joints", "joints_deg", "xyz", "rpy_deg", "quat_xyzw")
 """The keys of a taught point."""
-MOVE_OPTIONS = ("via", "duration", "speed", "profile", "name")
+MOVE_OPTIONS = (
+    "via", "duration", "speed", "profile", "blend", "weave", "torch", "dwell", "name",
+)  # fmt: skip
 """The keys of a move besides its kind."""
+WEAVE_KEYS = ("pattern", "amplitude", "frequency", "dwell", "normal")
+"""The keys of a move's ``weave:`` (``amplitude`` and ``frequency`` required)."""
+TORCH_KEYS = ("normal", "work_angle_deg", "travel_angle_deg", "roll_deg")
+"""The keys of a move's ``torch:`` (all optional)."""
+THROUGH_PROFILES = ("time_optimal", "spline")
+"""The time laws of a ``ptp`` through several points (the first is the default)."""
 NAME_PATTERN = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
 """What a point name looks like."""
 
@@ -137,6 +150,43 @@ class Point:
         return pin.SE3(self.rotation, self.position)
 
 
+@dataclass(frozen=True)
+class WeaveSpec:
+    """A move's ``weave:``: the torch oscillates across the seam (:class:`cartesian.Weave`).
+
+    Attributes:
+        pattern: ``sine``, ``triangle`` or ``trapezoid``.
+        amplitude: Largest lateral offset [m].
+        frequency: Oscillations per second at the travel speed [Hz].
+        dwell: Time held at each side [s].
+        normal: Axis the oscillation is perpendicular to (world frame), or None: the tool axis.
+    """
+
+    pattern: str
+    amplitude: float
+    frequency: float
+    dwell: float = 0.0
+    normal: tuple[float, float, float] | None = None
+
+
+@dataclass(frozen=True)
+class TorchSpec:
+    """A move's ``torch:``: the tool held at welding angles to the seam
+    (:class:`cartesian.TorchOrientation`).
+
+    Attributes:
+        normal: Surface normal (world frame).
+        work_angle: Tilt across the seam [rad].
+        travel_angle: Tilt along the seam [rad], positive = push.
+        roll: Turn about the torch axis [rad].
+    """
+
+    normal: tuple[float, float, float] = (0.0, 0.0, 1.0)
+    work_angle: float = 0.0
+    travel_angle: float = 0.0
+    roll: float = 0.0
+
+
 @dataclass
 class Move:
     """One move of a program.
@@ -149,8 +199,15 @@ class Move:
         duration: Requested duration [s] or None.
         speed: Tool speed [m/s] (lin, circ) or share of the joint velocity limits (ptp), or None.
         profile: ``trapezoid``, ``quintic`` or ``cubic``; for ``ptp`` also ``scurve`` or
-            ``time_optimal``.
+            ``time_optimal``; a ``ptp`` through several points ``time_optimal`` or ``spline``.
         name: Optional label given in the file.
+        through: A ``ptp`` through several points: the points before ``target``, in order.
+        blend: ``lin``/``circ``: radius [m] of the blend into the next move (no stop at the
+            corner); ``ptp`` through several points: largest deviation from a corner [rad].
+        weave: The ``weave:`` of a ``lin``/``circ``, or None.
+        torch: The ``torch:`` angles of a ``lin``/``circ``, or None.
+        dwell: Time the arm stands still after the move [s] (arc-off / crater fill; on the
+            approach move of a seam, the arc-on dwell).
     """
 
     index: int
@@ -161,6 +218,11 @@ class Move:
     speed: float | None = None
     profile: str = "trapezoid"
     name: str | None = None
+    through: tuple[str, ...] = ()
+    blend: float | None = None
+    weave: WeaveSpec | None = None
+    torch: TorchSpec | None = None
+    dwell: float = 0.0
 
     @property
     def key(self) -> str:
@@ -171,6 +233,8 @@ class Move:
     def label(self) -> str:
         """Short description, e.g. ``lin to b`` or ``circ to a via c``."""
         text = f"{self.kind} to {self.target}"
+        if self.through:
+            text = f"{self.kind} through {', '.join(self.through)} to {self.target}"
         if self.via is not None:
             text += f" via {self.via}"
         return f"{self.name}: {text}" if self.name else text
