@@ -1,19 +1,17 @@
-"""A UR5 welds two seams on a horizontal plate, tool pointing down, at constant tool speed.
+"""A UR5 weld cell: a MIG torch welds a woven fillet seam and a blended rectangular seam.
 
-- A rectangular seam with rounded corners: four lines joined by quarter-circle arcs
-  (:func:`kinplan.demos.rounded_rectangle`), followed as one path, so the tool keeps its speed
-  through the corners.
-- A circular seam (:func:`cartesian.Circle`).
-
-Each seam is approached with a ``ptp`` move above its start and a ``lin`` move down, and left with
-a ``lin`` move up (:class:`kinplan.program.MotionBuilder`); the arm goes home at the end. Then the
-program ``weld_unreachable.yaml`` (kinplan's demo program, the same as
-``examples/programs/weld_unreachable.yaml``), whose seam crosses the column above the robot's
-base, shows the one-line failure ``kinplan run`` reports.
+The demo program ``weld_cell.yaml`` (kinplan's demo program, the same as
+``examples/programs/weld_cell.yaml``): a table, a T-joint workpiece and a bent-neck torch on the
+flange; the fillet along the foot of the web is woven (``weave:``) with the torch at 45° work
+angle and 10° push (``torch:``), the rectangle's corners are blended (``blend:``) so the torch
+keeps its speed through them; every move is checked against the cell with a 2 mm clearance.
+Then ``weld_collision.yaml`` (an approach through the workpiece) and ``weld_unreachable.yaml``
+(a seam across the robot's base) show the one-line failures ``kinplan run`` reports.
 
 Writes into the output folder: ``weld.html`` (MeshCat playback, works offline),
-``weld_motion.png`` (joint position/velocity/acceleration and tool speed), ``weld_tool_path.png``,
-``weld.csv`` (every sample: t, q, qd, qdd, tool pose) and ``weld_unreachable.yaml``.
+``weld_motion.png`` (joint position/velocity/acceleration, tool speed, clearance),
+``weld_tool_path.png``, ``weld.csv`` (every sample: t, q, qd, qdd, tool pose), ``weld.script``
+(URScript), ``weld_trajectory.json`` (ROS JointTrajectory) and the programs with the torch mesh.
 
 Run ``python examples/weld_demo.py --out out/weld`` (the same as ``kinplan demo weld``).
 """
@@ -39,7 +37,7 @@ def main(
     Returns:
         The demo's result (``ok``, summary lines, files, the plan in ``data["plan"]``).
     """
-    result = demos.weld(out_dir, html=html, dt=dt)
+    result = demos.weld(out_dir, html=html, dt=dt, progress=print)
     print("\n".join(result.lines))
     print(f"\nfiles in {result.out_dir} ({result.seconds:.1f} s):")
     for label, path in result.files.items():

@@ -5,11 +5,13 @@
   two cubics through a via point, and the Cartesian straight line (IK at every sample). Then the
   short-forearm arm (l2 = 0.25 m), whose tip cannot enter the hole r < 0.75 m: the straight line
   across it is reported unreachable, while a joint-space motion goes around the hole.
-- :func:`weld`: a UR5 welds a rectangular seam with rounded corners (lines joined by arcs, one
-  path at constant tool speed) and a circular seam on a horizontal plate, tool pointing down,
-  with ptp and lin approach and retreat moves; writes the HTML playback, plots and CSV. Then the
-  demo program ``weld_unreachable.yaml`` (shipped in ``kinplan/demo_programs/``, copied to
-  ``examples/programs/``) shows the one-line failure of a seam the arm cannot weld.
+- :func:`weld`: a UR5 weld cell (the demo program ``weld_cell.yaml``): a MIG torch on the
+  flange welds a woven fillet seam at 45° work angle and a rectangular seam whose corners are
+  blended, every move checked against the table, the workpiece and the robot itself; writes the
+  HTML playback, plots, CSV, URScript and a ROS JointTrajectory. Then the demo programs
+  ``weld_collision.yaml`` and ``weld_unreachable.yaml`` show the one-line failures of an
+  approach through the workpiece and of a seam the arm cannot weld. The programs are shipped in
+  ``kinplan/demo_programs/`` (package data) and copied to ``examples/programs/``.
 
 Each demo returns a :class:`DemoResult` (summary lines to print, the files written); the
 library itself prints nothing.
@@ -19,10 +21,11 @@ from __future__ import annotations
 
 import logging
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any, TypedDict
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -34,8 +37,8 @@ from kinplan import lecture as lecture_data
 from kinplan.lecture import DURATION, END_XY, START_XY, VIA_TIME, VIA_XY
 from kinplan.program import (
     MotionBuilder,
-    MoveError,
     ProgramError,
+    ProgramPlan,
     hermite_segments,
     load_program,
     plan_program,
@@ -112,24 +115,31 @@ def _plan_trajectory(plan: cartesian.CartesianPlan) -> Trajectory:
 
 
 def lecture(
-    out_dir: str | Path = "out/lecture", html: str | Path | None = None, dt: float | None = None
+    out_dir: str | Path = "out/lecture",
+    html: str | Path | None = None,
+    dt: float | None = None,
+    progress: Callable[[str], None] | None = None,
 ) -> DemoResult:
     """The lecture's 2R example: joint space vs. via point vs. Cartesian straight line, and the
     short-forearm arm that cannot cross its hole.
 
     Args:
-        out_dir: Folder for the plots (created).
-        html: Also write the HTML playback of the Cartesian straight line there.
+        out_dir: Folder for the plots and the playback (created).
+        html: The HTML playback of the three strategies, one after another (default
+            ``out_dir/lecture.html``).
         dt: Sampling period [s] (default 0.005).
+        progress: Called with a short text as each step starts (e.g. ``print``).
 
     Returns:
         The summary and files; ``ok`` when the l1 = l2 = 1 m motions were all planned (the
         short-forearm failure is the expected outcome).
     """
     began = time.perf_counter()
+    say = progress or (lambda text: None)
     dt = 0.005 if dt is None else float(dt)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
+    say("planning the lecture's three strategies on the 2R arm")
     robot = kinplan.load_robot("planar_2r")
     result = DemoResult("lecture", ok=True, out_dir=out)
     lines = result.lines
@@ -179,11 +189,13 @@ def lecture(
         "the joint-space motions switch branch through θ2 = 0 (arm stretched)",
     ]
 
+    say("the short-forearm arm")
     short = _short_forearm(lines, dt)
     result.data.update(
         robot=robot, single=single, via=via, line=line, q=(q_start, q_via, q_end), **short
     )
 
+    say("writing the plots and the playback")
     files = result.files
     files["tip paths"] = out / "tip_paths.png"
     files["joint angles"] = out / "joint_angles.png"
@@ -206,12 +218,38 @@ def lecture(
         show_knots=False,
     )
     _plot_short_forearm(short, files["short forearm"])
-    if html is not None:
-        from kinplan import viewer
+    from kinplan import viewer
 
-        files["playback"] = viewer.save_html(robot, line, html, markers=paths_marks())
+    strategies = _strategies_one_after_another(robot, single, via, line, dt)
+    result.data["strategies"] = strategies
+    files["playback (HTML)"] = viewer.save_html(
+        robot,
+        strategies,
+        Path(html) if html is not None else out / "lecture.html",
+        markers=paths_marks(),
+        title="The lecture's 2R arm: 1. one cubic per joint, 2. via point, 3. straight line",
+    )
     result.seconds = time.perf_counter() - began
     return result
+
+
+def _strategies_one_after_another(
+    robot: kinplan.Robot,
+    single: Trajectory,
+    via: Trajectory,
+    line: cartesian.CartesianPlan,
+    dt: float,
+) -> ProgramPlan:
+    """The lecture's three motions from the start to the end, one after another (back to the
+    start between them), as one motion whose moves are labelled 1., 2., 3. for the playback."""
+    q_start = single.sample(np.array([0.0]))[0][0]
+    builder = MotionBuilder(robot, q_start, dt=dt)
+    builder.trajectory(single, label="1. one cubic per joint")
+    builder.ptp_joints(q_start, label="back to the start")
+    builder.trajectory(via, label="2. two cubics through the via point")
+    builder.ptp_joints(q_start, label="back to the start")
+    builder.trajectory(_plan_trajectory(line), label="3. Cartesian straight line")
+    return builder.finish(points=paths_marks())
 
 
 def paths_marks() -> dict[str, np.ndarray]:
@@ -301,33 +339,6 @@ def _plot_short_forearm(short: dict[str, Any], path: Path) -> None:
 # ----------------------------------------------------------------------------------------------
 
 
-class _RectangleSeam(TypedDict):
-    center: tuple[float, float]
-    size: tuple[float, float]
-    radius: float
-
-
-class _CircleSeam(TypedDict):
-    center: tuple[float, float]
-    radius: float
-
-
-UR5_HOME_DEG = (0.0, -90.0, 90.0, -90.0, -90.0, 0.0)
-"""UR5 start and end configuration: tool pointing down at (0.49, 0.11, 0.43) m [deg]."""
-SEAM_HEIGHT = 0.10
-"""Height of tool0 over the seams [m] (the plate is horizontal)."""
-RECTANGLE: _RectangleSeam = {"center": (0.45, -0.12), "size": (0.20, 0.12), "radius": 0.02}
-"""Rectangular seam: centre (x, y) [m], size along x and y [m], corner radius [m]."""
-CIRCLE: _CircleSeam = {"center": (0.42, 0.20), "radius": 0.05}
-"""Circular seam: centre (x, y) [m] and radius [m]."""
-WELD_SPEED = 0.03
-"""Tool speed along the seams [m/s]."""
-TRAVEL_SPEED = 0.10
-"""Tool speed of the approach and retreat lines [m/s]."""
-APPROACH_HEIGHT = 0.08
-"""The tool approaches each seam from this far above it [m]."""
-
-
 def rounded_rectangle(
     center: tuple[float, float], size: tuple[float, float], radius: float, height: float,
     rotation: np.ndarray,
@@ -374,58 +385,67 @@ def rounded_rectangle(
     return cartesian.PathSequence(pieces)
 
 
-def weld(
-    out_dir: str | Path = "out/weld", html: str | Path | None = None, dt: float | None = None
-) -> DemoResult:
-    """A UR5 welds a rounded-rectangle seam and a circular seam at constant tool speed.
+WELD_CELL_FILES = (
+    "weld_cell.yaml",
+    "weld_collision.yaml",
+    "weld_unreachable.yaml",
+    "mig_torch.stl",
+)
+"""The weld demo's programs and the torch mesh they use (package data, copied to the output)."""
 
-    Writes ``weld.html`` (MeshCat playback), ``weld_motion.png`` (joints and tool speed),
-    ``weld_tool_path.png`` (tool path and seams, 3-D) and ``weld.csv`` (samples) into
-    ``out_dir``; then writes the demo program ``weld_unreachable.yaml`` there and plans it to
-    show its one-line failure.
+
+def weld(
+    out_dir: str | Path = "out/weld",
+    html: str | Path | None = None,
+    dt: float | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> DemoResult:
+    """A UR5 weld cell: a woven fillet seam and a blended rectangular seam with a MIG torch.
+
+    Plans the demo program ``weld_cell.yaml`` (a table, a T-joint workpiece, a bent-neck torch
+    on the flange; the fillet woven at 45° work angle, the rectangle's corners blended so the
+    torch does not stop; every move checked against the cell with a 2 mm clearance) and writes
+    ``weld.html`` (MeshCat playback, the torch and the cell drawn), ``weld_motion.png`` (joints,
+    tool speed, clearance), ``weld_tool_path.png`` (3-D), ``weld.csv`` (samples),
+    ``weld.script`` (URScript) and ``weld_trajectory.json`` (a ROS JointTrajectory). Then plans
+    ``weld_collision.yaml`` (an approach through the workpiece) and ``weld_unreachable.yaml``
+    (a seam across the base) to show their one-line failures. The programs and the torch mesh
+    are copied to ``out_dir``, to be edited and run with ``kinplan run``.
 
     Args:
         out_dir: Output folder (created).
         html: HTML playback file (default ``out_dir/weld.html``).
         dt: Sampling period [s] (default 0.01).
+        progress: Called with a short text as each step starts (e.g. ``print``).
 
     Returns:
-        The summary and files; ``ok`` when the weld was planned completely.
+        The summary and files; ``ok`` when the weld cell program was planned completely (and
+        the two failing programs failed as expected).
     """
     from kinplan import viewer
 
     began = time.perf_counter()
+    say = progress or (lambda text: None)
     dt = 0.01 if dt is None else float(dt)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    robot = kinplan.load_robot("ur5")
-    home = np.radians(UR5_HOME_DEG)
-    down = robot.fk(home).rotation  # tool z axis along −z of the world
-    seams = {
-        "rectangular seam": rounded_rectangle(
-            RECTANGLE["center"], RECTANGLE["size"], RECTANGLE["radius"], SEAM_HEIGHT, down
-        ),
-        "circular seam": cartesian.Circle(
-            [*CIRCLE["center"], SEAM_HEIGHT], CIRCLE["radius"], rotation=down
-        ),
-    }
-    result = DemoResult("weld", ok=True, out_dir=out)
+    for name in WELD_CELL_FILES:
+        data = (resources.files("kinplan") / DEMO_PROGRAMS / name).read_bytes()
+        (out / name).write_bytes(data)
+    say("planning the weld cell program")
+    program = load_program(out / "weld_cell.yaml")
+    plan = plan_program(program, dt=dt, progress=lambda done, total, label: say(
+        f"  move {done + 1}/{total}: {label}" if done < total else "  planned"
+    ))  # fmt: skip
+    robot = plan.robot
+    result = DemoResult("weld", ok=plan.ok, out_dir=out, reason=plan.reason)
+    result.data.update(robot=robot, plan=plan, program=program)
     lines = result.lines
     lines.append(
-        f"UR5 welding on a horizontal plate (tool0 at z = {SEAM_HEIGHT:g} m, pointing down), "
-        f"seams at {WELD_SPEED * 1000:g} mm/s"
+        f"UR5 weld cell ({out / 'weld_cell.yaml'}): {len(program.moves)} moves, torch on the "
+        f"flange, {len(program.cell.obstacles) if program.cell else 0} obstacles, clearance "
+        f"{program.clearance * 1000:g} mm"
     )
-    for name, seam in seams.items():
-        seed = robot.ik(seam.start, q_seed=home).q
-        check = cartesian.check_reachability(robot, seam, q_seed=seed)
-        lines.append(
-            f"  {name}: {len(getattr(seam, 'paths', [seam]))} pieces, {seam.length:.3f} m, "
-            f"reachability check {check.status}"
-        )
-    plan = _plan_weld(robot, home, down, seams, dt)
-    result.data.update(robot=robot, plan=plan, seams=seams)
-    result.ok = plan.ok
-    result.reason = plan.reason
     lines += _weld_summary(plan)
 
     files = result.files
@@ -433,83 +453,76 @@ def weld(
     files["joints and tool speed"] = out / "weld_motion.png"
     files["tool path"] = out / "weld_tool_path.png"
     files["samples (CSV)"] = out / "weld.csv"
-    viewer.save_html(
-        robot, plan, files["playback (HTML)"], markers=plan.points, title="UR5 welding two seams"
+    say("writing the playback, plots and exports")
+    title = "UR5 weld cell: woven fillet and blended rectangle"
+    viewer.save_html(robot, plan, files["playback (HTML)"], markers=plan.points, title=title)
+    export.plot_motion(plan, files["joints and tool speed"], robot.joint_names, title=title)
+    figure = plot.plot_tip_path(
+        {"tool (TCP)": plan.tool_positions}, points=list(plan.points.values()), title="Tool path"
     )
-    export.plot_motion(
-        plan, files["joints and tool speed"], robot.joint_names, title="UR5 welding two seams"
-    )
-    traces = {"tool": plan.tool_positions}
-    for name, seam in seams.items():
-        traces[name] = seam.position(np.linspace(0.0, 1.0, 400))
-    figure = plot.plot_tip_path(traces, points=list(plan.points.values()), title="Tool path")
-    for line in figure.axes[0].get_lines():
-        if line.get_label() == "via points":
-            line.set_label("seam starts")
-    figure.axes[0].legend(fontsize="small", loc="upper right")
     figure.savefig(files["tool path"], dpi=120)
     export.write_csv(files["samples (CSV)"], plan, robot.joint_names)
-    files["unreachable seam"] = out / "weld_unreachable.yaml"
-    lines += [""] + _unreachable_program(files["unreachable seam"], out)
+    if plan.ok:
+        files["URScript"] = export.write_urscript(out / "weld.script", plan)
+        files["JointTrajectory"] = export.write_joint_trajectory(out / "weld_trajectory.json", plan)
+    for name in WELD_CELL_FILES:
+        files[name] = out / name
+    for name, expected in (("weld_collision.yaml", "collision"), ("weld_unreachable.yaml", None)):
+        say(f"planning {name} (it fails on purpose)")
+        failed, text = _failing_program(out / name, out, expected)
+        lines += [""] + text
+        if not failed:
+            result.ok = False
+            result.reason = result.reason or text[0]
     result.seconds = time.perf_counter() - began
     return result
 
 
-def _plan_weld(robot, home, down, seams, dt) -> Any:
-    """ptp above each seam, lin down, the seam at constant speed, lin up; ptp home."""
-    builder = MotionBuilder(robot, home, dt=dt)
-    points = {}
-    try:
-        for name, seam in seams.items():
-            start = seam.start
-            above = pin.SE3(down, start.translation + np.array([0.0, 0.0, APPROACH_HEIGHT]))
-            points[f"{name} start"] = start.translation.copy()
-            builder.ptp(above, label=f"ptp above the {name}")
-            builder.lin(start, speed=TRAVEL_SPEED, label="approach")
-            builder.follow(seam, speed=WELD_SPEED, label=f"weld the {name}", kind="seam")
-            builder.lin(above, speed=TRAVEL_SPEED, label="retreat")
-        builder.ptp_joints(home, label="ptp home")
-    except MoveError as exc:
-        logger.warning("the weld did not plan: %s", exc)
-    return builder.finish(points=points)
-
-
 def _weld_summary(plan) -> list[str]:
-    lines = [f"  planned: {plan.status}, {len(plan.moves)} moves, {plan.duration:.2f} s"]
+    lines = [f"  planned: {plan.status}, {len(plan.moves)} motions, {plan.duration:.2f} s"]
     for move in plan.moves:
-        extra = ""
-        if move.cartesian_plan is not None and move.kind == "seam":
-            window = slice(move.first, move.last + 1)
-            speed = np.max(plan.tool_speed[window]) * 1000.0
-            extra = (
-                f", cruise {speed:.1f} mm/s, max deviation "
-                f"{move.cartesian_plan.max_deviation:.1e} m"
-            )
-        lines.append(
-            f"    {move.number}. {move.label:<30} {move.duration:6.2f} s  min manip. "
-            f"{move.min_manipulability:.4f}  peak |qd|/limit {move.peak_speed_ratio:.2f}  "
-            f"{move.status}{extra}"
+        clearance = (
+            f"{move.min_clearance * 1000:5.1f} mm"
+            if np.isfinite(move.min_clearance)
+            else "    -   "
         )
+        lines.append(
+            f"    {move.number:2d}. {move.label:<42.42} {move.duration:6.2f} s  clearance "
+            f"{clearance}  peak |qd|/limit {move.peak_speed_ratio:.2f}  {move.status}"
+        )
+        if move.kind != "ptp" and move.kind != "dwell" and move.status == "ok":
+            window = slice(move.first, move.last + 1)
+            speed = plan.tool_speed[window]
+            t = plan.t[window]
+            cruise = speed[(t > move.t0 + 0.6) & (t < move.t1 - 0.6)]
+            if len(cruise) and move.duration > 5.0:
+                lines.append(
+                    f"        seam: tool speed {cruise.min() * 1000:.1f}–"
+                    f"{cruise.max() * 1000:.1f} mm/s between its ramps"
+                    + (" (through its blended corners)" if "+" in move.kind else "")
+                    + ", max path deviation "
+                    f"{move.cartesian_plan.max_deviation:.1e} m"
+                )
     if not plan.ok:
         lines.append(f"  FAILED: {plan.reason}")
     return lines
 
 
-def _unreachable_program(program_file: Path, out: Path) -> list[str]:
-    """Write the demo program weld_unreachable.yaml to ``program_file``, plan it and report its
-    expected failure."""
-    program_file.write_text(demo_program("weld_unreachable.yaml"), encoding="utf-8")
+def _failing_program(program_file: Path, out: Path, expected: str | None) -> tuple[bool, list[str]]:
+    """Plan a demo program that must fail (with status ``expected`` when given); report it."""
     try:
         plan = plan_program(load_program(program_file))
     except ProgramError as exc:
-        return [f"{program_file.name}: invalid: {exc.one_line()}"]
+        return False, [f"{program_file.name}: invalid: {exc.one_line()}"]
     if plan.ok:
-        return [f"{program_file.name}: planned ok (unexpected: its seam should be unreachable)"]
-    return [
-        f"A seam the UR5 cannot weld ({program_file}), as `kinplan run` reports it (exit "
-        "status 1):",
+        return False, [f"{program_file.name}: planned ok (unexpected: it should fail)"]
+    status = plan.moves[-1].status
+    if expected is not None and status != expected:
+        return False, [f"{program_file.name}: failed with {status}, expected {expected}"]
+    return True, [
+        f"{program_file.name} fails on purpose, as `kinplan run` reports it (exit status 1):",
         f"  {plan.reason}",
-        f"  inspect it: kinplan run {program_file} --html {out / 'weld_unreachable.html'}",
+        f"  inspect it: kinplan run {program_file} --html {out / program_file.stem}.html",
     ]
 
 

@@ -1,4 +1,4 @@
-"""Files out of a planned motion: CSV samples and a plot of joints and tool speed.
+"""Files out of a planned motion: CSV samples, a plot, and programs a controller can run.
 
 :func:`write_csv` writes one row per sample (time, joint positions, velocities, accelerations and
 the tool pose); :func:`plot_motion` draws joint position, velocity, acceleration and the tool
@@ -7,28 +7,71 @@ speed against time, with the move boundaries. Both take any planned motion with 
 :class:`cartesian.CartesianPlan`, or a joint trajectory sampled by
 :func:`kinplan.motion.sampled` with its robot); the tool poses and speeds come from the robot's
 kinematics at the samples (:func:`kinplan.motion.tool_track`).
+
+Controller exports (issue 17) take the same motions, but only whole ones: a failed plan is
+refused (:class:`~kinplan.errors.InputError`), since a controller would run the partial motion.
+
+* :func:`urscript` / :func:`write_urscript`: a URScript program for a Universal Robots arm that
+  goes to the start with ``movej`` and replays the motion with one ``servoj`` per controller
+  period, the motion resampled at that period (:func:`servo_samples`);
+* :func:`joint_trajectory` / :func:`write_joint_trajectory`: a ROS 2
+  ``trajectory_msgs/msg/JointTrajectory`` document (JSON or YAML) holding the plan's samples.
+
+Between its samples a motion is the quintic Hermite interpolation of the samples (exact in
+position, velocity and acceleration at every sample: :func:`kinplan.program.hermite_segments`),
+which is what a :class:`~kinplan.program.ProgramPlan` evaluates too.
 """
 
 from __future__ import annotations
 
+import json
 import logging
+import math
 import os
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from kinplan import checks
 from kinplan.errors import InputError, KinplanError
-from kinplan.motion import MoveSpan, SampledMotion, ToolTrack, tool_track
+from kinplan.motion import (
+    MoveSpan,
+    SampledMotion,
+    ToolTrack,
+    collision_check,
+    collision_time,
+    tool_track,
+)
+from kinplan.trajectory import Trajectory, time_grid
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from kinplan.robot import Robot
+
 logger = logging.getLogger(__name__)
 
-__all__ = ["csv_header", "plot_motion", "write_csv"]
+__all__ = [
+    "DEFAULT_SERVO_PERIOD",
+    "TRAJECTORY_FORMATS",
+    "UR_JOINT_NAMES",
+    "csv_header",
+    "joint_trajectory",
+    "plan_failure",
+    "plot_motion",
+    "ros_duration",
+    "servo_samples",
+    "trajectory_format",
+    "ur_arm_problem",
+    "urscript",
+    "write_csv",
+    "write_joint_trajectory",
+    "write_urscript",
+]
 
 
 def csv_header(joint_names: Sequence[str]) -> list[str]:
@@ -78,6 +121,461 @@ def write_csv(
     return target
 
 
+# ----------------------------------------------------------------------------------------------
+# Controller exports (issue 17): URScript for UR arms, ROS JointTrajectory documents
+# ----------------------------------------------------------------------------------------------
+
+UR_JOINT_NAMES = (
+    "shoulder_pan_joint",
+    "shoulder_lift_joint",
+    "elbow_joint",
+    "wrist_1_joint",
+    "wrist_2_joint",
+    "wrist_3_joint",
+)
+"""Joints of a Universal Robots arm, base to wrist 3: the order of URScript joint vectors."""
+
+DEFAULT_SERVO_PERIOD = 0.008
+"""Period of the ``servoj`` stream [s]: the CB-series controller's 125 Hz (e-Series: 0.002)."""
+
+TRAJECTORY_FORMATS = {".json": "json", ".yaml": "yaml", ".yml": "yaml"}
+"""File extensions of :func:`write_joint_trajectory` and the format each writes."""
+
+_NANOSECONDS = 1_000_000_000
+
+
+def ur_arm_problem(robot: Robot) -> str:
+    """Why ``robot`` is not a Universal Robots arm URScript can drive, or "" when it is one.
+
+    A UR arm has exactly the six joints :data:`UR_JOINT_NAMES` in that order, possibly all
+    with one common prefix (``left_shoulder_pan_joint``, ...).
+    """
+    names = list(robot.joint_names)
+    first = UR_JOINT_NAMES[0]
+    if len(names) == len(UR_JOINT_NAMES) and names[0].endswith(first):
+        prefix = names[0][: len(names[0]) - len(first)]
+        if names == [prefix + name for name in UR_JOINT_NAMES]:
+            return ""
+    locked = robot.locked_joints
+    held = f" and {', '.join(locked)} locked" if locked else ""
+    return (
+        "URScript export needs a Universal Robots arm (6 joints named shoulder_pan_joint … "
+        f"wrist_3_joint); {robot.name} has {len(names)} joints ({', '.join(names)}){held}"
+    )
+
+
+def trajectory_format(path: str | os.PathLike[str]) -> str:
+    """The format :func:`write_joint_trajectory` writes to ``path``: ``"json"`` or ``"yaml"``.
+
+    Raises:
+        InputError: not a path, or an extension other than .json, .yaml, .yml.
+    """
+    text = checks.file_path(path, "path")
+    suffix = Path(text).suffix.lower()
+    if suffix not in TRAJECTORY_FORMATS:
+        got = f"a {suffix} file" if suffix else "a file without an extension"
+        raise InputError(
+            f"a JointTrajectory file is written as JSON or YAML, got {got} ({text}); give a "
+            f"file ending in {', '.join(TRAJECTORY_FORMATS)}"
+        )
+    return TRAJECTORY_FORMATS[suffix]
+
+
+def plan_failure(plan: SampledMotion) -> str:
+    """Where and why a plan failed, one short phrase ("" when it is ok): ``the plan failed at
+    move 3 (collision)`` for a program, ``the plan stopped at t = 1.250 s (unreachable)``
+    otherwise."""
+    if plan.ok:
+        return ""
+    failed = [move for move in plan.moves if move.status != "ok"]
+    if failed:
+        return f"the plan failed at move {failed[0].number} ({failed[0].status})"
+    if plan.events:
+        event = plan.events[0]
+        return f"the plan stopped at t = {event.t:.3f} s ({event.kind})"
+    return f"the plan failed ({plan.status})"
+
+
+def ros_duration(seconds: float) -> dict[str, int]:
+    """A time as a ROS 2 ``builtin_interfaces/Duration``: ``{"sec": ..., "nanosec": ...}``.
+
+    ``sec`` is the whole seconds (floor) and ``nanosec`` the rest rounded to the nearest
+    nanosecond, carried into ``sec`` when it rounds to 10⁹: always 0 ≤ nanosec < 10⁹.
+
+    Args:
+        seconds: The time, 0 ≤ seconds < 2³¹ [s].
+
+    Raises:
+        InputError: not a finite number in that range.
+    """
+    value = checks.number(seconds, "seconds", minimum=0.0, maximum=2.0**31 - 1.0, unit="s")
+    whole = math.floor(value)
+    nanosec = round((value - whole) * 1e9)  # value - whole is exact in floating point
+    if nanosec >= _NANOSECONDS:
+        whole, nanosec = whole + 1, nanosec - _NANOSECONDS
+    return {"sec": int(whole), "nanosec": int(nanosec)}
+
+
+def servo_samples(
+    plan: SampledMotion, period: float = DEFAULT_SERVO_PERIOD
+) -> tuple[np.ndarray, np.ndarray]:
+    """The motion resampled at a controller's period: the targets of a ``servoj`` stream.
+
+    The times are ``k · period`` from the plan's first sample, the last exactly at its end
+    (:func:`kinplan.trajectory.time_grid`: ceil(duration / period) + 1 samples, a remainder
+    below 10⁻⁶ period absorbed); the positions are the quintic Hermite interpolation of the
+    plan's samples (positions, velocities and accelerations), so the first is ``plan.q[0]`` and
+    the last ``plan.q[-1]``, exactly.
+
+    Args:
+        plan: A whole motion (:class:`~kinplan.motion.SampledMotion` that is ok).
+        period: Sampling period [s], > 0.
+
+    Returns:
+        Times (K,) [s] from the plan's start and joint positions (K, nq) [rad or m].
+
+    Raises:
+        InputError: not a motion, a failed plan, samples that are not finite or whose times do
+            not increase, or a period that is not a positive number.
+    """
+    step = checks.number(period, "period", positive=True, unit="s")
+    t, q, qd, qdd = _whole_motion(plan, "servo_samples")
+    times = time_grid(float(t[-1] - t[0]), step)
+    if len(t) == 1:
+        return times, np.repeat(q, len(times), axis=0)
+    from kinplan.program.segments import hermite_segments
+
+    motion = Trajectory(
+        hermite_segments(t - t[0], q, qd, qdd),
+        end=q[-1],
+        end_velocity=qd[-1],
+        end_acceleration=qdd[-1],
+    )
+    return times, motion.sample(times)[0]
+
+
+def urscript(
+    plan: SampledMotion,
+    *,
+    period: float = DEFAULT_SERVO_PERIOD,
+    lookahead_time: float = 0.1,
+    gain: float = 300.0,
+    start_speed: float = 0.5,
+    start_acceleration: float = 1.0,
+) -> str:
+    """A URScript program that replays a whole motion on a Universal Robots arm.
+
+    The program ``kinplan_motion`` goes to the motion's start with ``movej``, then commands one
+    ``servoj`` target per ``period``, the targets of :func:`servo_samples` (``t = k · period``,
+    the first the start, the last exactly the end), then holds the end for
+    2 · ``lookahead_time`` (rounded up to whole periods) so the arm settles on it (``servoj``
+    lags its targets by up to the lookahead time). A header comment names the robot, the
+    duration, the number of samples and the kinplan version. Joint vectors are in radians,
+    base to wrist 3, written in fixed point with 10 decimals (URScript has no exponent
+    notation). The URDF's joint zeros must be the controller's (true for the Universal
+    Robots descriptions).
+
+    Args:
+        plan: A whole motion of a UR arm (:class:`~kinplan.motion.SampledMotion` that is ok,
+            with its robot).
+        period: Period of the ``servoj`` stream [s] (the controller's: 0.008 for a CB3,
+            0.002 for an e-Series).
+        lookahead_time: ``servoj`` lookahead time [s], 0.03 to 0.2.
+        gain: ``servoj`` proportional gain [-], 100 to 2000.
+        start_speed: Joint speed of the ``movej`` to the start [rad/s], > 0.
+        start_acceleration: Joint acceleration of the ``movej`` to the start [rad/s²], > 0.
+
+    Returns:
+        The program text (ASCII), ending with a call of ``kinplan_motion()``.
+
+    Raises:
+        InputError: not a motion, a failed plan (a controller must not run a partial motion),
+            no robot or not a UR arm, or a parameter out of its range.
+    """
+    from kinplan import __version__
+
+    lookahead = checks.number(lookahead_time, "lookahead_time", minimum=0.03, maximum=0.2, unit="s")
+    servo_gain = checks.number(gain, "gain", minimum=100.0, maximum=2000.0)
+    speed = checks.number(start_speed, "start_speed", positive=True, unit="rad/s")
+    acceleration = checks.number(
+        start_acceleration, "start_acceleration", positive=True, unit="rad/s²"
+    )
+    robot = _ur_robot(plan, "urscript")
+    times, targets = servo_samples(plan, period)
+    step = float(period)
+    hold = math.ceil(2.0 * lookahead / step - 1e-9)
+    servo = f"t={_script_number(step)}, lookahead_time={_script_number(lookahead)}, " + (
+        f"gain={_script_number(servo_gain)}"
+    )
+    header = [
+        f"# kinplan {__version__}: {plan.description} of {robot.name} (Universal Robots arm)",
+        f"# duration {times[-1]:.6f} s; {len(plan.t)} plan samples; {len(times)} servoj targets "
+        f"every {step:g} s (t = k * {step:g} s, the last at the end), then the end held "
+        f"{hold} periods",
+        f"# joints [rad]: {', '.join(robot.joint_names)}",
+        "# Check the motion in the cell (kinplan run ... --html) before running it.",
+    ]
+    lines = [_ascii(line) for line in header]
+    lines += [
+        "def kinplan_motion():",
+        f"  movej({_script_list(targets[0])}, a={_script_number(acceleration)}, "
+        f"v={_script_number(speed)})",
+    ]
+    lines += [f"  servoj({_script_list(q)}, {servo})" for q in targets]
+    lines += [
+        f"  kinplan_end = {_script_list(targets[-1])}",
+        "  kinplan_hold = 0",
+        f"  while kinplan_hold < {hold}:",
+        f"    servoj(kinplan_end, {servo})",
+        "    kinplan_hold = kinplan_hold + 1",
+        "  end",
+        "end",
+        "kinplan_motion()",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def write_urscript(
+    path: str | os.PathLike[str],
+    plan: SampledMotion,
+    *,
+    period: float = DEFAULT_SERVO_PERIOD,
+    lookahead_time: float = 0.1,
+    gain: float = 300.0,
+    start_speed: float = 0.5,
+    start_acceleration: float = 1.0,
+) -> Path:
+    """Write :func:`urscript` of a whole motion of a UR arm to a file (usually ``.script``).
+
+    Args:
+        path: File to write (its folder is created).
+        plan: A whole motion of a UR arm, with its robot.
+        period: Period of the ``servoj`` stream [s].
+        lookahead_time: ``servoj`` lookahead time [s], 0.03 to 0.2.
+        gain: ``servoj`` proportional gain [-], 100 to 2000.
+        start_speed: Joint speed of the ``movej`` to the start [rad/s].
+        start_acceleration: Joint acceleration of the ``movej`` to the start [rad/s²].
+
+    Returns:
+        The written path.
+
+    Raises:
+        InputError: as :func:`urscript`.
+        KinplanError: the file cannot be written.
+    """
+    target = Path(checks.file_path(path, "path"))
+    text = urscript(
+        plan,
+        period=period,
+        lookahead_time=lookahead_time,
+        gain=gain,
+        start_speed=start_speed,
+        start_acceleration=start_acceleration,
+    )
+    _write_text(target, text, "URScript")
+    return target
+
+
+def joint_trajectory(
+    plan: SampledMotion, joint_names: Sequence[str] | None = None
+) -> dict[str, Any]:
+    """A whole motion as a ROS 2 ``trajectory_msgs/msg/JointTrajectory`` (plain dicts and lists).
+
+    One point per sample of the plan: ``positions`` [rad or m], ``velocities`` [rad/s or m/s],
+    ``accelerations`` [rad/s² or m/s²] (the samples' values, unchanged) and
+    ``time_from_start`` (:func:`ros_duration` of the time from the plan's first sample). The
+    ``header`` has a zero ``stamp`` (a trajectory controller starts it on receipt) and an
+    empty ``frame_id``::
+
+        {"header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""},
+         "joint_names": [...],
+         "points": [{"positions": [...], "velocities": [...], "accelerations": [...],
+                     "time_from_start": {"sec": 0, "nanosec": 10000000}}, ...]}
+
+    Args:
+        plan: A whole motion (:class:`~kinplan.motion.SampledMotion` that is ok).
+        joint_names: One name per joint; default the robot's (required without a robot).
+
+    Raises:
+        InputError: not a motion, a failed plan, no joint names (or not one per joint),
+            samples that are not finite, or two samples at the same nanosecond.
+    """
+    t, q, qd, qdd = _whole_motion(plan, "joint_trajectory")
+    names = _joint_names(plan, joint_names, q.shape[1])
+    stamps = [ros_duration(x) for x in (t - t[0]).tolist()]
+    for k in range(1, len(stamps)):
+        if (stamps[k]["sec"], stamps[k]["nanosec"]) <= (
+            stamps[k - 1]["sec"],
+            stamps[k - 1]["nanosec"],
+        ):
+            raise InputError(
+                f"samples {k - 1} and {k} of the plan are less than 1 ns apart ({t[k - 1]!r} s, "
+                f"{t[k]!r} s): a JointTrajectory needs increasing times; resample the motion"
+            )
+    points = [
+        {
+            "positions": positions,
+            "velocities": velocities,
+            "accelerations": accelerations,
+            "time_from_start": stamp,
+        }
+        for positions, velocities, accelerations, stamp in zip(
+            q.tolist(), qd.tolist(), qdd.tolist(), stamps, strict=True
+        )
+    ]
+    return {
+        "header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""},
+        "joint_names": names,
+        "points": points,
+    }
+
+
+def write_joint_trajectory(
+    path: str | os.PathLike[str],
+    plan: SampledMotion,
+    joint_names: Sequence[str] | None = None,
+) -> Path:
+    """Write :func:`joint_trajectory` of a whole motion as JSON (.json) or YAML (.yaml, .yml).
+
+    Floats are written with the shortest text that reads back to the same number (Python's
+    ``repr``), so the file holds the samples exactly. JSON has one point per line; YAML has one
+    point per block, its lists inline.
+
+    Args:
+        path: File to write (its folder is created); the extension picks the format.
+        plan: A whole motion (:class:`~kinplan.motion.SampledMotion` that is ok).
+        joint_names: One name per joint; default the robot's.
+
+    Returns:
+        The written path.
+
+    Raises:
+        InputError: an extension other than .json, .yaml, .yml (checked first), or as
+            :func:`joint_trajectory`.
+        KinplanError: the file cannot be written.
+    """
+    kind = trajectory_format(path)
+    target = Path(os.fspath(path))
+    document = joint_trajectory(plan, joint_names)
+    if kind == "json":
+        text = _json_text(document)
+    else:
+        import yaml
+
+        text = yaml.safe_dump(document, sort_keys=False, default_flow_style=None, width=10**9)
+    _write_text(target, text, "JointTrajectory")
+    return target
+
+
+def _whole_motion(
+    plan: SampledMotion, what: str
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The samples (t, q, qd, qdd) of a motion a controller may run; InputError for anything
+    else: not a motion, a failed plan, samples that are not finite or times that do not
+    increase."""
+    if not isinstance(plan, SampledMotion):
+        raise InputError(
+            f"{what} takes a planned motion (kinplan.motion.SampledMotion: a program or Cartesian "
+            f"plan, or kinplan.motion.sampled(trajectory, robot)), got {type(plan).__name__}"
+        )
+    if not plan.ok:
+        raise InputError(
+            f"{what} refuses a failed plan: {plan_failure(plan)}; a controller must not run a "
+            "partial motion (write_csv and plot_motion show the achieved part for inspection)"
+        )
+    t = checks.vector(plan.t, "the plan's times", unit="s")
+    if len(t) == 0:
+        raise InputError(f"{what}: the plan has no samples")
+    q = checks.rows(plan.q, "the plan's positions", np.shape(plan.q)[-1])
+    qd = checks.rows(plan.qd, "the plan's velocities", q.shape[1])
+    qdd = checks.rows(plan.qdd, "the plan's accelerations", q.shape[1])
+    if not len(q) == len(qd) == len(qdd) == len(t):
+        raise InputError(
+            f"{what}: the plan has {len(t)} times but {len(q)}, {len(qd)}, {len(qdd)} rows of "
+            "positions, velocities, accelerations"
+        )
+    steps = np.diff(t)
+    if np.any(steps <= 0.0):
+        k = int(np.argmax(steps <= 0.0))
+        raise InputError(
+            f"{what}: the plan's times must increase, but sample {k + 1} is at {t[k + 1]!r} s "
+            f"after {t[k]!r} s"
+        )
+    if plan.robot is not None and q.shape[1] != plan.robot.nq:
+        raise InputError(
+            f"{what}: the plan has {q.shape[1]} joints, its robot {plan.robot.name} {plan.robot.nq}"
+        )
+    return t, q, qd, qdd
+
+
+def _ur_robot(plan: SampledMotion, what: str) -> Robot:
+    """The robot of a whole motion when it is a UR arm; InputError otherwise."""
+    _whole_motion(plan, what)  # not a motion, or a failed plan: said first
+    robot = plan.robot
+    if robot is None:
+        raise InputError(
+            f"{what} needs the motion's robot (a UR arm): sample the trajectory with it, "
+            "kinplan.motion.sampled(trajectory, robot)"
+        )
+    problem = ur_arm_problem(robot)
+    if problem:
+        raise InputError(f"{problem}; export write_joint_trajectory or write_csv instead")
+    return robot
+
+
+def _joint_names(plan: SampledMotion, joint_names: Sequence[str] | None, n: int) -> list[str]:
+    if joint_names is None:
+        if plan.robot is None:
+            raise InputError(
+                "joint_names is needed for a motion without a robot: give one name per joint"
+            )
+        return list(plan.robot.joint_names)
+    if isinstance(joint_names, str) or not isinstance(joint_names, Sequence):
+        raise InputError(
+            f"joint_names must be a list of {n} names, got {checks.describe(joint_names)}"
+        )
+    names = [checks.text(name, "joint_names[...]") for name in joint_names]
+    if len(names) != n:
+        raise InputError(f"joint_names must hold {n} names (one per joint), got {len(names)}")
+    return names
+
+
+def _json_text(document: dict[str, Any]) -> str:
+    """The document as JSON, one trajectory point per line."""
+    head = [
+        f"  {json.dumps(key)}: {json.dumps(value, allow_nan=False)},"
+        for key, value in document.items()
+        if key != "points"
+    ]
+    points = ",\n".join(f"    {json.dumps(p, allow_nan=False)}" for p in document["points"])
+    return "\n".join(["{", *head, '  "points": [', points, "  ]", "}"]) + "\n"
+
+
+def _write_text(target: Path, text: str, what: str) -> None:
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise KinplanError(f"cannot write the {what} file {target}: {exc}") from exc
+    logger.info("wrote %s (%d bytes)", target, len(text))
+
+
+def _script_number(value: float) -> str:
+    """A float as URScript reads it: fixed point, 10 decimals at most, no exponent."""
+    text = f"{value:.10f}".rstrip("0")
+    text = text + "0" if text.endswith(".") else text
+    return "0.0" if text == "-0.0" else text
+
+
+def _script_list(values: np.ndarray) -> str:
+    return "[" + ", ".join(_script_number(v) for v in values.tolist()) + "]"
+
+
+def _ascii(text: str) -> str:
+    """``text`` with anything outside printable ASCII replaced by ``?`` (a comment line)."""
+    return "".join(c if " " <= c <= "~" else "?" for c in text)
+
+
 def plot_motion(
     plan: SampledMotion,
     path: str | os.PathLike[str] | None = None,
@@ -88,7 +586,14 @@ def plot_motion(
     """Joint position, velocity, acceleration and tool speed against time, one line per joint.
 
     Move boundaries (``plan.moves`` with ``t0``/``t1``) are drawn as faint vertical lines and
-    numbered at the top; a failed move is shaded red.
+    numbered at the top; a failed move is shaded red. A plan checked against a work cell
+    (``cell=`` of :func:`cartesian.follow`, a program) gets a fifth panel, its clearance [mm]:
+    the smallest robot–obstacle distance and the smallest distance between the robot's own
+    checked pairs at every sample (coal's exact distances at the samples,
+    :class:`kinplan.cell.MotionCheck`; between two samples the check certified the margin, the
+    lines just join the samples), the ``clearance`` margin (kept from the obstacles) dashed, and
+    for a plan stopped by a collision a cross at the failing pair's distance at the failing
+    instant (a sample the plan does not keep, or between two samples).
 
     Args:
         plan: The motion, with its robot (:class:`~kinplan.motion.SampledMotion`); a program's
@@ -99,7 +604,7 @@ def plot_motion(
         unit: Unit of joint position for the labels.
 
     Returns:
-        The figure (four stacked axes).
+        The figure (four stacked axes; five with the clearance).
 
     Raises:
         InputError: not a motion with a robot.
@@ -109,8 +614,10 @@ def plot_motion(
     track = _tool_track(plan, "plot_motion")
     n = plan.q.shape[1]
     names = list(joint_names) if joint_names is not None else [f"joint {j}" for j in range(n)]
-    figure = Figure(figsize=(9.0, 9.0), layout="constrained")
-    axes = figure.subplots(4, 1, sharex=True)
+    clearances = _clearances(plan)
+    rows = 4 if clearances is None else 5
+    figure = Figure(figsize=(9.0, 9.0 if rows == 4 else 11.0), layout="constrained")
+    axes = figure.subplots(rows, 1, sharex=True)
     for j in range(n):
         for ax, values in zip(axes[:3], (plan.q, plan.qd, plan.qdd)):
             ax.plot(plan.t, values[:, j], color=f"C{j % 10}", label=names[j], linewidth=1.2)
@@ -124,6 +631,8 @@ def plot_motion(
     for ax, label in zip(axes, labels):
         ax.set_ylabel(label)
         ax.grid(True, alpha=0.3)
+    if clearances is not None:
+        _plot_clearances(axes[4], plan.t, clearances)
     _mark_moves(axes, plan.moves)
     axes[-1].set_xlabel("time [s]")
     axes[0].legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.0, 1.0))
@@ -134,6 +643,69 @@ def plot_motion(
         figure.savefig(os.fspath(path), dpi=110)
         logger.info("wrote %s", path)
     return figure
+
+
+@dataclass(frozen=True)
+class _Clearances:
+    """What the clearance panel of :func:`plot_motion` draws (distances [m] at the samples)."""
+
+    obstacle: np.ndarray  # smallest robot–obstacle distance (N,): inf without obstacles
+    own: np.ndarray  # smallest distance of the robot's own checked pairs (N,)
+    margin: float  # the clearance margin (robot–obstacle pairs)
+    failure: tuple[float, float, str] | None  # (t [s], distance [m], label) of a collision
+
+
+def _clearances(plan: SampledMotion) -> _Clearances | None:
+    """The per-sample clearances of a plan checked against a work cell, or None.
+
+    A Cartesian plan keeps its :class:`kinplan.cell.MotionCheck` (``cell_check``), a program
+    plan the clearances of its moves' checks (``clearance``, ``self_clearance``).
+    """
+    if getattr(plan, "cell", None) is None:
+        return None
+    n = len(plan.t)
+    check = getattr(plan, "cell_check", None)
+    per_sample = getattr(plan, "clearance", None)
+    if check is not None:
+        obstacle = np.asarray(check.obstacle_distances, dtype=float)[:n]
+        own = np.asarray(check.self_distances, dtype=float)[:n]
+        margin = float(check.clearance)
+    elif per_sample is not None:
+        obstacle = np.asarray(per_sample, dtype=float)
+        own_values = getattr(plan, "self_clearance", None)
+        own = np.full(n, np.nan) if own_values is None else np.asarray(own_values, dtype=float)
+        margin = float(getattr(plan, "clearance_margin", 0.0))
+    else:
+        return None
+    failed = collision_check(plan)
+    failure = None
+    if failed is not None and failed.bodies is not None:
+        label = f"collision: {failed.bodies[0]} – {failed.bodies[1]}"
+        failure = (collision_time(plan, failed), float(failed.distance), label)
+    if not (np.isfinite(obstacle).any() or np.isfinite(own).any() or failure):
+        return None
+    return _Clearances(obstacle, own, margin, failure)
+
+
+def _plot_clearances(ax: Axes, t: np.ndarray, clearances: _Clearances) -> None:
+    """The clearance panel: distances [mm] against time, the margin dashed, the collision."""
+    for values, colour, label in (
+        (clearances.obstacle, "C3", "robot–obstacle"),
+        (clearances.own, "C0", "robot–robot (self)"),
+    ):
+        if np.isfinite(values).any():
+            ax.plot(t, 1e3 * values, color=colour, linewidth=1.2, label=label)
+    ax.axhline(0.0, color="0.5", linewidth=0.8)
+    if clearances.margin > 0:
+        ax.axhline(
+            1e3 * clearances.margin, color="C3", linestyle="--", linewidth=1.0,
+            label=f"clearance margin {1e3 * clearances.margin:g} mm (obstacles)",
+        )  # fmt: skip
+    if clearances.failure is not None:
+        when, distance, label = clearances.failure
+        ax.plot([when], [1e3 * distance], "x", color="C3", markersize=9, mew=2, label=label)
+    ax.set_ylabel("clearance [mm]")
+    ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.0, 1.0))
 
 
 def _tool_track(plan: SampledMotion, what: str) -> ToolTrack:

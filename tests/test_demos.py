@@ -53,31 +53,51 @@ def test_weld_demo_from_the_command_line(tmp_path, capsys):
     assert len(rows) > 1000
 
 
-def test_weld_example_plans_the_seams_at_constant_speed(tmp_path):
+def test_weld_example_plans_the_weld_cell(tmp_path):
+    """The weld cell: the woven fillet weaves ±1.5 mm across its seam at a constant 8 mm/s of
+    travel with the torch at 45° work and 10° travel angle; the blended rectangle keeps 10 mm/s
+    through its corners; the 2 mm clearance holds; the two failing programs fail as promised."""
     spec = importlib.util.spec_from_file_location("weld_demo", EXAMPLES / "weld_demo.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    result = module.main(tmp_path, html=tmp_path / "custom.html", dt=0.02)
+    result = module.main(tmp_path, html=tmp_path / "custom.html", dt=0.01)
     assert result.ok, result.reason
     assert result.files["playback (HTML)"] == tmp_path / "custom.html"
-    assert (tmp_path / "custom.html").is_file()
+    for label in ("URScript", "JointTrajectory", "weld_cell.yaml", "mig_torch.stl"):
+        assert result.files[label].is_file(), label
     plan = result.data["plan"]
-    assert plan.ok and [m.status for m in plan.moves] == ["ok"] * len(plan.moves)
-    seams = [m for m in plan.moves if m.kind == "seam"]
-    assert len(seams) == 2
     robot = plan.robot
-    for move, seam in zip(seams, result.data["seams"].values()):
-        window = slice(move.first, move.last + 1)
-        speed = plan.tool_speed[window]
-        cruise = speed[(plan.t[window] > move.t0 + 0.3) & (plan.t[window] < move.t1 - 0.3)]
-        np.testing.assert_allclose(cruise, demos.WELD_SPEED, rtol=1e-3)  # through the corners
-        assert move.cartesian_plan.max_deviation < 1e-5
-        tool_z = plan.tool_positions[window, 2]
-        np.testing.assert_allclose(tool_z, demos.SEAM_HEIGHT, atol=1e-6)
-        for k in range(move.first, move.last + 1, 50):  # tool pointing down all along
-            z_axis = robot.fk(plan.q[k]).rotation[:, 2]
-            np.testing.assert_allclose(z_axis, [0.0, 0.0, -1.0], atol=1e-6)
-        assert seam.length > 0.3
+    assert plan.ok and all(m.status == "ok" for m in plan.moves)
+    assert plan.min_clearance >= 0.002
+    by_name = {m.label.split(":")[0]: m for m in plan.moves}
+    fillet = by_name["woven fillet"]
+    window = slice(fillet.first, fillet.last + 1)
+    tcp = np.array([robot.fk(q).translation for q in plan.q[window]])
+    t = plan.t[window]
+    # the seam runs along −x at y = 0.055, z = 0.01; the weave is across it, perpendicular to
+    # the torch axis: its offset from the seam line stays within the amplitude
+    offset = np.hypot(tcp[:, 1] - 0.055, tcp[:, 2] - 0.01)
+    assert offset.max() <= 0.0015 + 1e-6 and offset.max() >= 0.0014
+    cruise = (t > fillet.t0 + 0.3) & (t < fillet.t1 - 0.3)
+    travel = -np.diff(tcp[:, 0])[cruise[1:]] / np.diff(t)[cruise[1:]]
+    np.testing.assert_allclose(travel, 0.008, rtol=0.01)  # seam-wise speed constant to 1 %
+    work, push = np.radians(45.0), np.radians(10.0)
+    for q in plan.q[window][::50]:
+        axis = robot.fk(q).rotation[:, 2]  # in the seam frame t = −x, y0 = +y, z0 = −z
+        np.testing.assert_allclose(
+            [-axis[0], axis[1], -axis[2]],
+            [np.sin(push), -np.sin(work) * np.cos(push), np.cos(work) * np.cos(push)],
+            atol=1e-6,
+        )
+    rectangle = next(m for m in plan.moves if "+" in m.kind)
+    window = slice(rectangle.first, rectangle.last + 1)
+    speed = plan.tool_speed[window]
+    t = plan.t[window]
+    inner = (t > rectangle.t0 + 0.3) & (t < rectangle.t1 - 0.3)
+    assert speed[inner].min() >= 0.99 * 0.01  # no stop at the blended corners
+    text = "\n".join(result.lines)
+    assert "weld_collision.yaml fails on purpose" in text
+    assert "collision at s = " in text and "tool comes within" in text and "of web" in text
 
 
 def test_rounded_rectangle_geometry():

@@ -514,15 +514,28 @@ def test_parse_program_from_text():
     np.testing.assert_allclose(program.start, np.radians([0, -90, 90, -90, -90, 0]))
 
 
-@pytest.mark.parametrize(
-    "name", ["ur5_pick_place", "weld_seam", "lecture_2r", "weld_unreachable", "panda_on_table"]
-)
+def test_every_example_program_is_tested():
+    names = {path.stem for path in EXAMPLES.glob("*.yaml")}
+    assert names == set(EXAMPLE_PROGRAMS)
+
+
+EXAMPLE_PROGRAMS = (
+    "ur5_pick_place", "weld_seam", "weld_cell", "lecture_2r", "weld_unreachable",
+    "weld_collision", "panda_on_table",
+)  # fmt: skip
+
+
+@pytest.mark.parametrize("name", EXAMPLE_PROGRAMS)
 def test_example_programs(name):
     plan = plan_program(load_program(EXAMPLES / f"{name}.yaml"))
     if name == "weld_unreachable":
         assert not plan.ok
         assert plan.reason.startswith("move 3 (weld across the base: lin to seam_end, moves[2]): ")
         assert " at s = " in plan.reason
+    elif name == "weld_collision":
+        assert not plan.ok and plan.moves[-1].status == "collision"
+        assert plan.reason.startswith("move 2 (approach through the web: lin to fillet_start, ")
+        assert "tool comes within" in plan.reason and "of web" in plan.reason
     else:
         assert plan.ok, plan.reason
 

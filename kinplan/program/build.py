@@ -32,6 +32,7 @@ from kinplan.program.schema import (
 )
 from kinplan.robot import Robot
 from kinplan.sampling import joint_speeds, motion_step
+from kinplan.trajectory import Trajectory
 
 __all__ = ["Goal", "MotionBuilder", "SeamPiece"]
 
@@ -277,6 +278,30 @@ class MotionBuilder:
             self._fail("ptp", label, key, status="invalid", why=f"invalid: {exc}")
         return self._joint_motion(traj, label, key)
 
+    def trajectory(
+        self, traj: Trajectory, *, label: str = "trajectory", key: str | None = None
+    ) -> MoveReport:
+        """Append a joint trajectory that starts at the current configuration (e.g. one of
+        :mod:`kinplan.trajectory`'s profiles), checked like a ptp (velocity limits, the cell).
+
+        Raises:
+            KinplanError: the trajectory has another number of joints or does not start at the
+                current configuration (within :data:`~kinplan.program.JOIN_TOLERANCE`).
+        """
+        self._check_open()
+        if not isinstance(traj, Trajectory) or traj.n != self.robot.nq:
+            raise KinplanError(
+                f"expected a kinplan.trajectory.Trajectory of {self.robot.nq} joints, got "
+                f"{describe(traj)}"
+            )
+        gap = float(np.max(np.abs(traj.sample(np.array([0.0]))[0][0] - self.q)))
+        if gap > JOIN_TOLERANCE:
+            raise KinplanError(
+                f"the trajectory starts {gap:.3g} rad away from the current configuration; "
+                "plan it from MotionBuilder.q"
+            )
+        return self._joint_motion(traj, label, key)
+
     def dwell(self, seconds: float, *, label: str = "dwell", key: str | None = None) -> MoveReport:
         """Stand still for ``seconds`` [s] (an arc-on or arc-off dwell of a weld)."""
         self._check_open()
@@ -288,7 +313,7 @@ class MotionBuilder:
         zero = np.zeros_like(q)
         return self._record("dwell", label, key, (t, q, zero, zero.copy()))
 
-    def _joint_motion(self, traj, label: str, key: str | None) -> MoveReport:
+    def _joint_motion(self, traj: Trajectory, label: str, key: str | None) -> MoveReport:
         """Sample a joint trajectory from the current configuration, check it and record it."""
         t = traj.time_grid(motion_step(traj.duration, self.dt))
         q, qd, qdd = traj.sample(t)

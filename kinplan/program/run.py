@@ -100,7 +100,7 @@ def _plan_blended(builder: MotionBuilder, program: Program, group: list[Move]) -
         profile=first.profile,
         weave=first.weave,
         torch=first.torch,
-        label=", blended into ".join(move.label for move in group),
+        label=first.name or "blended " + " → ".join(f"{m.kind} {m.target}" for m in group),
         key=f"moves[{first.index}..{group[-1].index}]",
         kind="+".join(move.kind for move in group),
     )
