@@ -6,6 +6,7 @@ Usage::
     kinplan fk ROBOT --q Q [Q ...] [--deg]
     kinplan ik ROBOT --xyz X Y Z [--rpy-deg R P Y | --quat-xyzw X Y Z W] [--seed Q ...] [--deg]
     kinplan run PROGRAM.yaml [--html FILE] [--plot FILE] [--csv FILE] [--dt DT]
+        [--urscript FILE [--servo-period S]] [--trajectory FILE.json|.yaml]
     kinplan run A.yaml B.yaml ... [--jobs N | --scheduler ADDR]
     kinplan reach ROBOT -o MAP.npz [--resolution R] [--orientations K] [--direction X Y Z
         --cone-deg DEG] [--region ...] [--png FILE] [--html FILE] [--jobs N | --scheduler ADDR]
@@ -292,6 +293,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     args.program = args.program[0]
     plot = _plot_file(args.plot) if args.plot else None  # an unknown image type: before planning
     program = load_program(args.program)
+    _check_controller_exports(program.robot, args)  # a robot URScript cannot drive: before planning
     for warning in program.warnings:
         print(f"kinplan: warning: {warning}", file=sys.stderr)
     plan = _plan_with_progress(program, args.dt)
@@ -402,19 +404,51 @@ def _plot_file(text: str) -> Path:
     return path
 
 
-def _write_outputs(plan, args: argparse.Namespace, plot: Path | None) -> list[str]:
-    """Write the requested --csv, --plot and --html files; return what could not be written.
+_CONTROLLER_FLAGS = ("--urscript", "--trajectory")
+"""Outputs a controller would run: never written for a failed plan."""
 
-    A failed plan's files hold the motion up to the failure (for inspection, not a valid
-    motion); with no motion before the failure nothing is written. Each file is reported on
-    stdout, written or not.
+
+def _check_controller_exports(robot: kinplan.Robot, args: argparse.Namespace) -> None:
+    """Refuse --urscript for a robot that is not a UR arm and --trajectory with an unknown
+    extension, before planning.
+
+    Raises:
+        KinplanError: the reason, naming the flag and its file.
+    """
+    from kinplan import export
+
+    if args.urscript:
+        problem = export.ur_arm_problem(robot)
+        if problem:
+            raise KinplanError(f"--urscript {args.urscript}: {problem}; use --trajectory or --csv")
+    if args.trajectory:
+        try:
+            export.trajectory_format(args.trajectory)
+        except InputError as exc:
+            raise KinplanError(f"--trajectory {args.trajectory}: {_one_line(exc)}") from None
+
+
+def _write_outputs(plan, args: argparse.Namespace, plot: Path | None) -> list[str]:
+    """Write the requested --csv, --plot, --html, --urscript and --trajectory files; return
+    what could not be written.
+
+    A failed plan's --csv, --plot and --html files hold the motion up to the failure (for
+    inspection, not a valid motion); with no motion before the failure nothing is written. A
+    failed plan's --urscript and --trajectory files are never written: a controller would run
+    them. Each file is reported on stdout, written or not.
     """
     from kinplan import export
 
     robot = plan.robot
     requests = [
         (flag, value)
-        for flag, value in (("--csv", args.csv), ("--plot", plot), ("--html", args.html))
+        for flag, value in (
+            ("--csv", args.csv),
+            ("--plot", plot),
+            ("--html", args.html),
+            ("--urscript", args.urscript),
+            ("--trajectory", args.trajectory),
+        )
         if value
     ]
     if not requests:
@@ -430,10 +464,23 @@ def _write_outputs(plan, args: argparse.Namespace, plot: Path | None) -> list[st
     )
     problems = []
     for flag, value in requests:
+        if flag in _CONTROLLER_FLAGS and failed is not None:
+            problems.append(
+                f"{flag} {value}: {export.plan_failure(plan)}; a controller must not run a "
+                "partial motion"
+            )
+            continue
         try:
             if flag == "--csv":
                 path = export.write_csv(value, plan, robot.joint_names)
                 what = f"{len(plan.t)} samples{partial}"
+            elif flag == "--urscript":
+                path = export.write_urscript(value, plan, period=args.servo_period)
+                count = len(export.servo_samples(plan, args.servo_period)[0])
+                what = f"URScript, {count} servoj targets every {args.servo_period:g} s"
+            elif flag == "--trajectory":
+                path = export.write_joint_trajectory(value, plan)
+                what = f"JointTrajectory, {len(plan.t)} points, {plan.duration:.3f} s"
             elif flag == "--plot":
                 figure_title = f"{title}, {plan.duration:.2f} s"
                 export.plot_motion(plan, value, robot.joint_names, title=figure_title)
@@ -461,7 +508,11 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     from kinplan import demos
 
     out = args.out or f"out/{args.name}"
-    result = demos.DEMOS[args.name](out_dir=out, html=args.html, dt=args.dt)
+
+    def progress(text: str) -> None:
+        print(f"{args.name}: {text}", file=sys.stderr, flush=True)
+
+    result = demos.DEMOS[args.name](out_dir=out, html=args.html, dt=args.dt, progress=progress)
     for line in result.lines:
         print(line)
     print()
@@ -487,28 +538,28 @@ def _cmd_teach(args: argparse.Namespace) -> int:
     interactive = sys.stdin.isatty()
     print(f"teach pendant for {robot.name}: type help for the commands, q to write {args.output}")
     print(pendant.status())
+    lines = teach.PromptLines(history_file=teach.default_history_file()) if interactive else None
+    source = sys.stdin if lines is None else lines
     try:
-        lines = _prompt_lines() if interactive else sys.stdin
-        finished = teach.run_session(pendant, lines, print, on_move=on_move, echo=not interactive)
+        finished = teach.run_session(pendant, source, print, on_move=on_move, echo=not interactive)
     finally:
+        if lines is not None:
+            lines.close()
         if view is not None:
             view.close()
     if not finished:
         print("aborted: no program written")
         return 0
-    if not pendant.points:
-        return _fail("nothing recorded (use r [name] to record a point); no program written")
+    if not pendant.points and not pendant.paths:
+        return _fail(
+            "nothing recorded (use r [name] to record a point, rec start / rec stop a path); "
+            "no program written"
+        )
     path = pendant.save(args.output)
-    print(f"wrote {path}: {len(pendant.points)} points; run it with: kinplan run {path}")
+    count = len(pendant.paths)
+    paths = f", {count} path{'s' if count > 1 else ''}" if count else ""
+    print(f"wrote {path}: {len(pendant.points)} points{paths}; run it with: kinplan run {path}")
     return 0
-
-
-def _prompt_lines():
-    while True:
-        try:
-            yield input("teach> ")
-        except EOFError:
-            return
 
 
 def _teach_viewer(robot):
@@ -590,13 +641,24 @@ def _cmd_run_many(args: argparse.Namespace) -> int:
 
     extra = [
         flag
-        for flag, value in (("--html", args.html), ("--plot", args.plot), ("--csv", args.csv))
+        for flag, value in (
+            ("--html", args.html),
+            ("--plot", args.plot),
+            ("--csv", args.csv),
+            ("--urscript", args.urscript),
+            ("--trajectory", args.trajectory),
+        )
         if value
     ]
     if extra and len(args.program) > 1:
         raise KinplanError(
             f"{', '.join(extra)} write the motion of one program; give one PROGRAM.yaml, or "
             "leave them out to plan several"
+        )
+    if extra:  # one program on an engine: its files would not be written
+        raise KinplanError(
+            f"{', '.join(extra)} write the motion of a program planned here; leave out --jobs "
+            "and --scheduler to write them"
         )
     with _work_progress("planning programs", "programs") as progress:
         summaries = plan_many(args.program, dt=args.dt, progress=progress, **_engine_options(args))
@@ -778,6 +840,25 @@ def build_parser() -> argparse.ArgumentParser:
         "--plot", metavar="FILE", help="write joint position/velocity/acceleration, tool speed"
     )
     run.add_argument("--csv", metavar="FILE", help="write the samples: t, q, qd, qdd, tool pose")
+    from kinplan.export import DEFAULT_SERVO_PERIOD
+
+    run.add_argument(
+        "--urscript",
+        metavar="FILE",
+        help="write a URScript program replaying the motion with servoj (UR arms only)",
+    )
+    run.add_argument(
+        "--servo-period",
+        type=_positive,
+        default=DEFAULT_SERVO_PERIOD,
+        metavar="S",
+        help=f"servoj period of --urscript [s] ({DEFAULT_SERVO_PERIOD}; e-Series: 0.002)",
+    )
+    run.add_argument(
+        "--trajectory",
+        metavar="FILE",
+        help="write a ROS JointTrajectory of the samples (.json, .yaml or .yml)",
+    )
     from kinplan.program import DEFAULT_DT
 
     run.add_argument(

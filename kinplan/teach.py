@@ -1,40 +1,103 @@
-"""A teach pendant in the terminal: jog the arm, record points, write a program.
+"""A teach pendant in the terminal: jog the arm, record points and paths, write a program.
 
 As in the lecture, the operator moves the arm to each point of the task with a pendant and tells
 the controller to record the joint positions there. :class:`TeachPendant` holds the arm's
 configuration and executes one line-based command at a time (so scripts and tests can drive it);
-:func:`run_session` feeds it lines until ``q`` or the end of input. The recorded points become a
-program (start = the configuration the session started from, the points as joint values, a
-``ptp`` to each in order) that ``kinplan run`` plans.
+:func:`run_session` feeds it lines until ``q`` or the end of input, and :class:`PromptLines`
+reads them from the terminal with line editing and history (Python's :mod:`readline`, where it
+exists). The recorded points become a program (start = the configuration the session started
+from, the points as joint values, a ``ptp`` to each in order) that ``kinplan run`` plans.
 
-The commands are in :data:`HELP` (``help`` prints them): jog a joint (``j 2 -5``), the tool along
-x/y/z [m] or about roll/pitch/yaw [deg] (``z -0.01``, ``yaw+``), set the steps, record (``r a``),
-``q`` to finish. Tool jogs solve IK seeded from the current configuration and refuse a jog that
-is unreachable, beyond a joint limit, or that would flip the arm to another branch.
+Continuous paths: between ``rec start [hz]`` and ``rec stop [tol_deg]`` every jog is captured as
+a motion at the jog speed (:data:`DEFAULT_JOG_SPEED` of the joint velocity limits), sampled at
+``hz``; ``rec stop`` fits a smooth joint spline through as few of the samples as keep it within
+the tolerance of all of them (:func:`fit_spline`), reports its deviation in joint space [rad]
+and at the tool [mm], and stores it as one multi-point ``ptp`` move with ``profile: spline``.
+
+The commands are in :data:`HELP` (``help`` prints them, ``help <command>`` explains one from
+:data:`COMMANDS`): jog a joint (``j 2 -5``), the tool along x/y/z [m] or about roll/pitch/yaw
+[deg] (``z -0.01``, ``yaw+``), set the steps, record (``r a``, ``rec start``), ``q`` to finish.
+Tool jogs solve IK seeded from the current configuration and refuse a jog that is unreachable,
+beyond a joint limit, or that would flip the arm to another branch.
 """
 
 from __future__ import annotations
 
+import importlib
 import logging
 import math
 import os
 import re
-from collections.abc import Callable, Iterable
+import textwrap
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from datetime import datetime, timezone
 from pathlib import Path
+from types import ModuleType
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 import cartesian
-from kinplan import checks
+from kinplan import checks, trajectory
 from kinplan.errors import InputError, KinplanError
+from kinplan.program.ptp import motion_limits
+from kinplan.program.schema import FALLBACK_JOINT_SPEED, PTP_RAMP_TIME
 from kinplan.robot import Robot
+from kinplan.trajectory import Trajectory
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["HELP", "Reply", "TeachPendant", "home_configuration", "run_session"]
+__all__ = [
+    "COMMANDS",
+    "DEFAULT_JOG_SPEED",
+    "DEFAULT_PATH_TOLERANCE",
+    "DEFAULT_RATE_HZ",
+    "HELP",
+    "HISTORY_ENV",
+    "PromptLines",
+    "RecordedPath",
+    "Reply",
+    "TeachPendant",
+    "default_history_file",
+    "fit_spline",
+    "home_configuration",
+    "run_session",
+]
+
+DEFAULT_LINEAR_STEP = 0.01
+"""Default tool jog [m]."""
+DEFAULT_ANGULAR_STEP_DEG = 5.0
+"""Default joint and tool rotation jog [deg]."""
+MAX_BRANCH_STEP = 0.5
+"""Joint change a tool jog may cause, beyond its length [m] and angle [rad], before it counts as
+a branch flip [rad] (jogs are also checked for continuity along the way)."""
+MAX_LINEAR_JOG = 10.0
+"""Longest tool jog or linear step the pendant accepts [m] (beyond the reach of any arm)."""
+MAX_JOINT_JOG_DEG = 720.0
+"""Largest joint jog the pendant accepts [deg] (two turns, for continuous joints)."""
+MAX_ROTATION_JOG_DEG = 180.0
+"""Largest tool rotation jog or angle step the pendant accepts [deg]."""
+
+DEFAULT_RATE_HZ = 50.0
+"""Sampling rate of a continuous-path recording (``rec start``) [Hz]."""
+MAX_RATE_HZ = 1000.0
+"""Highest sampling rate ``rec start`` accepts [Hz]."""
+DEFAULT_PATH_TOLERANCE = 1e-3
+"""Largest joint deviation of a recorded path's spline from the recording (``rec stop``) [rad]."""
+MAX_PATH_TOLERANCE_DEG = 10.0
+"""Largest tolerance ``rec stop`` accepts [deg]."""
+DEFAULT_JOG_SPEED = 0.1
+"""Jog speed, share of the joint velocity limits [-]: a recorded jog cruises at most at this
+share of each joint's limit (joints without one at the programs' fallback speed) and reaches it
+in the programs' ramp time (the acceleration limits, scaled alike, where the robot has them)."""
+MAX_RECORDING_SAMPLES = 200_000
+"""Most samples one recording keeps (over an hour at 50 Hz); ``rec stop`` and start again."""
+HISTORY_ENV = "KINPLAN_HISTORY"
+"""Environment variable naming the pendant's history file; empty disables the file."""
+HISTORY_LENGTH = 1000
+"""Lines kept in the history file."""
 
 HELP = """\
 j <i> <deg>           jog joint i (0-based index or name) by deg; j <i>+ / j <i>- use the step
@@ -44,22 +107,99 @@ roll|pitch|yaw <deg>  rotate the tool about the world x|y|z axis through the too
 step <m>              set the linear step [m]
 astep <deg>           set the angle step for joints and rotations [deg]
 r [name]              record the current configuration (default names p1, p2, ...)
-del <name>            forget a recorded point
-list                  list the recorded points
+rec start [hz]        record a continuous path: the jogs that follow, sampled at hz (default 50)
+rec stop [tol_deg]    end it: store a smooth spline through the recording, within tol_deg of it
+                      (default 0.0573° = 1e-3 rad), and report its deviation
+del <name>            forget a recorded point or path
+list                  list the recorded points and paths
 home                  go back to the start configuration
 show                  show joints and tool pose
-help                  this help
+help [command]        this help, or a command's usage, units and aliases
 q | quit | EOF        write the program and quit
 abort                 quit without writing"""
 """The pendant's commands."""
 
-DEFAULT_LINEAR_STEP = 0.01
-"""Default tool jog [m]."""
-DEFAULT_ANGULAR_STEP_DEG = 5.0
-"""Default joint and tool rotation jog [deg]."""
-MAX_BRANCH_STEP = 0.5
-"""Joint change a tool jog may cause, beyond its length [m] and angle [rad], before it counts as
-a branch flip [rad] (jogs are also checked for continuity along the way)."""
+COMMANDS = {
+    "j": """\
+j <joint> <deg>  |  j <joint>+  |  j <joint>-                        (also: joint)
+Jog one joint by <deg> degrees (negative to go back, at most 720); + and - jog by the angle
+step (astep). <joint> is a 0-based index or a joint name (show lists the joints). A jog beyond
+the joint's limits is refused. Example: j 2 -5""",
+    "x": """\
+x|y|z <m>  |  x+  |  x-  |  y+  |  y-  |  z+  |  z-
+Move the tool along the world x, y or z axis by <m> metres (at most 10) on a straight line,
+keeping its orientation; + and - move by the linear step (step). The line is checked first: a
+jog that leaves the workspace, meets a joint limit or a singularity, or would flip the arm to
+another branch is refused with the reason. Example: z -0.01""",
+    "roll": """\
+roll|pitch|yaw <deg>  |  roll+  |  roll-  |  ...                  (also: rx, ry, rz)
+Rotate the tool by <deg> degrees (at most 180) about the world x (roll), y (pitch) or z (yaw)
+axis through the tool point; + and - rotate by the angle step (astep). Checked like x|y|z. Arms
+that control the tool position only cannot rotate it. Example: yaw 15""",
+    "step": """\
+step <m>
+Set the linear step of x+, y-, ... to <m> metres, a number > 0 and at most 10.
+Example: step 0.005""",
+    "astep": """\
+astep <deg>
+Set the angle step of j <i>+, roll-, ... to <deg> degrees, a number > 0 and at most 180.
+Example: astep 1""",
+    "r": """\
+r [name]  |  rec [name]  |  record [name]
+Record the current configuration as a point named <name> (letters, digits, _ and -, not first a
+digit; default p1, p2, ...). The program moves to each point with a ptp move, in teaching order.
+rec start [hz]
+Record a continuous path: every jog that follows (and home) is captured as a motion at the jog
+speed (10 % of the joint velocity limits) and sampled <hz> times a second (default 50, > 0, at
+most 1000). The arm's configuration at rec start is the path's first point.
+rec stop [tol_deg]
+End the recording and store it as path1, path2, ...: a smooth joint spline (acceleration
+continuous, at rest at both ends) through as few of the samples as keep every sample within
+<tol_deg> degrees of it (default 0.0573° = 1e-3 rad, > 0, at most 10). Reports the samples, the
+knots kept and the largest deviation, in joint space [rad] and at the tool [mm]. The program
+plays it as one ptp through the knots (profile: spline, knot times by chord length) in the
+recorded time, or longer if the joint limits need it.""",
+    "del": """\
+del <name>                                                          (also: delete)
+Forget a recorded point or path (list shows them).""",
+    "list": """\
+list
+List the recorded points (joints [deg], tool position [m]) and paths, in teaching order.""",
+    "home": """\
+home
+Go back to the start configuration (a joint move; recorded while rec start is on).""",
+    "show": """\
+show
+Show the joint values [deg] and the tool position [m] and orientation (roll, pitch, yaw [deg]).""",
+    "help": """\
+help [command]                                                      (also: ?)
+List the commands, or explain one: its usage, units and aliases. Example: help rec""",
+    "q": """\
+q  |  quit  |  exit  |  end of input
+Write the program and quit (a running recording is stopped first, as rec stop).""",
+    "abort": """\
+abort
+Quit without writing the program (a running recording is dropped).""",
+}
+"""Help on each command (``help <command>``): usage, what it does, units, aliases."""
+
+_HELP_ALIASES = {
+    "joint": "j",
+    "y": "x",
+    "z": "x",
+    "pitch": "roll",
+    "yaw": "roll",
+    "rx": "roll",
+    "ry": "roll",
+    "rz": "roll",
+    "rec": "r",
+    "record": "r",
+    "delete": "del",
+    "?": "help",
+    "quit": "q",
+    "exit": "q",
+}
+_COMPLETIONS = sorted({*COMMANDS, *_HELP_ALIASES, "start", "stop"})
 
 _HOME_DEG = {
     "ur": [0.0, -90.0, 90.0, -90.0, -90.0, 0.0],
@@ -69,6 +209,12 @@ _AXES = {"x": 0, "y": 1, "z": 2}
 _ROTATIONS = {"roll": 0, "rx": 0, "pitch": 1, "ry": 1, "yaw": 2, "rz": 2}
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]*$")
 _JOG = re.compile(r"^(?P<axis>[a-z]+)(?P<sign>[+-])$")
+_CONTROL = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]")
+_DURATION_MARGIN = 1e-4
+"""Share of a spline's minimum time a stored path keeps in reserve, so that the program, which
+reads the knots rounded to 1e-6°, finds the same duration feasible [-]."""
+_LIMIT_TOLERANCE = 1e-9
+"""How far a fitted spline may pass a joint limit at a sample before a knot is added there [rad]."""
 
 
 def home_configuration(robot: Robot) -> np.ndarray:
@@ -104,6 +250,76 @@ class Reply:
     write: bool = False
 
 
+@dataclass(frozen=True, eq=False)
+class RecordedPath:
+    """A continuous path recorded with ``rec start`` / ``rec stop`` and its fitted spline.
+
+    Attributes:
+        name: Its name in the session (``path1``, ...); its knots are the program's points
+            ``<name>_0``, ``<name>_1``, ...
+        rate_hz: Sampling rate of the recording [Hz].
+        sample_times: Times of the recorded samples, from 0 [s], shape (N,).
+        samples: The recorded configurations [rad], shape (N, n).
+        knot_indices: The samples kept as the spline's knots, shape (k,), 0 first, N − 1 last.
+        spline: The motion the program plays (:func:`kinplan.trajectory.spline`): the clamped
+            cubic spline through the knots, at rest at both ends, knot times proportional to the
+            chord lengths, lasting the recorded time (longer only if the joint limits need it).
+        fractions: Where each sample is matched on the spline, share of its duration, shape (N,)
+            (see :func:`fit_spline`).
+        deviation: Largest |spline − recording| over the joints at each sample [rad], shape (N,).
+        tool_deviation: Largest distance between the tool positions of the spline and of the
+            recording at the samples [m].
+        tolerance: The deviation the fit was asked to stay within [rad].
+    """
+
+    name: str
+    rate_hz: float
+    sample_times: np.ndarray
+    samples: np.ndarray
+    knot_indices: np.ndarray
+    spline: Trajectory
+    fractions: np.ndarray
+    deviation: np.ndarray
+    tool_deviation: float
+    tolerance: float
+
+    @property
+    def duration(self) -> float:
+        """Recorded duration [s]."""
+        return float(self.sample_times[-1])
+
+    @property
+    def knot_times(self) -> np.ndarray:
+        """Times of the knots in the recording [s], shape (k,)."""
+        return self.sample_times[self.knot_indices]
+
+    @property
+    def knots(self) -> np.ndarray:
+        """The knots' configurations [rad], shape (k, n)."""
+        return self.samples[self.knot_indices]
+
+    @property
+    def max_deviation(self) -> float:
+        """Largest joint deviation of the spline from the recording at the samples [rad]."""
+        return float(self.deviation.max())
+
+    def point_names(self) -> list[str]:
+        """The program's names of the knots: ``<name>_0``, ``<name>_1``, ..."""
+        return [f"{self.name}_{k}" for k in range(len(self.knot_indices))]
+
+
+@dataclass
+class _Recording:
+    """A recording under way: samples on the grid k / rate_hz, the last at ``elapsed``."""
+
+    rate_hz: float
+    times: list[float]
+    q: list[np.ndarray]
+    elapsed: float = 0.0
+    next_k: int = 1
+    jogs: int = 0
+
+
 class TeachPendant:
     """The state of a teach session and its commands.
 
@@ -113,10 +329,15 @@ class TeachPendant:
         robot_source: How the program names the robot (a name or URDF path; default its name).
         linear_step: Tool jog step [m].
         angular_step_deg: Joint and rotation jog step [deg].
+        jog_speed: Speed of the jogs a recording captures, share of the joint velocity limits,
+            in (0, 1] [-].
+        path_tolerance: Default largest deviation of a recorded path's spline from the
+            recording (``rec stop`` without a tolerance) [rad].
 
     Attributes:
         q: Current configuration [rad].
         points: Recorded points: name → configuration [rad], in recording order.
+        paths: Recorded continuous paths: name → :class:`RecordedPath`, in recording order.
     """
 
     def __init__(
@@ -126,6 +347,8 @@ class TeachPendant:
         robot_source: str | None = None,
         linear_step: float = DEFAULT_LINEAR_STEP,
         angular_step_deg: float = DEFAULT_ANGULAR_STEP_DEG,
+        jog_speed: float = DEFAULT_JOG_SPEED,
+        path_tolerance: float = DEFAULT_PATH_TOLERANCE,
     ) -> None:
         _check_robot(robot)
         self.robot = robot
@@ -140,11 +363,44 @@ class TeachPendant:
         if robot_source is not None:
             robot_source = checks.text(robot_source, "robot_source (a robot name or URDF path)")
         self.robot_source = robot_source or robot.name
-        self.linear_step = checks.number(linear_step, "linear_step", positive=True, unit="m")
+        self.linear_step = checks.number(
+            linear_step, "linear_step", positive=True, maximum=MAX_LINEAR_JOG, unit="m"
+        )
         self.angular_step = math.radians(
-            checks.number(angular_step_deg, "angular_step_deg", positive=True, unit="deg")
+            checks.number(
+                angular_step_deg,
+                "angular_step_deg",
+                positive=True,
+                maximum=MAX_ROTATION_JOG_DEG,
+                unit="deg",
+            )
+        )
+        self.jog_speed = checks.number(
+            jog_speed, "jog_speed (share of the joint velocity limits)", positive=True, maximum=1.0
+        )
+        self.path_tolerance = checks.number(
+            path_tolerance,
+            "path_tolerance",
+            positive=True,
+            maximum=math.radians(MAX_PATH_TOLERANCE_DEG),
+            unit="rad",
+        )
+        limit = robot.velocity_limit
+        limit = np.where(np.isfinite(limit), limit, FALLBACK_JOINT_SPEED)
+        self._jog_velocity = limit * self.jog_speed
+        known = robot.acceleration_limit
+        self._jog_acceleration = np.where(
+            np.isfinite(known), known * self.jog_speed, self._jog_velocity / PTP_RAMP_TIME
         )
         self.points: dict[str, np.ndarray] = {}
+        self.paths: dict[str, RecordedPath] = {}
+        self._order: list[tuple[str, str]] = []  # ("point" | "path", name), in teaching order
+        self._recording: _Recording | None = None
+
+    @property
+    def recording(self) -> bool:
+        """Whether a continuous path is being recorded (between ``rec start`` and ``rec stop``)."""
+        return self._recording is not None
 
     # -- display -------------------------------------------------------------------------------
     def status(self) -> str:
@@ -163,32 +419,46 @@ class TeachPendant:
         """Run one command line; unknown or malformed commands get a message, never raise."""
         if not isinstance(line, str):
             return Reply(f"error: a command is a line of text, got {checks.describe(line)}")
+        control = _control_message(line)
+        if control:
+            return Reply(f"error: {control}")
         words = line.split("#", 1)[0].split()
         if not words:
             return Reply("")
         command, arguments = words[0].lower(), words[1:]
         try:
-            return self._dispatch(command, arguments)
+            reply = self._dispatch(command, arguments)
         except (ValueError, KinplanError) as exc:
             return Reply(f"error: {exc}")
+        recording = self._recording
+        if reply.moved and recording is not None:
+            reply.text += (
+                f"\nrecording: {len(recording.times)} samples, {recording.elapsed:.2f} s "
+                "(rec stop to store the path)"
+            )
+        return reply
 
     def _dispatch(self, command: str, arguments: list[str]) -> Reply:
         simple = {
-            "help": lambda: Reply(HELP),
-            "?": lambda: Reply(HELP),
             "show": lambda: Reply(self.status()),
             "list": self._list,
             "home": self._home,
-            "q": lambda: Reply("", done=True, write=True),
-            "quit": lambda: Reply("", done=True, write=True),
-            "exit": lambda: Reply("", done=True, write=True),
-            "abort": lambda: Reply("", done=True, write=False),
+            "q": self._finish,
+            "quit": self._finish,
+            "exit": self._finish,
+            "abort": self._abort,
         }
         if command in simple and not arguments:
             return simple[command]()
+        if command in ("help", "?"):
+            return self._help(arguments)
         if command in ("j", "joint"):
             return self._jog_joint(arguments)
         if command in ("r", "rec", "record"):
+            if arguments and arguments[0].lower() == "start":
+                return self._start_recording(arguments[1:])
+            if arguments and arguments[0].lower() == "stop":
+                return self._stop_recording(arguments[1:])
             return self._record(arguments)
         if command in ("del", "delete"):
             return self._delete(arguments)
@@ -200,11 +470,31 @@ class TeachPendant:
         axis, sign = (match["axis"], match["sign"]) if match else (command, "")
         if axis in _AXES or axis in _ROTATIONS:
             return self._jog_tool(axis, sign, arguments)
+        if command in simple:
+            raise ValueError(f"usage: {command} (no arguments); help {command} explains it")
         return Reply(f"error: unknown command {command!r}; type help for the commands")
 
-    def _jog_joint(self, arguments: list[str]) -> Reply:
+    def _help(self, arguments: list[str]) -> Reply:
         if not arguments:
-            raise ValueError("usage: j <index or name> <delta_deg>, or j <index>+ / j <index>-")
+            return Reply(HELP)
+        if len(arguments) > 1:
+            raise ValueError("usage: help [command]")
+        name = arguments[0].lower()
+        key = _HELP_ALIASES.get(name, name)
+        match = _JOG.match(key)
+        if key not in COMMANDS and match:  # help x+, help yaw-, help j+
+            key = _HELP_ALIASES.get(match["axis"], match["axis"])
+        if key not in COMMANDS:
+            raise ValueError(
+                f"no command {arguments[0]!r}; help explains {', '.join(COMMANDS)} "
+                "(and their aliases)"
+            )
+        return Reply(COMMANDS[key])
+
+    def _jog_joint(self, arguments: list[str]) -> Reply:
+        usage = "usage: j <index or name> <delta_deg>, or j <index>+ / j <index>-"
+        if not arguments:
+            raise ValueError(usage)
         target, sign = arguments[0], ""
         if target[-1] in "+-" and len(target) > 1:
             target, sign = target[:-1], target[-1]
@@ -214,9 +504,11 @@ class TeachPendant:
         elif len(arguments) == 2 and arguments[1] in ("+", "-"):
             delta = self.angular_step * (1.0 if arguments[1] == "+" else -1.0)
         elif len(arguments) == 2 and not sign:
-            delta = math.radians(_finite(arguments[1], "the joint jog [deg]"))
+            delta = math.radians(
+                _number(arguments[1], "the jog", "degrees", maximum=MAX_JOINT_JOG_DEG)
+            )
         else:
-            raise ValueError("usage: j <index or name> <delta_deg>, or j <index>+ / j <index>-")
+            raise ValueError(usage)
         q = self.q.copy()
         q[j] += delta
         robot = self.robot
@@ -226,8 +518,7 @@ class TeachPendant:
                 f"{math.degrees(q[j]):.2f}°, beyond its limits "
                 f"[{math.degrees(robot.lower[j]):.1f}°, {math.degrees(robot.upper[j]):.1f}°]"
             )
-        self.q = q
-        return Reply(self.status(), moved=True)
+        return self._go(q)
 
     def _joint_index(self, text: str) -> int:
         names = self.robot.joint_names
@@ -241,7 +532,10 @@ class TeachPendant:
                 f"{', '.join(names)}"
             ) from None
         if not 0 <= j < len(names):
-            raise ValueError(f"joint index {j} is out of range 0..{len(names) - 1}")
+            raise ValueError(
+                f"joint index {j} is out of range 0..{len(names) - 1} ({self.robot.name} has "
+                f"{len(names)} joints)"
+            )
         return j
 
     def _jog_tool(self, axis: str, sign: str, arguments: list[str]) -> Reply:
@@ -250,8 +544,11 @@ class TeachPendant:
             step = self.angular_step if rotate else self.linear_step
             delta = step if sign == "+" else -step
         elif len(arguments) == 1 and not sign:
-            value = _finite(arguments[0], "the jog [deg]" if rotate else "the jog [m]")
-            delta = math.radians(value) if rotate else value
+            if rotate:
+                value = _number(arguments[0], "the jog", "degrees", maximum=MAX_ROTATION_JOG_DEG)
+                delta = math.radians(value)
+            else:
+                delta = _number(arguments[0], "the jog", "metres", maximum=MAX_LINEAR_JOG)
         else:
             unit = "deg" if rotate else "m"
             raise ValueError(f"usage: {axis} <delta_{unit}>, or {axis}+ / {axis}-")
@@ -306,8 +603,10 @@ class TeachPendant:
                 f"refused: {event.kind} at {100 * event.s:.0f} % of the jog to ({where}) m: "
                 f"{event.message}{beyond}" + (f"; {advice}" if advice else "")
             )
+        along: tuple[np.ndarray, np.ndarray] | None = None
         if len(check.q):
             q = check.q[-1]
+            along = (np.asarray(check.s, dtype=float), np.asarray(check.q, dtype=float))
         else:  # planar arms are checked analytically: solve the end point
             target = position if rotation is None else pin.SE3(rotation, position)
             result = robot.ik(target, q_seed=self.q, position_only=rotation is None)
@@ -328,16 +627,37 @@ class TeachPendant:
                 f"{math.degrees(change[j]):.1f}° (a branch flip); take a smaller step or jog the "
                 "joints"
             )
-        self.q = np.array(q)
+        return self._go(np.array(q, dtype=float), along)
+
+    def _go(self, q: np.ndarray, along: tuple[np.ndarray, np.ndarray] | None = None) -> Reply:
+        """Move to ``q`` (captured by a running recording: along the joint path ``along``, path
+        fractions and configurations, or joint-interpolated)."""
+        if self._recording is not None:
+            refusal = self._capture(q, along)
+            if refusal:
+                return Reply(refusal)
+        self.q = q
         return Reply(self.status(), moved=True)
 
     def _set_step(self, arguments: list[str], angular: bool) -> Reply:
-        usage = f"usage: {'astep <deg>' if angular else 'step <m>'} (a number > 0)"
+        usage = "usage: astep <deg>" if angular else "usage: step <m>"
         if len(arguments) != 1:
-            raise ValueError(usage)
-        value = _finite(arguments[0], "the step")
-        if value <= 0:
-            raise ValueError(usage)
+            raise ValueError(f"{usage} (a number > 0)")
+        try:
+            if angular:
+                value = _number(
+                    arguments[0],
+                    "the angle step",
+                    "degrees",
+                    positive=True,
+                    maximum=MAX_ROTATION_JOG_DEG,
+                )
+            else:
+                value = _number(
+                    arguments[0], "the linear step", "metres", positive=True, maximum=MAX_LINEAR_JOG
+                )
+        except ValueError as exc:
+            raise ValueError(f"{usage}: {exc}") from None
         if angular:
             self.angular_step = math.radians(value)
             return Reply(f"angle step {value:g}°")
@@ -346,7 +666,7 @@ class TeachPendant:
 
     def _record(self, arguments: list[str]) -> Reply:
         if len(arguments) > 1:
-            raise ValueError("usage: r [name]")
+            raise ValueError("usage: r [name], rec start [hz] or rec stop [tol_deg]")
         name = arguments[0] if arguments else self._next_name()
         if not _NAME.match(name):
             raise ValueError(
@@ -354,53 +674,224 @@ class TeachPendant:
             )
         if name in self.points:
             return Reply(f"refused: a point {name!r} exists; give another name or del {name}")
+        taken = self._path_point_owner(name)
+        if taken:
+            return Reply(f"refused: {name!r} is taken by the path {taken}; give another name")
         self.points[name] = self.q.copy()
+        self._order.append(("point", name))
         xyz = ", ".join(f"{v:.4f}" for v in self.robot.fk(self.q).translation)
         return Reply(f"recorded {name} (tool at ({xyz}) m); {len(self.points)} points")
 
+    def _path_point_owner(self, name: str) -> str | None:
+        """The recorded path whose name or program point names include ``name``, if any."""
+        for path in self.paths.values():
+            if name == path.name or name in path.point_names():
+                return path.name
+        return None
+
     def _next_name(self) -> str:
         k = len(self.points) + 1
-        while f"p{k}" in self.points:
+        while f"p{k}" in self.points or self._path_point_owner(f"p{k}"):
             k += 1
         return f"p{k}"
 
+    # -- continuous paths ----------------------------------------------------------------------
+    def _start_recording(self, arguments: list[str]) -> Reply:
+        if len(arguments) > 1:
+            raise ValueError("usage: rec start [hz]")
+        if self._recording is not None:
+            recording = self._recording
+            return Reply(
+                f"refused: already recording ({len(recording.times)} samples, "
+                f"{recording.elapsed:.2f} s); rec stop first"
+            )
+        rate = DEFAULT_RATE_HZ
+        if arguments:
+            rate = _number(
+                arguments[0], "the sampling rate", "Hz", positive=True, maximum=MAX_RATE_HZ
+            )
+        self._recording = _Recording(rate, [0.0], [self.q.copy()])
+        return Reply(
+            f"recording at {rate:g} Hz from here: jog the arm along the path (each jog as a "
+            f"motion at {100 * self.jog_speed:g} % of the joint speed limits), then "
+            "rec stop [tol_deg]"
+        )
+
+    def _capture(self, q: np.ndarray, along: tuple[np.ndarray, np.ndarray] | None) -> str:
+        """Sample the motion from :attr:`q` to ``q`` into the recording; a refusal or ""."""
+        recording = self._recording
+        assert recording is not None
+        s_path, q_path = _joint_path(self.q, q, along)
+        law = _jog_time_law(s_path, q_path, self._jog_velocity, self._jog_acceleration)
+        if law is None:  # nothing moves
+            return ""
+        end = recording.elapsed + law.duration
+        last_k = math.floor(end * recording.rate_hz + 1e-9)
+        count = last_k - recording.next_k + 1
+        if len(recording.times) + count > MAX_RECORDING_SAMPLES:
+            return (
+                f"refused: this jog would take the recording past {MAX_RECORDING_SAMPLES} "
+                f"samples, the most a path keeps; rec stop, then rec start again"
+            )
+        if count > 0:
+            times = np.arange(recording.next_k, last_k + 1) / recording.rate_hz
+            s = law.sample(times - recording.elapsed)[0][:, 0]
+            sampled = np.column_stack(
+                [np.interp(s, s_path, q_path[:, j]) for j in range(q_path.shape[1])]
+            )
+            recording.times.extend(times.tolist())
+            recording.q.extend(sampled)
+            recording.next_k = last_k + 1
+        recording.elapsed = end
+        recording.jogs += 1
+        return ""
+
+    def _stop_recording(self, arguments: list[str]) -> Reply:
+        if len(arguments) > 1:
+            raise ValueError("usage: rec stop [tol_deg]")
+        recording = self._recording
+        if recording is None:
+            return Reply("refused: not recording; rec start [hz] starts a path")
+        tolerance = self.path_tolerance
+        if arguments:
+            tolerance = math.radians(
+                _number(
+                    arguments[0],
+                    "the tolerance",
+                    "degrees",
+                    positive=True,
+                    maximum=MAX_PATH_TOLERANCE_DEG,
+                )
+            )
+        self._recording = None
+        if recording.jogs == 0:
+            return Reply("recording stopped: the arm did not move, so no path was stored")
+        times, samples = np.array(recording.times), np.array(recording.q)
+        if recording.elapsed - times[-1] > 0.01 / recording.rate_hz:
+            times, samples = np.append(times, recording.elapsed), np.vstack([samples, self.q])
+        else:  # the last sample is at the end (at rest there): the exact end time and position
+            times[-1], samples[-1] = recording.elapsed, self.q
+        robot = self.robot
+        knots, fractions, _ = fit_spline(samples, tolerance, robot.lower, robot.upper)
+        velocity, acceleration = motion_limits(robot, recording.elapsed, None)
+        fastest = trajectory.spline(samples[knots], velocity, acceleration).duration
+        duration, slower = recording.elapsed, ""
+        if duration < fastest * (1.0 + _DURATION_MARGIN):  # faster than the jogs somewhere
+            duration = math.ceil(fastest * (1.0 + 10 * _DURATION_MARGIN) * 1000.0) / 1000.0
+            slower = (
+                f"; it plays in {duration:.3f} s, not the recorded {recording.elapsed:.3f} s, to "
+                "stay within the joint limits"
+            )
+        spline = trajectory.spline(samples[knots], velocity, acceleration, duration)
+        fitted = spline.sample(fractions * spline.duration)[0]
+        deviation = np.abs(fitted - samples).max(axis=1)
+        tool = max(
+            float(np.linalg.norm(robot.fk(a).translation - robot.fk(b).translation))
+            for a, b in zip(fitted, samples, strict=True)
+        )
+        name = self._next_path_name()
+        path = RecordedPath(
+            name,
+            recording.rate_hz,
+            times,
+            samples,
+            knots,
+            spline,
+            fractions,
+            deviation,
+            tool,
+            tolerance,
+        )
+        self.paths[name] = path
+        self._order.append(("path", name))
+        return Reply(
+            f"stored {name}: {len(times)} samples over {path.duration:.2f} s at "
+            f"{recording.rate_hz:g} Hz -> spline through {len(knots)} knots; max deviation "
+            f"{path.max_deviation:.2e} rad ({math.degrees(path.max_deviation):.4f}°) in joint "
+            f"space, {1000 * tool:.3f} mm at the tool (tolerance {tolerance:.2e} rad){slower}"
+        )
+
+    def _next_path_name(self) -> str:
+        k = len(self.paths) + 1
+        while f"path{k}" in self.paths or any(
+            name == f"path{k}" or name.startswith(f"path{k}_") for name in self.points
+        ):
+            k += 1
+        return f"path{k}"
+
+    def _finish(self) -> Reply:
+        text = self._stop_recording([]).text if self._recording is not None else ""
+        return Reply(text, done=True, write=True)
+
+    def _abort(self) -> Reply:
+        text = "recording dropped" if self._recording is not None else ""
+        self._recording = None
+        return Reply(text, done=True, write=False)
+
+    # -- the list ------------------------------------------------------------------------------
     def _delete(self, arguments: list[str]) -> Reply:
         if len(arguments) != 1:
             raise ValueError("usage: del <name>")
-        if self.points.pop(arguments[0], None) is None:
-            return Reply(f"no point {arguments[0]!r}; recorded: {', '.join(self.points) or 'none'}")
-        return Reply(f"deleted {arguments[0]}")
+        name = arguments[0]
+        if name in self.points:
+            del self.points[name]
+            self._order.remove(("point", name))
+        elif name in self.paths:
+            del self.paths[name]
+            self._order.remove(("path", name))
+        else:
+            known = ", ".join(name for _, name in self._order) or "none"
+            return Reply(f"no point {name!r}; recorded: {known}")
+        return Reply(f"deleted {name}")
 
     def _list(self) -> Reply:
-        if not self.points:
-            return Reply("no points recorded yet (r [name] records one)")
+        if not self._order:
+            return Reply("nothing recorded yet (r [name] records a point, rec start a path)")
         lines = []
-        for name, q in self.points.items():
-            xyz = ", ".join(f"{v:.4f}" for v in self.robot.fk(q).translation)
-            degrees = ", ".join(f"{v:.2f}" for v in np.degrees(q))
-            lines.append(f"{name}: joints [{degrees}] deg, tool ({xyz}) m")
+        for kind, name in self._order:
+            if kind == "point":
+                q = self.points[name]
+                xyz = ", ".join(f"{v:.4f}" for v in self.robot.fk(q).translation)
+                degrees = ", ".join(f"{v:.2f}" for v in np.degrees(q))
+                lines.append(f"{name}: joints [{degrees}] deg, tool ({xyz}) m")
+            else:
+                path = self.paths[name]
+                lines.append(
+                    f"{name}: path of {len(path.samples)} samples over {path.duration:.2f} s, "
+                    f"spline through {len(path.knot_indices)} knots, max deviation "
+                    f"{path.max_deviation:.2e} rad ({1000 * path.tool_deviation:.3f} mm at the "
+                    "tool)"
+                )
         return Reply("\n".join(lines))
 
     def _home(self) -> Reply:
-        self.q = self.start.copy()
-        return Reply(self.status(), moved=True)
+        return self._go(self.start.copy())
 
     # -- program -------------------------------------------------------------------------------
     def program_text(self, output: str | os.PathLike[str] | None = None) -> str:
-        """The program as YAML: start, the recorded points as joints, a ptp to each in order.
+        """The program as YAML: start, the recorded points and path knots as joints, then in
+        teaching order a ``ptp`` to each point and, for each path, one ``ptp`` through its knots
+        (``profile: spline``, ``duration`` that of :attr:`RecordedPath.spline`), after a ``ptp``
+        to its first knot when the arm is elsewhere (the move starts where the arm is, and the
+        program drops the first knot there as a repeat).
 
         Args:
             output: Where the program will be written; a URDF robot source is written relative
                 to its folder.
 
         Raises:
-            KinplanError: no point recorded yet.
+            KinplanError: nothing recorded yet, or a path still being recorded.
             InputError: ``output`` is not a file path.
         """
         if output is not None:
             output = checks.file_path(output, "output (the program file)")
-        if not self.points:
-            raise KinplanError("no point recorded; record one with r [name] before writing")
+        if self._recording is not None:
+            raise KinplanError("a path is being recorded; rec stop stores it before writing")
+        if not self._order:
+            raise KinplanError(
+                "no point recorded (r [name]) and no path (rec start ... rec stop); record one "
+                "before writing"
+            )
         stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
         lines = [
             f"# Taught with `kinplan teach` on {stamp}.",
@@ -411,12 +902,44 @@ class TeachPendant:
             f"start: {{joints_deg: {_degrees(self.start)}}}",
             "points:",
         ]
-        for name, q in self.points.items():
-            xyz = ", ".join(f"{v:.4f}" for v in self.robot.fk(q).translation)
-            lines.append(f"  {name}: {{joints_deg: {_degrees(q)}}}  # tool at ({xyz}) m")
+        moves = []
+        current = self.start
+        for kind, name in self._order:
+            if kind == "point":
+                q = self.points[name]
+                lines.append(f"  {name}: {{joints_deg: {_degrees(q)}}}  # tool at {self._at(q)}")
+                moves.append(f"  - {{ptp: {name}}}")
+                current = q
+                continue
+            path = self.paths[name]
+            names = path.point_names()
+            for point, q, t in zip(names, path.knots, path.knot_times, strict=True):
+                lines.append(
+                    f"  {point}: {{joints_deg: {_degrees(q)}}}  # {name} at t = {t:.4f} s, "
+                    f"tool at {self._at(q)}"
+                )
+            if _degrees(path.knots[0]) != _degrees(current):  # the spline starts where the arm is
+                moves.append(f"  - {{ptp: {names[0]}}}  # to the start of {name}")
+            listed = textwrap.wrap(", ".join(names), 88, break_long_words=False)
+            moves.append(
+                f"  # {name}: recorded {len(path.samples)} samples at {path.rate_hz:g} Hz; "
+                f"spline within {path.max_deviation:.2e} rad "
+                f"({1000 * path.tool_deviation:.3f} mm at the tool)"
+            )
+            moves.append(f"  - ptp: [{listed[0]}" + ("]" if len(listed) == 1 else ""))
+            for k, chunk in enumerate(listed[1:], start=2):
+                moves.append(f"      {chunk}" + ("]" if k == len(listed) else ""))
+            moves.append(f"    name: {name}")
+            moves.append("    profile: spline")
+            moves.append(f"    duration: {path.spline.duration!r}")
+            current = path.knots[-1]
         lines.append("moves:")
-        lines += [f"  - {{ptp: {name}}}" for name in self.points]
+        lines += moves
         return "\n".join(lines) + "\n"
+
+    def _at(self, q: np.ndarray) -> str:
+        """The tool position at ``q``, for a comment [m]."""
+        return "(" + ", ".join(f"{v:.4f}" for v in self.robot.fk(q).translation) + ") m"
 
     def _locked_lines(self) -> list[str]:
         """The program's ``locked_joints:`` line (none when no joint is locked)."""
@@ -442,7 +965,8 @@ class TeachPendant:
         """Write :meth:`program_text` to ``output`` (its folder is created).
 
         Raises:
-            KinplanError: no point recorded yet, or the file cannot be written.
+            KinplanError: nothing recorded yet, a path still being recorded, or the file
+                cannot be written.
             InputError: ``output`` is not a file path.
         """
         target = Path(checks.file_path(output, "output (the program file)"))
@@ -469,6 +993,187 @@ _PENDANT_ADVICE = {
 event's own ``remedy`` names arguments of :func:`cartesian.follow` the pendant does not have)."""
 
 
+def fit_spline(
+    samples: ArrayLike,
+    tolerance: float = DEFAULT_PATH_TOLERANCE,
+    lower: ArrayLike | None = None,
+    upper: ArrayLike | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Few of the recorded samples as knots of a smooth spline within ``tolerance`` of them all.
+
+    The spline is the one a program's multi-point ``ptp`` with ``profile: spline`` plays
+    (:func:`kinplan.trajectory.spline`): the clamped cubic spline through the knots, at rest at
+    both ends, knot times proportional to the chord lengths (joint-space distances) between
+    knots. Its shape does not depend on its duration, so the fit is geometric: each sample is
+    compared with the spline at the same share of the recorded path length between the two
+    knots around it, which bounds the sample's distance to the spline's path from above.
+
+    Knots are inserted greedily: from the first and last sample, each pass adds, between every
+    two neighbouring knots, the sample where the spline is farthest from the recording, until no
+    sample is farther than ``tolerance`` in any joint and (with limits) none is beyond them.
+    Samples closer than 1e-7 of the path length (at least 1e-9 rad) to the previous candidate
+    are not made knots (the knot times would be too close to compute with); they are still
+    measured.
+
+    Args:
+        samples: Recorded configurations, in order, shape (N, n), N ≥ 2 [rad].
+        tolerance: Largest deviation at a sample, > 0 [rad].
+        lower: Joint lower limits, shape (n,) [rad] (−inf where none), or None.
+        upper: Joint upper limits, shape (n,) [rad] (inf where none), or None.
+
+    Returns:
+        ``(knot_indices, fractions, deviation)``: the samples kept as knots (sorted, 0 and
+        N − 1 included); where each sample is matched on the spline, as a share of its duration,
+        shape (N,) in [0, 1]; the largest joint deviation at each sample [rad], shape (N,).
+
+    Raises:
+        InputError: not numbers, bad shapes, NaN or inf, samples that never move, a tolerance
+            that is not > 0, or only one of the limits.
+    """
+    points = checks.floats(samples, "samples", "an (N, n) array of configurations [rad]")
+    if points.ndim == 1:
+        points = points[:, None]
+    if points.ndim != 2 or points.shape[0] < 2 or not np.all(np.isfinite(points)):
+        raise InputError(
+            f"samples must be a finite (N, n) array with N ≥ 2 [rad], got shape {points.shape}"
+        )
+    n = points.shape[1]
+    tolerance = checks.number(tolerance, "tolerance", positive=True, unit="rad")
+    if (lower is None) != (upper is None):
+        raise InputError("give both lower and upper joint limits, or neither")
+    limits = None
+    if lower is not None and upper is not None:
+        limits = (
+            checks.vector(lower, "lower", n, unit="rad", infinite=True),
+            checks.vector(upper, "upper", n, unit="rad", infinite=True),
+        )
+    arc = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))))
+    if arc[-1] <= 1e-9:
+        raise InputError("the samples never move (path length ≤ 1e-9 rad); nothing to fit")
+    gap = max(1e-9, 1e-7 * arc[-1])
+    candidate = _spaced(arc, gap)
+    knots = np.array([0, len(points) - 1])
+    while True:
+        knots = _separate(knots, points, candidate, gap)
+        fractions, fitted = _spline_at(points, knots, arc)
+        deviation = np.abs(fitted - points).max(axis=1)
+        error = deviation.copy()
+        if limits is not None:
+            beyond = (fitted < limits[0] - _LIMIT_TOLERANCE) | (
+                fitted > limits[1] + _LIMIT_TOLERANCE
+            )
+            error[beyond.any(axis=1)] = np.inf
+        added = []
+        for first, last in zip(knots[:-1], knots[1:], strict=True):
+            inside = np.arange(first + 1, last)
+            if not len(inside) or error[inside].max() <= tolerance:
+                continue
+            eligible = inside[candidate[inside]]
+            if len(eligible):
+                added.append(int(eligible[np.argmax(error[eligible])]))
+        if not added:
+            return knots, fractions, deviation
+        knots = np.union1d(knots, added)
+
+
+def _spaced(arc: np.ndarray, gap: float) -> np.ndarray:
+    """Which samples may be knots: each at least ``gap`` along the path after the previous one
+    (the last sample always, in place of a previous one closer than ``gap``)."""
+    candidate = np.zeros(len(arc), dtype=bool)
+    last = 0
+    candidate[0] = True
+    for k in range(1, len(arc)):
+        if arc[k] - arc[last] >= gap:
+            candidate[k] = True
+            last = k
+    if not candidate[-1]:
+        if last:
+            candidate[last] = False
+        candidate[-1] = True
+    return candidate
+
+
+def _separate(
+    knots: np.ndarray, points: np.ndarray, candidate: np.ndarray, gap: float
+) -> np.ndarray:
+    """The knots with no two neighbours closer than ``gap`` [rad] (a path that comes back to a
+    point gets the sample farthest from it in between; a knot with none is left out)."""
+    order = [int(k) for k in knots]
+    k = 0
+    while k < len(order) - 1:
+        first, last = order[k], order[k + 1]
+        if np.linalg.norm(points[last] - points[first]) >= gap:
+            k += 1
+            continue
+        inside = np.arange(first + 1, last)
+        inside = inside[candidate[inside]]
+        if len(inside):
+            distance = np.linalg.norm(points[inside] - points[first], axis=1)
+            order.insert(k + 1, int(inside[np.argmax(distance)]))
+        elif len(order) > 2:
+            del order[k + 1 if k + 1 < len(order) - 1 else k]
+            k = max(k - 1, 0)
+        else:
+            raise InputError("the samples start and end at the same point without moving away")
+    return np.array(order)
+
+
+def _spline_at(
+    points: np.ndarray, knots: np.ndarray, arc: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Where each sample is matched on the spline through ``points[knots]`` (share of its
+    duration, by the recorded path length between the knots around it) and the spline there."""
+    big = trajectory.MAX_MAGNITUDE  # no limit: a duration of 1 is always feasible
+    shape = trajectory.spline(points[knots], big, big, duration=1.0)
+    knot_times = shape.waypoints.times
+    if len(knot_times) != len(knots):  # cannot happen: neighbouring knots are apart
+        raise KinplanError("internal: the spline dropped a knot")
+    interval = np.clip(np.searchsorted(arc[knots], arc, side="right") - 1, 0, len(knots) - 2)
+    a, b = arc[knots][interval], arc[knots][interval + 1]
+    share = np.clip((arc - a) / (b - a), 0.0, 1.0)
+    times = knot_times[interval] + share * (knot_times[interval + 1] - knot_times[interval])
+    return np.clip(times / shape.duration, 0.0, 1.0), shape.sample(times)[0]
+
+
+def _joint_path(
+    q0: np.ndarray, q1: np.ndarray, along: tuple[np.ndarray, np.ndarray] | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The joint path of a jog from ``q0`` to ``q1`` as path fractions (m,) and configurations
+    (m, n): ``along`` (a tool jog's IK solutions) with its ends set to q0 and q1, else a line."""
+    if along is not None:
+        s, q = along
+        valid = (
+            s.ndim == 1
+            and len(s) >= 2
+            and q.shape == (len(s), q0.size)
+            and np.all(np.diff(s) > 0)
+            and s[0] == 0.0
+            and s[-1] == 1.0
+        )
+        if valid:
+            q = q.copy()
+            q[0], q[-1] = q0, q1
+            return s, q
+    return np.array([0.0, 1.0]), np.vstack([q0, q1])
+
+
+def _jog_time_law(
+    s: np.ndarray, q: np.ndarray, velocity: np.ndarray, acceleration: np.ndarray
+) -> Trajectory | None:
+    """The jog's path fraction over time, rest to rest in minimum time with every joint within
+    ``velocity`` [rad/s] and (along straight pieces) ``acceleration`` [rad/s²]; None when no
+    joint moves."""
+    rate = np.abs(np.diff(q, axis=0)) / np.diff(s)[:, None]  # |dq/ds| per piece [rad]
+    peak = rate.max(axis=0)
+    moving = peak > 1e-12
+    if not moving.any():
+        return None
+    bounds = (trajectory.MIN_MAGNITUDE, trajectory.MAX_MAGNITUDE)
+    s_velocity = float(np.clip(np.min(velocity[moving] / peak[moving]), *bounds))
+    s_acceleration = float(np.clip(np.min(acceleration[moving] / peak[moving]), *bounds))
+    return trajectory.trapezoid(0.0, 1.0, max_velocity=s_velocity, max_acceleration=s_acceleration)
+
+
 def _check_robot(robot: object) -> None:
     if not isinstance(robot, Robot):
         raise InputError(
@@ -476,15 +1181,50 @@ def _check_robot(robot: object) -> None:
         )
 
 
-def _finite(text: str, what: str) -> float:
-    """A finite number typed by the operator (ValueError with a message otherwise)."""
+def _number(
+    text: str, what: str, unit: str, *, positive: bool = False, maximum: float | None = None
+) -> float:
+    """A number typed by the operator, in ``unit`` (ValueError with the reason otherwise).
+
+    Args:
+        text: What was typed.
+        what: What the number is, for the message (``the jog``).
+        unit: Its unit in words (``degrees``, ``metres``, ``Hz``).
+        positive: Require > 0.
+        maximum: Largest magnitude accepted.
+    """
     try:
         value = float(text)
     except ValueError:
-        raise ValueError(f"{what} must be a number, got {text!r}") from None
+        raise ValueError(f"expected a number of {unit} for {what}, got {text!r}") from None
     if not math.isfinite(value):
-        raise ValueError(f"{what} must be a finite number, got {text!r}")
+        raise ValueError(f"{what} must be a finite number of {unit}, got {text!r}")
+    if positive and value <= 0:
+        raise ValueError(f"{what} must be > 0 {unit}, got {text!r}")
+    if maximum is not None and abs(value) > maximum:
+        limit = f"at most {maximum:g}" if positive else f"between -{maximum:g} and {maximum:g}"
+        raise ValueError(f"{what} must be {limit} {unit}, got {text!r}")
     return value
+
+
+def _control_message(line: str) -> str:
+    """Why a line holding terminal escape sequences or control characters is not a command
+    ("" for an ordinary line)."""
+    if "\x1b" in line:
+        start = line.index("\x1b")
+        key = line[start : start + 3] if line[start + 1 : start + 2] in "[O" else line[start]
+        return (
+            f"{key!r} is a terminal key code (an arrow or function key), not a command: arrow "
+            "keys edit and recall lines only when the pendant reads a terminal with Python's "
+            "readline module; type the command instead"
+        )
+    found = _CONTROL.search(line)
+    if found:
+        return (
+            f"the line holds the control character {found.group()!r}, not part of any command; "
+            "type the command again"
+        )
+    return ""
 
 
 def _pendant_advice(event, robot: Robot) -> str:
@@ -498,7 +1238,9 @@ def _pendant_advice(event, robot: Robot) -> str:
 
 
 def _degrees(q: np.ndarray) -> str:
-    return "[" + ", ".join(f"{v:.6f}".rstrip("0").rstrip(".") for v in np.degrees(q)) + "]"
+    """Joint values as a YAML list of degrees, to 1e-6° (no "-0")."""
+    texts = (f"{v:.6f}".rstrip("0").rstrip(".") for v in np.degrees(q))
+    return "[" + ", ".join("0" if text == "-0" else text for text in texts) + "]"
 
 
 def _yaml_scalar(text: str) -> str:
@@ -506,6 +1248,132 @@ def _yaml_scalar(text: str) -> str:
     import yaml
 
     return yaml.safe_dump(text, default_style=None).splitlines()[0].removesuffix(" ...")
+
+
+# -- reading the terminal ----------------------------------------------------------------------
+def default_history_file() -> Path | None:
+    """The pendant's history file: ``$KINPLAN_HISTORY`` (none when it is set but empty), else
+    ``~/.kinplan_history``."""
+    value = os.environ.get(HISTORY_ENV)
+    if value is not None:
+        return Path(value).expanduser() if value.strip() else None
+    return Path("~/.kinplan_history").expanduser()
+
+
+def _readline_module() -> ModuleType | None:
+    """Python's readline module, or None where it is missing (Windows)."""
+    try:
+        return importlib.import_module("readline")
+    except ImportError:
+        return None
+
+
+class PromptLines:
+    """Lines typed at a prompt, with line editing, history and command completion where
+    Python has :mod:`readline` (arrow keys, Ctrl-R; not on Windows, whose console edits lines
+    itself).
+
+    Each non-empty line is added to the session's history (not twice in a row); with a
+    ``history_file`` the history is read from it at the start and written back by
+    :meth:`close` (the last :data:`HISTORY_LENGTH` lines). Use it as a context manager::
+
+        with PromptLines(history_file=default_history_file()) as lines:
+            run_session(pendant, lines, print)
+
+    Args:
+        prompt: The prompt.
+        history_file: Where the history is kept between sessions, or None (this session only).
+        read: Reads one line after showing the prompt; raises EOFError at the end (default
+            :func:`input`, which uses readline when it is loaded and input is a terminal).
+
+    Attributes:
+        readline: The readline module in use, or None.
+    """
+
+    def __init__(
+        self,
+        prompt: str = "teach> ",
+        history_file: str | os.PathLike[str] | None = None,
+        read: Callable[[str], str] = input,
+    ) -> None:
+        if not isinstance(prompt, str):
+            raise InputError(f"prompt must be text, got {checks.describe(prompt)}")
+        if not callable(read):
+            raise InputError(f"read must be a function like input, got {checks.describe(read)}")
+        self.prompt = prompt
+        self.read = read
+        self.history_file = (
+            None
+            if history_file is None
+            else Path(checks.file_path(history_file, "history_file")).expanduser()
+        )
+        self.readline = _readline_module()
+        self._completer: Callable[[str, int], str | None] | None = None
+        self._closed = False
+        readline = self.readline
+        if readline is None:
+            return
+        readline.set_auto_history(False)  # lines are added by remember(), not twice
+        self._completer = readline.get_completer()
+        readline.set_completer(_complete)
+        if "libedit" in (getattr(readline, "__doc__", "") or ""):
+            readline.parse_and_bind("bind ^I rl_complete")
+        else:
+            readline.parse_and_bind("tab: complete")
+        if self.history_file is not None and self.history_file.is_file():
+            try:
+                readline.read_history_file(str(self.history_file))
+            except OSError as exc:
+                logger.warning("cannot read the history %s: %s", self.history_file, exc)
+
+    def __enter__(self) -> PromptLines:
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.close()
+
+    def __iter__(self) -> Iterator[str]:
+        while True:
+            try:
+                line = self.read(self.prompt)
+            except EOFError:
+                return
+            self.remember(line)
+            yield line
+
+    def remember(self, line: str) -> None:
+        """Add ``line`` to the history (not empty lines, key codes or a repeat of the last)."""
+        readline = self.readline
+        text = line.strip() if isinstance(line, str) else ""
+        if readline is None or not text or _control_message(text):
+            return
+        length = readline.get_current_history_length()
+        if length and readline.get_history_item(length) == text:
+            return
+        readline.add_history(text)
+
+    def close(self) -> None:
+        """Write the history file (if any) and give back readline's previous completer."""
+        readline = self.readline
+        if self._closed or readline is None:
+            return
+        self._closed = True
+        readline.set_completer(self._completer)
+        readline.set_auto_history(True)
+        if self.history_file is None:
+            return
+        try:
+            self.history_file.parent.mkdir(parents=True, exist_ok=True)
+            readline.set_history_length(HISTORY_LENGTH)
+            readline.write_history_file(str(self.history_file))
+        except OSError as exc:
+            logger.warning("cannot write the history %s: %s", self.history_file, exc)
+
+
+def _complete(text: str, state: int) -> str | None:
+    """readline completer: the pendant's command words starting with ``text``."""
+    matches = [word for word in _COMPLETIONS if word.startswith(text.lower())]
+    return matches[state] if state < len(matches) else None
 
 
 def run_session(
@@ -517,9 +1385,11 @@ def run_session(
 ) -> bool:
     """Feed command lines to the pendant until ``q``/``abort`` or the end of the input.
 
+    The end of the input acts as ``q``: a running recording is stopped and stored.
+
     Args:
         pendant: The pendant.
-        lines: Command lines (e.g. ``sys.stdin`` or a list of strings).
+        lines: Command lines (e.g. ``sys.stdin``, a :class:`PromptLines` or a list of strings).
         output: Called with the text to show after each command.
         on_move: Called with the new configuration after each move (e.g. a live viewer).
         echo: Show each command before its reply (for scripted input).
@@ -555,4 +1425,7 @@ def run_session(
             on_move(pendant.q)
         if reply.done:
             return reply.write
+    reply = pendant.execute("q")  # the end of the input: as q
+    if reply.text:
+        output(reply.text)
     return True

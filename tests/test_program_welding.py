@@ -156,6 +156,20 @@ def test_ptp_through_several_points(tmp_path, profile):
         assert np.linalg.norm(plan.qd[inner], axis=1).min() > 1e-3
 
 
+def test_spline_through_points_at_given_times(tmp_path):
+    plan = plan_text(tmp_path, "  - {ptp: [mid, low, home], profile: spline, times: [2, 5, 7]}\n")
+    assert plan.ok, plan.reason
+    assert plan.duration == pytest.approx(7.0, abs=1e-12)
+    q, qd, _ = plan.sample(np.array([2.0, 5.0, 7.0]))
+    points = plan.program.points
+    np.testing.assert_allclose(q, [points[n].joints for n in ("mid", "low", "home")], atol=1e-12)
+    np.testing.assert_allclose(qd[-1], 0.0, atol=1e-12)
+    too_fast = plan_text(
+        tmp_path, "  - {ptp: [mid, low, home], profile: spline, times: [0.1, 0.2, 0.3]}\n"
+    )
+    assert not too_fast.ok and too_fast.moves[-1].status == "velocity_limit"
+
+
 def test_time_optimal_blend_is_faster_and_deviates_at_most_the_blend(tmp_path):
     exact = plan_text(tmp_path, "  - {ptp: [mid, low, home]}\n")
     blended = plan_text(tmp_path, "  - {ptp: [mid, low, home], blend: 0.1}\n")
@@ -200,6 +214,13 @@ def test_time_optimal_blend_is_faster_and_deviates_at_most_the_blend(tmp_path):
         ("  - {lin: c1, torch: {normal: [0, 0, 0]}}\n", "moves[0].torch.normal", "non-zero"),
         ("  - {lin: c1, torch: 45}\n", "moves[0].torch", "expected a mapping"),
         ("  - {lin: c1, dwell: -0.5}\n", "moves[0].dwell", "number >= 0"),
+        ("  - {ptp: [mid, home], times: [1, 2]}\n", "moves[0].times", "profile spline"),
+        ("  - {ptp: [mid, home], profile: spline, times: [1]}\n", "moves[0].times",
+         "expected 2 numbers"),
+        ("  - {ptp: [mid, home], profile: spline, times: [2, 1]}\n", "moves[0].times[1]",
+         "must increase"),
+        ("  - {ptp: [mid, home], profile: spline, times: [1, 2], duration: 3}\n",
+         "moves[0].times", "not both"),
         ("  - {lin: c1, dwell: 1, blend: 0.01}\n  - {lin: c2}\n", "moves[0].dwell",
          "cannot dwell"),
     ],

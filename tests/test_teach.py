@@ -2,15 +2,29 @@
 
 from __future__ import annotations
 
+import io
 import re
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
+from kinplan.errors import InputError, KinplanError
 from kinplan.planar import planar_arm_urdf
 from kinplan.program import load_program, plan_program
-from kinplan.teach import HELP, TeachPendant, home_configuration, run_session
+from kinplan.teach import (
+    COMMANDS,
+    HELP,
+    HISTORY_ENV,
+    PromptLines,
+    TeachPendant,
+    default_history_file,
+    fit_spline,
+    home_configuration,
+    run_session,
+)
 
 
 def session(pendant: TeachPendant, script: str) -> tuple[bool, list[str]]:
@@ -166,3 +180,350 @@ def test_writing_without_points_is_refused(planar_2r, tmp_path):
     with pytest.raises(Exception, match="no point recorded"):
         pendant.save(tmp_path / "p.yaml")
     assert not Path(tmp_path / "p.yaml").exists()
+
+
+# -- continuous paths (issue 17) ---------------------------------------------------------------
+PATH_SCRIPT = """\
+    r before
+    j 1 -5
+    rec start
+    z -0.05
+    x 0.05
+    j 0 -10
+    yaw 20
+    y 0.03
+    rec stop
+    r after
+"""
+
+
+def taught_path(robot, script: str = PATH_SCRIPT) -> tuple[TeachPendant, list[str]]:
+    pendant = TeachPendant(robot, robot_source=robot.name)
+    shown: list[str] = []
+    for line in script.splitlines():
+        reply = pendant.execute(line)
+        assert not reply.text.startswith(("error", "refused")), (line, reply.text)
+        shown.append(reply.text)
+    return pendant, shown
+
+
+def closest_distances(spline, samples: np.ndarray, count: int = 40_000) -> np.ndarray:
+    """Distance [rad, max over joints] from each sample to the nearest of ``count`` points of
+    the spline's path (an answer independent of how the pendant matches samples)."""
+    dense = spline.sample(np.linspace(0.0, spline.duration, count))[0]
+    return np.array([np.abs(dense - q).max(axis=1).min() for q in samples])
+
+
+def test_recording_jogs_gives_a_spline_within_the_tolerance(ur5):
+    pendant, shown = taught_path(ur5)
+    assert list(pendant.paths) == ["path1"] and list(pendant.points) == ["before", "after"]
+    path = pendant.paths["path1"]
+    report = next(text for text in shown if text.startswith("stored path1"))
+    n_samples, n_knots = len(path.samples), len(path.knot_indices)
+    assert f"{n_samples} samples" in report and f"spline through {n_knots} knots" in report
+    assert f"max deviation {path.max_deviation:.2e} rad" in report
+    assert f"{1000 * path.tool_deviation:.3f} mm at the tool" in report
+    # the recording: 50 Hz from where rec start found the arm to where rec stop found it
+    np.testing.assert_allclose(
+        path.samples[0], pendant.points["before"] + [0, -np.radians(5), 0, 0, 0, 0]
+    )
+    np.testing.assert_allclose(path.samples[-1], pendant.points["after"])
+    steps = np.diff(path.sample_times)
+    np.testing.assert_allclose(steps[:-1], 0.02, atol=1e-12)
+    assert 0 < steps[-1] <= 0.02 + 1e-12
+    # each jog moves at the jog speed: 10 % of the UR5's velocity limits (mean speeds between
+    # samples), and the tool jogs follow their straight line (z, then x)
+    speeds = np.abs(np.diff(path.samples, axis=0)) / steps[:, None]
+    assert np.max(speeds / ur5.velocity_limit) <= 0.1 + 1e-9
+    xyz = np.array([ur5.fk(q).translation for q in path.samples])
+    down = xyz[: np.argmax(xyz[:, 2] <= xyz[0, 2] - 0.05 + 1e-7) + 1]  # the z jog
+    assert len(down) > 20
+    np.testing.assert_allclose(down[:, :2], np.tile(xyz[0, :2], (len(down), 1)), atol=1e-5)
+    # the fit: knots are samples, both ends kept; every sample within the tolerance
+    assert 2 <= n_knots < n_samples / 3
+    assert path.knot_indices[0] == 0 and path.knot_indices[-1] == n_samples - 1
+    assert path.max_deviation <= path.tolerance == pytest.approx(1e-3)
+    assert np.max(closest_distances(path.spline, path.samples)) <= 1e-3 + 1e-6
+    np.testing.assert_allclose(path.spline.sample(0.0)[0], path.samples[0], atol=1e-12)
+    np.testing.assert_allclose(path.spline.sample(path.spline.duration)[0], path.samples[-1])
+    _, qd, _ = path.spline.sample(np.array([0.0, path.spline.duration]))
+    np.testing.assert_allclose(qd, 0.0, atol=1e-12)  # at rest at both ends
+    assert path.spline.duration >= path.duration - 1e-9
+    tool = max(
+        np.linalg.norm(ur5.fk(a).translation - ur5.fk(b).translation)
+        for a, b in zip(path.spline.sample(path.fractions * path.spline.duration)[0], path.samples)
+    )
+    assert tool == pytest.approx(path.tool_deviation) and tool < 1e-3  # below 1 mm
+    # a looser tolerance keeps fewer knots
+    loose, _ = taught_path(ur5, PATH_SCRIPT.replace("rec stop", "rec stop 0.5"))
+    assert len(loose.paths["path1"].knot_indices) < n_knots
+    assert loose.paths["path1"].max_deviation <= np.radians(0.5)
+
+
+def test_a_joint_jog_is_timed_as_a_trapezoid_at_the_jog_speed(ur5):
+    pendant, _ = taught_path(ur5, "rec start 100\nj 2 10\nrec stop")
+    path = pendant.paths["path1"]
+    distance, speed = np.radians(10.0), 0.1 * ur5.velocity_limit[2]
+    acceleration = speed / 0.5  # the programs' ramp time, the UR5 has no acceleration limits
+    duration = distance / speed + speed / acceleration  # it reaches the cruise speed
+    assert path.duration == pytest.approx(duration, rel=1e-9)
+    assert len(path.samples) == int(np.floor(duration * 100)) + 2  # grid and the end
+    others = path.samples[:, [0, 1, 3, 4, 5]]
+    np.testing.assert_array_equal(others - others[0], 0.0)  # only joint 2 moves
+
+
+def test_the_program_has_the_spline_move(ur5):
+    pendant, _ = taught_path(ur5)
+    path = pendant.paths["path1"]
+    text = pendant.program_text()
+    names = path.point_names()
+    assert names == [f"path1_{k}" for k in range(len(path.knot_indices))]
+    assert "  - ptp: [path1_0, path1_1, path1_2," in text
+    assert "    profile: spline\n" in text
+    assert f"    duration: {path.spline.duration!r}\n" in text
+    program = yaml.safe_load(text)
+    assert list(program["points"]) == ["before", *names, "after"]
+    for name, q in zip(names, path.knots):
+        np.testing.assert_allclose(np.radians(program["points"][name]["joints_deg"]), q, atol=1e-7)
+    assert program["moves"] == [
+        {"ptp": "before"},
+        {"ptp": "path1_0"},  # the arm moved after r before: to the start of the path first
+        {"ptp": names, "name": "path1", "profile": "spline", "duration": path.spline.duration},
+        {"ptp": "after"},
+    ]
+
+
+def test_the_recorded_program_loads_and_plans(ur5, tmp_path):
+    """Needs the multi-point ptp with profile: spline of the program format."""
+    pendant, _ = taught_path(ur5)
+    path = pendant.paths["path1"]
+    program = load_program(pendant.save(tmp_path / "path.yaml"))
+    plan = plan_program(program)
+    assert plan.ok, plan.reason
+    assert [m.label.split(":")[0] for m in plan.moves][:2] == ["ptp to before", "ptp to path1_0"]
+    move = plan.moves[2]
+    assert move.label.startswith("path1: ptp through path1_0, path1_1")
+    assert move.t1 - move.t0 == pytest.approx(path.spline.duration)
+    played = plan.q[move.first : move.last + 1]
+    expected = path.spline.sample(plan.t[move.first : move.last + 1] - move.t0)[0]
+    np.testing.assert_allclose(played, expected, atol=1e-6)  # the fitted spline, as reported
+    np.testing.assert_allclose(plan.q[-1], pendant.points["after"], atol=1e-7)
+
+
+def test_recording_commands_refuse_with_the_reason(ur5, planar_2r):
+    pendant = TeachPendant(ur5)
+    replies = {
+        command: pendant.execute(command).text
+        for command in (
+            "rec stop",
+            "rec start abc",
+            "rec start 0",
+            "rec start nan",
+            "rec start 5000",
+            "rec start 10 20",
+        )
+    }
+    assert replies["rec stop"] == "refused: not recording; rec start [hz] starts a path"
+    assert (
+        replies["rec start abc"]
+        == "error: expected a number of Hz for the sampling rate, got 'abc'"
+    )
+    assert replies["rec start 0"] == "error: the sampling rate must be > 0 Hz, got '0'"
+    assert "must be a finite number of Hz" in replies["rec start nan"]
+    assert (
+        replies["rec start 5000"] == "error: the sampling rate must be at most 1000 Hz, got '5000'"
+    )
+    assert replies["rec start 10 20"] == "error: usage: rec start [hz]"
+    assert not pendant.recording
+    assert pendant.execute("rec start 20").text.startswith("recording at 20 Hz")
+    assert pendant.execute("rec start").text.startswith("refused: already recording")
+    assert pendant.execute("rec stop abc").text == (
+        "error: expected a number of degrees for the tolerance, got 'abc'"
+    )
+    assert pendant.execute("rec stop -1").text.startswith("error: the tolerance must be > 0")
+    assert pendant.recording  # still: a bad tolerance does not end the recording
+    assert pendant.execute("rec stop").text == (
+        "recording stopped: the arm did not move, so no path was stored"
+    )
+    assert not pendant.paths and not pendant.recording
+    with pytest.raises(KinplanError, match="no point recorded"):
+        pendant.program_text()
+    pendant.execute("rec start")
+    pendant.execute("j 0 5")
+    with pytest.raises(KinplanError, match="a path is being recorded; rec stop"):
+        pendant.program_text()
+    reply = pendant.execute("j 2 200")  # refused jogs are not recorded
+    assert reply.text.startswith("refused") and "recording:" not in reply.text
+    assert pendant.execute("abort").text == "recording dropped"
+    assert not pendant.recording and not pendant.paths
+
+
+def test_paths_and_points_in_one_session(planar_2r, tmp_path):
+    pendant = TeachPendant(planar_2r)
+    finished, shown = session(
+        pendant,
+        "r a\nrec start\nj 0 10\nx -0.1\nr mid\nhome\nrec stop\nlist\nrec start 25\n"
+        "j 1 -20\nj 1 10",  # the end of the input stops the recording and stores it
+    )
+    assert finished
+    assert list(pendant.paths) == ["path1", "path2"] and list(pendant.points) == ["a", "mid"]
+    assert any(line.startswith("path1: path of ") for text in shown for line in text.splitlines())
+    assert shown[-1].startswith("stored path2: ")
+    assert pendant.paths["path2"].rate_hz == 25
+    np.testing.assert_allclose(pendant.paths["path1"].samples[-1], pendant.start)  # home
+    assert pendant.execute("r path1").text.startswith("refused: 'path1' is taken by the path")
+    assert pendant.execute("r path2_0").text.startswith("refused: 'path2_0' is taken")
+    program = load_program(pendant.save(tmp_path / "p.yaml"))
+    assert plan_program(program).ok
+    assert pendant.execute("del path1").text == "deleted path1"
+    assert "path1" not in pendant.program_text()
+    assert pendant.execute("del path1").text.startswith("no point 'path1'; recorded: a, mid, path2")
+
+
+def test_fit_spline_alone():
+    t = np.linspace(0.0, 2.0, 201)
+    samples = np.column_stack([np.sin(2 * t), 0.3 * t**2, np.cos(t)])
+    knots, fractions, deviation = fit_spline(samples, 1e-4)
+    assert knots[0] == 0 and knots[-1] == 200 and np.all(np.diff(knots) > 0)
+    assert len(knots) < 60 and deviation.max() <= 1e-4
+    assert np.all(np.diff(fractions) >= 0) and fractions[0] == 0 and fractions[-1] == 1
+    coarse, _, _ = fit_spline(samples, 1e-2)
+    assert len(coarse) < len(knots)
+    # limits: no sample of the spline beyond them
+    upper = np.array([0.95, 10.0, 10.0])
+    clipped = samples.copy()
+    clipped[:, 0] = np.minimum(clipped[:, 0], 0.95)
+    knots, fractions, _ = fit_spline(clipped, 1e-2, -upper, upper)
+    from kinplan import trajectory
+
+    spline = trajectory.spline(clipped[knots], 1e9, 1e9, duration=1.0)
+    assert spline.sample(fractions)[0][:, 0].max() <= 0.95 + 1e-9
+    back = np.vstack([samples, samples[::-1]])  # there and back to the start
+    knots, _, deviation = fit_spline(back, 1e-3)
+    assert deviation.max() <= 1e-3
+    for bad, match in (
+        (np.zeros((5, 2)), "never move"),
+        ([[0.0, np.nan], [1.0, 1.0]], "finite"),
+        ([[0.0]], "N ≥ 2"),
+        ("abc", "samples"),
+    ):
+        with pytest.raises(InputError, match=match):
+            fit_spline(bad)
+    with pytest.raises(InputError, match="tolerance"):
+        fit_spline(samples, 0.0)
+    with pytest.raises(InputError, match="both lower and upper"):
+        fit_spline(samples, 1e-3, lower=-upper)
+
+
+# -- help, numbers, key codes, line editing ----------------------------------------------------
+def test_help_for_every_command(ur5):
+    pendant = TeachPendant(ur5)
+    assert pendant.execute("help").text == HELP
+    aliases = {
+        "j": ["joint", "j+"],
+        "x": ["y", "z", "x+", "z-"],
+        "roll": ["pitch", "yaw", "rx", "ry", "rz", "yaw-"],
+        "r": ["rec", "record"],
+        "del": ["delete"],
+        "help": ["?"],
+        "q": ["quit", "exit"],
+    }
+    for command, text in COMMANDS.items():
+        usage = text.splitlines()[0]
+        assert usage.startswith(command), usage
+        for name in [command, *aliases.get(command, []), command.upper()]:
+            assert pendant.execute(f"help {name}").text == text, name
+        # every command in the help is one the pendant knows
+        assert "unknown command" not in TeachPendant(ur5).execute(command).text
+    assert "rec start [hz]" in COMMANDS["r"] and "rec stop [tol_deg]" in COMMANDS["r"]
+    for units in ("degrees", "metres"):
+        assert units in COMMANDS["j" if units == "degrees" else "x"]
+    reply = pendant.execute("help frobnicate").text
+    assert reply.startswith("error: no command 'frobnicate'; help explains j, x, roll, step")
+    assert pendant.execute("help j x").text == "error: usage: help [command]"
+    assert pendant.execute("show now").text.startswith("error: usage: show (no arguments)")
+
+
+@pytest.mark.parametrize(
+    ("command", "expected"),
+    [
+        ("j 2 abc", "error: expected a number of degrees for the jog, got 'abc'"),
+        ("j 2 nan", "error: the jog must be a finite number of degrees, got 'nan'"),
+        ("j 2 1e999", "error: the jog must be a finite number of degrees, got '1e999'"),
+        ("j 0 1e300", "error: the jog must be between -720 and 720 degrees, got '1e300'"),
+        ("j 9 1", "error: joint index 9 is out of range 0..5 (ur5 has 6 joints)"),
+        ("j elbow 1", "error: no joint 'elbow'; give an index 0..5 or a name: shoulder_pan_joint"),
+        ("x abc", "error: expected a number of metres for the jog, got 'abc'"),
+        ("x -inf", "error: the jog must be a finite number of metres, got '-inf'"),
+        ("x 1e300", "error: the jog must be between -10 and 10 metres, got '1e300'"),
+        ("yaw 1e300", "error: the jog must be between -180 and 180 degrees, got '1e300'"),
+        ("step 0", "error: usage: step <m>: the linear step must be > 0 metres, got '0'"),
+        ("step x", "error: usage: step <m>: expected a number of metres for the linear step"),
+        ("astep -2", "error: usage: astep <deg>: the angle step must be > 0 degrees, got '-2'"),
+        ("astep 500", "error: usage: astep <deg>: the angle step must be at most 180 degrees"),
+    ],
+)
+def test_numbers_are_refused_with_the_reason(ur5, command, expected):
+    pendant = TeachPendant(ur5)
+    q = pendant.q.copy()
+    reply = pendant.execute(command)
+    assert reply.text.startswith(expected), reply.text
+    assert not reply.moved
+    np.testing.assert_array_equal(pendant.q, q)
+
+
+def test_key_codes_get_a_helpful_message(planar_2r):
+    """The reported bug: the Up key on input without line editing printed
+    unknown command '\\x1b[a'."""
+    pendant = TeachPendant(planar_2r)
+    for line in ("\x1b[A", "\x1b[B", "\x1bOA", "j 0 5\x1b[D"):
+        text = pendant.execute(line).text
+        assert text.startswith(f"error: {line[line.index(chr(27)) :][:3]!r} is a terminal key code")
+        assert "readline" in text and "unknown command" not in text
+    assert "control character '\\x7f'" in pendant.execute("j 0 5\x7f").text
+    finished, shown = session(pendant, "\x1b[A\nshow\n")
+    assert finished and "terminal key code" in shown[0] and shown[1].startswith("joints")
+
+
+def test_prompt_lines_keep_a_history(tmp_path, monkeypatch):
+    readline = pytest.importorskip("readline")  # absent on Windows: no line editing there
+    readline.clear_history()
+    typed = iter(["j 0 5", "", "j 0 5", "\x1b[A", "  show  ", "q"])
+
+    def read(prompt: str) -> str:
+        assert prompt == "teach> "
+        try:
+            return next(typed)
+        except StopIteration:
+            raise EOFError from None
+
+    history = tmp_path / "history"
+    with PromptLines(history_file=history, read=read) as lines:
+        assert lines.readline is readline
+        assert list(lines) == ["j 0 5", "", "j 0 5", "\x1b[A", "  show  ", "q"]
+        # no empty line, no repeat, no key code; stripped
+        assert readline.get_current_history_length() == 3
+        assert [readline.get_history_item(k) for k in (1, 2, 3)] == ["j 0 5", "show", "q"]
+    assert history.read_text().split() == ["j", "0", "5", "show", "q"]
+    readline.clear_history()
+    with PromptLines(history_file=history, read=read) as lines:  # the next session reads it
+        assert readline.get_current_history_length() == 3
+    readline.clear_history()
+    monkeypatch.setenv(HISTORY_ENV, "")
+    assert default_history_file() is None
+    monkeypatch.setenv(HISTORY_ENV, str(history))
+    assert default_history_file() == history
+    monkeypatch.delenv(HISTORY_ENV)
+    assert default_history_file() == Path.home() / ".kinplan_history"
+
+
+def test_cli_teach_records_a_path(capsys, tmp_path, monkeypatch):
+    from kinplan.cli import main
+
+    output = tmp_path / "taught.yaml"
+    monkeypatch.setattr(sys, "stdin", io.StringIO("rec start\nj 0 20\nx -0.2\nrec stop\nq\n"))
+    assert main(["teach", "planar_2r", "-o", str(output)]) == 0
+    out = capsys.readouterr().out
+    assert "stored path1: " in out and f"wrote {output}: 0 points, 1 path;" in out
+    assert main(["run", str(output)]) == 0
+    assert "path1: ptp through path1_0" in capsys.readouterr().out

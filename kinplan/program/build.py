@@ -244,6 +244,7 @@ class MotionBuilder:
         speed: float | None = None,
         profile: str = "time_optimal",
         blend: float = 0.0,
+        times: Sequence[float] | None = None,
         label: str = "ptp",
         key: str | None = None,
     ) -> MoveReport:
@@ -261,6 +262,8 @@ class MotionBuilder:
                 cubic spline through the points; :func:`kinplan.trajectory.spline`).
             blend: ``time_optimal``: largest deviation from a corner [rad] (0: through the
                 points exactly, stopping at corners).
+            times: ``spline``: the time [s] at which the motion passes each point, from its
+                start (then checked against the velocity limits like a ptp with a duration).
             label: Description for reports.
             key: Key path in a program, for messages.
         """
@@ -270,7 +273,7 @@ class MotionBuilder:
         ]
         try:
             traj = ptp_through_trajectory(
-                self.robot, np.array(points), duration, speed, profile, blend
+                self.robot, np.array(points), duration, speed, profile, blend, times
             )
         except InfeasibleError as exc:
             self._fail("ptp", label, key, status="invalid", why=f"invalid: {exc}")

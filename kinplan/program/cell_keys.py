@@ -12,7 +12,8 @@ BODY}`` are fixed in the world. A BODY is one of::
 
 with an optional pose ``xyz: [..]`` [m], ``rpy_deg: [..]`` [deg] (and, for an obstacle,
 ``allowed: [link, ...]``: robot links allowed to touch it). ``clearance: METRES`` is the margin
-below which a pair of bodies counts as a collision (default 0). A :class:`kinplan.WorkCell` is
+kept between the robot (links and tool body) and the obstacles: closer counts as a collision
+(default 0); the robot's own link pairs collide only on contact. A :class:`kinplan.WorkCell` is
 always built, so the robot's self-collision is checked even without ``obstacles:``.
 """
 
@@ -83,7 +84,7 @@ def _clearance(checker: Checker, value: object) -> float | None:
     if not is_number(value) or not math.isfinite(to_float(value)) or to_float(value) < 0:
         checker.error(
             ("clearance",),
-            f"expected a number ≥ 0 (the margin below which bodies collide [m]), got "
+            f"expected a number ≥ 0 (the margin kept from the obstacles [m]), got "
             f"{describe(value)}",
         )
         return None

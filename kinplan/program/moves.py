@@ -134,7 +134,7 @@ def _read_move(checker: Checker, index: int, spec: object, points: dict[str, Poi
             via = _point_name(checker, spec["via"], path + ("via",), points)
     elif "via" in spec:
         checker.error(path + ("via",), f"via only goes with circ, not {kind}")
-    options = _move_options(checker, kind, spec, path, several=bool(through))
+    options = _move_options(checker, kind, spec, path, several=len(through) + 1 if through else 0)
     if target is None or options is None or (kind == "circ" and via is None):
         return None
     return Move(index, kind, target, via, through=through, **options)
@@ -153,8 +153,10 @@ def _point_list(
 
 
 def _move_options(
-    checker: Checker, kind: str, spec: dict, path: KeyPath, several: bool = False
+    checker: Checker, kind: str, spec: dict, path: KeyPath, several: int = 0
 ) -> dict | None:
+    """The options of a move (``several``: the number of points of a ptp through several
+    points, else 0); None after reporting a problem."""
     ok = True
     duration = speed = None
     if "duration" in spec:
@@ -221,6 +223,10 @@ def _move_options(
     if "torch" in spec and kind != "ptp":
         torch = _torch(checker, spec["torch"], path + ("torch",))
         ok &= torch is not None
+    times = None
+    if "times" in spec:
+        times = _times(checker, spec["times"], path + ("times",), several, profile, duration)
+        ok &= times is not None
     dwell = 0.0
     if "dwell" in spec:
         value = _non_negative(checker, spec["dwell"], path + ("dwell",), "dwell [s]")
@@ -234,8 +240,36 @@ def _move_options(
         return None
     return {
         "duration": duration, "speed": speed, "profile": profile, "name": name, "blend": blend,
-        "weave": weave, "torch": torch, "dwell": dwell,
+        "weave": weave, "torch": torch, "dwell": dwell, "times": times,
     }  # fmt: skip
+
+
+def _times(
+    checker: Checker, value: object, path: KeyPath, count: int, profile: str,
+    duration: float | None,
+) -> tuple[float, ...] | None:  # fmt: skip
+    """``times:`` of a spline through ``count`` points: one time per point, increasing, > 0."""
+    if not count or profile != "spline":
+        checker.error(
+            path, "times go with a ptp through several points and profile spline, e.g. "
+            "{ptp: [a, b, c], profile: spline, times: [1.0, 2.5, 4.0]}",
+        )  # fmt: skip
+        return None
+    if duration is not None:
+        checker.error(path, "give times or duration, not both (the last time is the duration)")
+        return None
+    numbers = checker.numbers(value, path, count, "the time [s] at each point", bound=1e6)
+    if numbers is None:
+        return None
+    steps = np.diff(np.concatenate(([0.0], numbers)))
+    if np.any(steps <= 0.0):
+        k = int(np.argmax(steps <= 0.0))
+        checker.error(
+            path + (k,), f"times must increase from 0 (the move's start): {numbers[k]:g} s is "
+            f"not after {0.0 if k == 0 else numbers[k - 1]:g} s",
+        )  # fmt: skip
+        return None
+    return tuple(float(t) for t in numbers)
 
 
 def _non_negative(checker: Checker, value: object, path: KeyPath, what: str) -> float | None:

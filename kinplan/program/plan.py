@@ -50,6 +50,9 @@ class MoveReport:
         min_self_clearance: Smallest distance between the robot's own checked pairs [m].
         clearances: Robot–obstacle distance at each of the move's samples [m] (first sample
             included), or None without a cell.
+        self_clearances: Smallest distance between the robot's own checked pairs at each of
+            the move's samples [m], or None without a cell.
+        clearance_margin: The ``clearance`` margin the move was checked with [m].
         collision: The failed :class:`kinplan.cell.MotionCheck` of a ``collision`` move (its
             ``bodies``, ``point``, ``q``), else None.
     """
@@ -73,6 +76,8 @@ class MoveReport:
     min_self_clearance: float = math.inf
     clearances: np.ndarray | None = None
     collision: MotionCheck | None = None
+    self_clearances: np.ndarray | None = None
+    clearance_margin: float = 0.0
 
     @property
     def ok(self) -> bool:
@@ -135,6 +140,10 @@ class ProgramPlan(Trajectory):
         min_clearance: Smallest robot–obstacle distance over the plan [m] (inf without a cell
             or obstacles); ``min_clearance_pair`` its (robot body, obstacle).
         min_self_clearance: Smallest distance between the robot's own checked pairs [m].
+        self_clearance: Smallest distance between the robot's own checked pairs at every
+            sample [m], shape (N,) (nan where no move was checked), or None without a cell.
+        clearance_margin: The ``clearance`` margin the moves were checked with [m] (kept from
+            the obstacles; 0: only contact fails).
     """
 
     def __init__(
@@ -230,15 +239,20 @@ class ProgramPlan(Trajectory):
         self.min_clearance, self.min_clearance_pair = math.inf, None
         self.min_self_clearance = math.inf
         self.clearance = None if self.cell is None else np.full(n, np.nan)
+        self.self_clearance = None if self.cell is None else np.full(n, np.nan)
+        self.clearance_margin = max((m.clearance_margin for m in self.moves), default=0.0)
         for move in self.moves:
             if move.min_clearance < self.min_clearance:
                 self.min_clearance, self.min_clearance_pair = (
                     move.min_clearance, move.min_clearance_pair,
                 )  # fmt: skip
             self.min_self_clearance = min(self.min_self_clearance, move.min_self_clearance)
-            if self.clearance is not None and move.clearances is not None:
-                values = move.clearances[: move.last - move.first + 1]
-                self.clearance[move.first : move.first + len(values)] = values
+            for mine, theirs in (
+                (self.clearance, move.clearances), (self.self_clearance, move.self_clearances),
+            ):  # fmt: skip
+                if mine is not None and theirs is not None:
+                    values = theirs[: move.last - move.first + 1]
+                    mine[move.first : move.first + len(values)] = values
 
     def _failure_events(self, move: MoveReport | None) -> list[cartesian.Event]:
         """The failure as a :class:`cartesian.Event` in program time (for viewers and plots)."""

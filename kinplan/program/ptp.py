@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from kinplan import trajectory
@@ -114,6 +116,7 @@ def ptp_through_trajectory(
     speed: float | None,
     profile: str,
     blend: float = 0.0,
+    times: Sequence[float] | None = None,
 ) -> Trajectory:
     """The joint trajectory of a ``ptp`` through several points, one motion rest to rest.
 
@@ -126,6 +129,9 @@ def ptp_through_trajectory(
         profile: ``time_optimal`` (:func:`kinplan.trajectory.time_optimal`, corners within
             ``blend``) or ``spline`` (:func:`kinplan.trajectory.spline`).
         blend: Largest deviation from a corner [rad] (``time_optimal``).
+        times: ``spline``: the times [s] at which it passes ``points[1:]`` (the clamped cubic
+            spline through them, :func:`kinplan.trajectory.cubic_via`); None: chord-length
+            knot times, timed by the limits.
 
     Raises:
         InfeasibleError: a ``duration`` shorter than the limits allow (states the minimum).
@@ -139,7 +145,15 @@ def ptp_through_trajectory(
     if profile == "spline":
         if blend:
             raise KinplanError("a spline passes through its points: blend goes with time_optimal")
+        if times is not None:
+            if len(times) != len(points) - 1:
+                raise KinplanError(
+                    f"expected {len(points) - 1} times, one per point, got {len(times)}"
+                )
+            return trajectory.cubic_via(points, [0.0, *times])
         return trajectory.spline(points, velocity, acceleration, duration)
+    if times is not None:
+        raise KinplanError("times go with profile spline")
     raise KinplanError(
         f"a ptp through several points is time_optimal or spline, got profile {profile!r}"
     )

@@ -168,6 +168,8 @@ class MotionRecord:
             report.min_clearance_pair = check.min_obstacle_pair
             report.min_self_clearance = float(check.min_self_clearance)
             report.clearances = np.array(check.obstacle_distances, dtype=float)
+            report.self_clearances = np.array(check.self_distances, dtype=float)
+            report.clearance_margin = float(check.clearance)
             report.collision = None if check.ok else check
         self.reports.append(report)
         return report

@@ -120,7 +120,7 @@ def _plan_move(builder: MotionBuilder, program: Program, move: Move) -> None:
         builder.ptp_through(
             _joint_points(builder, program, [*move.through, move.target], move),
             duration=move.duration, speed=move.speed, profile=move.profile,
-            blend=move.blend or 0.0, label=move.label, key=move.key,
+            blend=move.blend or 0.0, times=move.times, label=move.label, key=move.key,
         )  # fmt: skip
     elif move.kind == "ptp":
         if target.joints is not None:

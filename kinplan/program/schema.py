@@ -85,7 +85,7 @@ POSE_KEYS = ("xyz", "rpy_deg", "quat_xyzw")
 POINT_KEYS = ("joints", "joints_deg", "xyz", "rpy_deg", "quat_xyzw")
 """The keys of a taught point."""
 MOVE_OPTIONS = (
-    "via", "duration", "speed", "profile", "blend", "weave", "torch", "dwell", "name",
+    "via", "duration", "speed", "profile", "blend", "times", "weave", "torch", "dwell", "name",
 )  # fmt: skip
 """The keys of a move besides its kind."""
 WEAVE_KEYS = ("pattern", "amplitude", "frequency", "dwell", "normal")
@@ -208,6 +208,9 @@ class Move:
         torch: The ``torch:`` angles of a ``lin``/``circ``, or None.
         dwell: Time the arm stands still after the move [s] (arc-off / crater fill; on the
             approach move of a seam, the arc-on dwell).
+        times: A ``spline`` ``ptp`` through several points: the time at which it passes each
+            point, from the move's start [s] (strictly increasing), or None (chord-length knot
+            times, the fastest timing within the limits).
     """
 
     index: int
@@ -223,6 +226,7 @@ class Move:
     weave: WeaveSpec | None = None
     torch: TorchSpec | None = None
     dwell: float = 0.0
+    times: tuple[float, ...] | None = None
 
     @property
     def key(self) -> str:
@@ -233,7 +237,9 @@ class Move:
     def label(self) -> str:
         """Short description, e.g. ``lin to b`` or ``circ to a via c``."""
         text = f"{self.kind} to {self.target}"
-        if self.through:
+        if len(self.through) > 3:
+            text = f"{self.kind} through {len(self.through)} points to {self.target}"
+        elif self.through:
             text = f"{self.kind} through {', '.join(self.through)} to {self.target}"
         if self.via is not None:
             text += f" via {self.via}"
