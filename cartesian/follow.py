@@ -194,7 +194,10 @@ def follow(
             (:meth:`~kinplan.WorkCell.check_motion`, conservative advancement): a "collision"
             event at the first colliding sample; ``min_clearance`` and ``min_self_clearance``
             on the plan.
-        clearance: Margin [m] (≥ 0): a distance below it is a collision too (default 0).
+        clearance: Margin [m] (≥ 0, default 0) between the robot (links and tool body) and the
+            cell's obstacles: a robot–obstacle distance below it is a "collision" too. The
+            robot's own link pairs fail only on contact (neighbouring links of real arms sit
+            millimetres apart all the time).
 
     Returns:
         CartesianPlan; an event stops it at the first offending sample.
@@ -291,7 +294,7 @@ def collision_event(
     assert k is not None and check.bodies is not None  # a failed check: its sample and bodies
     first, second = check.bodies
     when = f"between samples {k - 1} and {k}" if check.between else f"at sample {k}"
-    if check.clearance > 0 and check.distance >= 0:
+    if check.kind == "obstacle" and check.clearance > 0 and check.distance > 0:
         what = (
             f"{first} comes within {1e3 * check.distance:.1f} mm of {second}, "
             f"{1e3 * check.penetration:.1f} mm inside the clearance {1e3 * check.clearance:.1f} mm"
@@ -360,20 +363,21 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
             w_prev, w_before = weights[k]
             guess = q_prev + qd_prev * w_prev + qd_before * w_before
         # most predictions are within tolerance: one kinematics pass, else Newton steps
-        q, corrections = tracker.accepts(guess, position_floats[k], rotation_floats[k]), 0
-        if q is None:
-            q, ok, _, _, corrections = tracker.solve(
-                guess, positions[k], rotations[k], evaluated=True
+        evaluation, corrections = tracker.evaluate(guess, position_floats[k], rotation_floats[k]), 0
+        if not tracker.within(evaluation):
+            _, ok, _, _, corrections, evaluation = tracker.solve(
+                guess, positions[k], rotations[k], evaluated=evaluation
             )
             if not ok:
                 found = tracker.rescue(k, t[k], s[k], guess, q_prev, positions[k], rotations[k])
                 if isinstance(found, Event):
                     events.append(found)
                     break
-                q, corrections = found, 1
-                tracker.accepts(q, position_floats[k], rotation_floats[k])  # kinematics at q
+                evaluation = tracker.evaluate(found, position_floats[k], rotation_floats[k])
+                corrections = 1
+        q = evaluation.q
         event, J, m, qd = tracker.check_sample(
-            k, t[k], s[k], q, q_prev, qd_prev, steps[k], xd[k], positions[k], corrections
+            k, t[k], s[k], evaluation, q_prev, qd_prev, steps[k], xd[k], positions[k], corrections
         )
         if event is not None and k > 0 and event.kind in (Status.JOINT_LIMIT, Status.JUMP):
             assert q_prev is not None  # sample k − 1 was kept
@@ -384,10 +388,10 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
                 traced.position = positions[k]
                 event = traced
             elif traced is not None:  # the continuous solution
+                evaluation = tracker.evaluate(traced, position_floats[k], rotation_floats[k])
                 q = traced
-                tracker.accepts(q, position_floats[k], rotation_floats[k])  # kinematics at q
                 event, J, m, qd = tracker.check_sample(
-                    k, t[k], s[k], q, q_prev, qd_prev, steps[k], xd[k], positions[k], 1
+                    k, t[k], s[k], evaluation, q_prev, qd_prev, steps[k], xd[k], positions[k], 1
                 )
                 if event is not None and event.kind == Status.JUMP:
                     assert qd is not None  # a jump is checked after the rates
@@ -403,7 +407,7 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
         qs.append(q)
         qds.append(qd)
         jacobians.append(J)
-        tools.append(tracker.tool_position())
+        tools.append(evaluation.tool_position)
         manips.append(m)
         q_prev, qd_prev, qd_before = q, qd, qd_prev
 

@@ -106,10 +106,11 @@ def trace_geometry(tracker: Tracker, path: Path, s: np.ndarray, seed: np.ndarray
             guess = q_prev + dqs[-1] * (sk - solved_s[-1])
         # most predictions are within tolerance: one kinematics pass, else Newton steps
         floats = position.tolist(), None if rotation is None else rotation.reshape(9).tolist()
-        q, ok, corrected = tracker.accepts(guess, *floats), True, False
-        if q is None:
-            q, ok, *_ = tracker.solve(guess, position, rotation, evaluated=True)
-            corrected = True
+        evaluation, ok, corrected = tracker.evaluate(guess, *floats), True, False
+        if not tracker.within(evaluation):
+            *_, evaluation = tracker.solve(guess, position, rotation, evaluated=evaluation)
+            ok, corrected = tracker.within(evaluation), True
+        q = evaluation.q
         if q_prev is not None and sk - solved_s[-1] > MIN_REFINE_DS:
             if not ok or np.max(np.abs(q - q_prev)) > MAX_JOINT_STEP:
                 pending += _points(tracker, path, np.array([0.5 * (sk + solved_s[-1])]))
@@ -119,15 +120,12 @@ def trace_geometry(tracker: Tracker, path: Path, s: np.ndarray, seed: np.ndarray
             if isinstance(found, Event):
                 events.append(found)
                 break
-            q = found
-            tracker.accepts(
-                q, position.tolist(), None if rotation is None else rotation.reshape(9).tolist()
-            )
+            q, evaluation = found, tracker.evaluate(found, *floats)
         # the follower's own checks, with rates per unit s instead of per second
         h = sk - solved_s[-1] if solved_s else 0.0
         rate_prev = dqs[-1] if dqs else None
         event, J, _, dq = tracker.check_sample(
-            k, 0.0, sk, q, q_prev, rate_prev, h, dx, position, int(corrected)
+            k, 0.0, sk, evaluation, q_prev, rate_prev, h, dx, position, int(corrected)
         )
         if event is not None:
             events.append(event)

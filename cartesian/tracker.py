@@ -9,6 +9,7 @@ jump, velocity) of a sample. :func:`path_targets` evaluates a path at many fract
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import eigenpy
@@ -19,12 +20,9 @@ from cartesian.events import Event, Status, joint_units, out_of_reach, where
 from cartesian.paths import HeldOrientation, Path
 from kinplan.cell import WorkCell
 from kinplan.errors import InputError
-from kinplan.ik import frobenius_tolerance
+from kinplan.ik import Evaluation, frobenius_tolerance
 from kinplan.robot import Robot, manipulability_of
 from kinplan.sampling import joint_speeds
-
-_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-
 
 #: Default singularity threshold, as a share of the arm's median manipulability.
 SINGULAR_FRACTION = 0.05
@@ -54,7 +52,12 @@ class Tracker:
             robot.acceleration_limit if acceleration_limit is None else acceleration_limit
         )
         self.solver = robot.ik_solver
-        self.model, self.data, self.fid = robot.model, robot.ik_solver.data, robot.tip_id
+        #: evaluate(q, position, rotation) -> Evaluation: the tool at q against a target (one
+        #: kinematics pass: Jacobian, tool position, pose error; the joint limits not applied).
+        #: Position [m] as 3 floats, rotation as 9 floats (row-major) or None.
+        self.evaluate: Callable[[np.ndarray, list[float], list[float] | None], Evaluation] = (
+            robot.ik_solver.evaluate
+        )
         self.position_only = position_only
         self.rows, self.rank = robot.task_rows(position_only), robot.task_rank(position_only)
         # the same rows as a slice when they are consecutive: a view instead of a copy
@@ -62,7 +65,6 @@ class Tracker:
         consecutive = np.array_equal(self.rows, np.arange(first, last + 1))
         self._row_index = slice(first, last + 1) if consecutive else self.rows
         self._all_rows = consecutive and (first, last) == (0, 5)
-        self._flat_jacobian = robot.nq == 1  # eigenpy gives a 1-D array for one column
         rows, cols = len(self.rows), robot.nq
         self._shape = (rows > cols) - (rows < cols)  # −1 wide, 0 square, 1 tall
         self._full_rank = self.rank == min(rows, cols)
@@ -83,29 +85,24 @@ class Tracker:
         guess: np.ndarray,
         position: np.ndarray,
         rotation: np.ndarray | None,
-        evaluated: bool = False,
+        evaluated: Evaluation | None = None,
         iterations: int = 12,
-    ) -> tuple[np.ndarray, bool, float, float, int]:
+    ) -> tuple[np.ndarray, bool, float, float, int, Evaluation]:
         """Newton steps from ``guess``, ignoring the joint limits (the caller checks them: a
         joint that must leave its range is a ``joint_limit`` event, never a clamp).
-        ``evaluated``: see :meth:`IKSolver.descend`."""
+        ``evaluated``: the evaluation at ``guess`` that did not meet the tolerances, reused
+        (see :meth:`IKSolver.descend`). Returns (q, converged, position error [m], rotation
+        error [rad], iterations, the evaluation at q)."""
         return self.solver.descend(
             guess, position, rotation, self.tolerance, self.rotation_tolerance, iterations,
             clamp=False, evaluated=evaluated,
         )  # fmt: skip
 
-    def accepts(
-        self, guess: np.ndarray, position: list[float], rotation: list[float] | None
-    ) -> np.ndarray | None:
-        """``guess`` itself when the tool there already meets the tolerances (one kinematics
-        pass, left for :meth:`jacobian`), else None. The joint limits are not applied here.
-
-        Args:
-            guess: Predicted configuration.
-            position: Target tool position [m], 3 floats.
-            rotation: Target tool rotation, 9 floats (row-major), or None (position only).
-        """
-        return guess if self.solver.accepts(guess, position, rotation, *self._tolerances2) else None
+    def within(self, evaluation: Evaluation) -> bool:
+        """Whether an evaluation meets the follower's position and rotation tolerances."""
+        dx, dy, dz, frobenius2 = evaluation.differences
+        position2, frobenius_tolerance2 = self._tolerances2
+        return dx * dx + dy * dy + dz * dz <= position2 and frobenius2 <= frobenius_tolerance2
 
     def beyond_limit(self, q: np.ndarray) -> int | None:
         """Index of the joint furthest beyond its position limits at ``q``, or None."""
@@ -129,15 +126,6 @@ class Tracker:
             remedy=f"start from a configuration with joint {name} further from that limit "
             "(another q_seed), or move the path",
         )  # fmt: skip
-
-    def jacobian(self) -> np.ndarray:
-        """Tool Jacobian (6, nq) at the last converged q (no new kinematics pass)."""
-        J = pin.getFrameJacobian(self.model, self.data, self.fid, _LWA)
-        return J.reshape(6, 1) if self._flat_jacobian else J
-
-    def tool_position(self) -> tuple[float, float, float]:
-        """Tool position [m] at the last converged q."""
-        return self.solver.converged_position
 
     def factor(self, jacobian: np.ndarray) -> float:
         """Factor the task rows J of a tool ``jacobian`` (6, nq) for :meth:`rates`; return the
@@ -182,7 +170,7 @@ class Tracker:
 
         Args:
             q: Joint positions (N, nq) of the samples.
-            jacobians: Tool Jacobians (N, 6, nq) of the samples (:meth:`jacobian`).
+            jacobians: Tool Jacobians (N, 6, nq) of the samples (their evaluations).
             qd: Joint velocities (N, nq) [rad/s] there.
             xdd: Task accelerations (N, r): the tool origin's classical acceleration [m/s²] and
                 the angular acceleration [rad/s²], in the task rows.
@@ -203,7 +191,7 @@ class Tracker:
         k: int,
         t: float,
         s: float,
-        q: np.ndarray,
+        evaluation: Evaluation,
         q_prev: np.ndarray | None,
         qd_prev: np.ndarray | None,
         h: float,
@@ -211,9 +199,9 @@ class Tracker:
         position: np.ndarray,
         corrections: int,
     ) -> tuple[Event | None, np.ndarray | None, float, np.ndarray | None]:
-        """Check a solved sample k at ``q`` (kinematics at q in the solver's data): joint
-        limits, singularity and, when Newton ``corrections`` moved it off its prediction, a
-        jump relative to the previous sample.
+        """Check a solved sample k (its ``evaluation`` at its configuration q): joint limits,
+        singularity and, when Newton ``corrections`` moved it off its prediction, a jump
+        relative to the previous sample.
 
         Args:
             q_prev, qd_prev: Previous sample's configuration and rates (None at k = 0).
@@ -224,10 +212,11 @@ class Tracker:
             (event or None, Jacobian (6, nq), manipulability, rates q̇); the last three are
             None / nan where the check stopped before computing them.
         """
+        q = evaluation.q
         j = self.beyond_limit(q)
         if j is not None:
             return self.limit_event(k, t, s, q, j, position), None, math.nan, None
-        J = self.jacobian()
+        J = evaluation.jacobian
         m = self.factor(J)
         if self.is_singular(m):
             return self.singular_event(k, t, s, m, position), J, m, None

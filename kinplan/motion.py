@@ -33,6 +33,7 @@ from kinplan.errors import InputError
 from kinplan.trajectory import Trajectory, Waypoints, time_grid
 
 if TYPE_CHECKING:
+    from kinplan.cell import MotionCheck
     from kinplan.robot import Robot
 
 __all__ = [
@@ -49,6 +50,8 @@ __all__ = [
     "ToolTrack",
     "TrajectoryToolPath",
     "as_sampled_motion",
+    "collision_check",
+    "collision_time",
     "joint_rows",
     "no_waypoints",
     "pose_to_track",
@@ -396,6 +399,57 @@ def as_sampled_motion(
         "kinplan.motion.SampledMotion), e.g. kinplan.trajectory.cubic(...) or "
         "cartesian.follow(...)"
     )
+
+
+def collision_check(motion: object) -> MotionCheck | None:
+    """The failed work-cell check of a plan stopped by a collision, or None.
+
+    A :class:`cartesian.CartesianPlan` has it as ``cell_check``, a program plan on its failed
+    move (``moves[k].collision``); both are :class:`kinplan.cell.MotionCheck` objects.
+    """
+    check = getattr(motion, "cell_check", None)
+    if check is not None and not check.ok:
+        return check
+    for move in getattr(motion, "moves", None) or []:
+        if getattr(move, "collision", None) is not None:
+            return move.collision
+    return None
+
+
+def collision_time(motion: object, check: MotionCheck) -> float:
+    """When a plan stopped by a collision fails [s] (the plan's clock).
+
+    A plan keeps the samples before the failing one (``check.index``), so the failure lies
+    after its last sample: at the failing sample, or ``check.fraction`` of the way to it when
+    the check found it between the two. The failing sample's time is the collision event's
+    (a Cartesian plan or move); for a program's ``ptp`` move, one sampling period ``dt`` after
+    the last sample (the move's own samples are not kept).
+
+    Args:
+        motion: The plan (``t``, ``events``; a program plan's ``moves`` and ``dt``).
+        check: Its failed check (:func:`collision_check`).
+    """
+    times = np.asarray(getattr(motion, "t", ()), dtype=float).reshape(-1)
+    last = float(times[-1]) if len(times) else 0.0
+    sample = None
+    for move in getattr(motion, "moves", None) or []:
+        if getattr(move, "collision", None) is not check:
+            continue
+        plan = getattr(move, "cartesian_plan", None)
+        if plan is not None and plan.events:  # a lin / circ move: its own clock from t0
+            sample = float(move.t0) + float(plan.events[0].t)
+        elif check.index == 0:  # a ptp failing where it starts: that is its one sample
+            sample = last
+        else:
+            sample = last + float(getattr(motion, "dt", 0.0))
+        break
+    if sample is None:
+        events = getattr(motion, "events", None) or []
+        sample = float(events[0].t) if events else last
+    sample = max(sample, last)
+    if not len(times):
+        return sample
+    return last + (float(check.fraction) if check.between else 1.0) * (sample - last)
 
 
 def no_waypoints(nq: int) -> Waypoints:

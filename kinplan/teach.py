@@ -10,9 +10,10 @@ from, the points as joint values, a ``ptp`` to each in order) that ``kinplan run
 
 Continuous paths: between ``rec start [hz]`` and ``rec stop [tol_deg]`` every jog is captured as
 a motion at the jog speed (:data:`DEFAULT_JOG_SPEED` of the joint velocity limits), sampled at
-``hz``; ``rec stop`` fits a smooth joint spline through as few of the samples as keep it within
-the tolerance of all of them (:func:`fit_spline`), reports its deviation in joint space [rad]
-and at the tool [mm], and stores it as one multi-point ``ptp`` move with ``profile: spline``.
+``hz``; ``rec stop`` fits a smooth joint spline, timed as recorded, through as few of the samples
+as keep it within the tolerance of all of them at the recorded times (:func:`fit_spline`),
+reports its deviation in joint space [rad] and at the tool [mm], and stores it as one
+multi-point ``ptp`` move with ``profile: spline`` and the knots' recorded ``times``.
 
 The commands are in :data:`HELP` (``help`` prints them, ``help <command>`` explains one from
 :data:`COMMANDS`): jog a joint (``j 2 -5``), the tool along x/y/z [m] or about roll/pitch/yaw
@@ -42,9 +43,9 @@ from numpy.typing import ArrayLike
 import cartesian
 from kinplan import checks, trajectory
 from kinplan.errors import InputError, KinplanError
-from kinplan.program.ptp import motion_limits
 from kinplan.program.schema import FALLBACK_JOINT_SPEED, PTP_RAMP_TIME
 from kinplan.robot import Robot
+from kinplan.sampling import joint_speeds
 from kinplan.trajectory import Trajectory
 
 logger = logging.getLogger(__name__)
@@ -108,8 +109,8 @@ step <m>              set the linear step [m]
 astep <deg>           set the angle step for joints and rotations [deg]
 r [name]              record the current configuration (default names p1, p2, ...)
 rec start [hz]        record a continuous path: the jogs that follow, sampled at hz (default 50)
-rec stop [tol_deg]    end it: store a smooth spline through the recording, within tol_deg of it
-                      (default 0.0573° = 1e-3 rad), and report its deviation
+rec stop [tol_deg]    end it: store a smooth spline timed as recorded, within tol_deg of the
+                      recording (default 0.0573° = 1e-3 rad), and report its deviation
 del <name>            forget a recorded point or path
 list                  list the recorded points and paths
 home                  go back to the start configuration
@@ -154,11 +155,12 @@ speed (10 % of the joint velocity limits) and sampled <hz> times a second (defau
 most 1000). The arm's configuration at rec start is the path's first point.
 rec stop [tol_deg]
 End the recording and store it as path1, path2, ...: a smooth joint spline (acceleration
-continuous, at rest at both ends) through as few of the samples as keep every sample within
-<tol_deg> degrees of it (default 0.0573° = 1e-3 rad, > 0, at most 10). Reports the samples, the
-knots kept and the largest deviation, in joint space [rad] and at the tool [mm]. The program
-plays it as one ptp through the knots (profile: spline, knot times by chord length) in the
-recorded time, or longer if the joint limits need it.""",
+continuous, at rest at both ends) that passes as few of the samples as keep every sample within
+<tol_deg> degrees of it (default 0.0573° = 1e-3 rad, > 0, at most 10), each knot at the time it
+was recorded, each sample compared with the spline at its recorded time. Reports the samples,
+the knots kept and the largest deviation, in joint space [rad] and at the tool [mm]. The program
+plays it as one ptp through the knots (profile: spline, times: the recorded times), as
+recorded; slower only if the spline would exceed a joint velocity limit (the report says so).""",
     "del": """\
 del <name>                                                          (also: delete)
 Forget a recorded point or path (list shows them).""",
@@ -210,9 +212,15 @@ _ROTATIONS = {"roll": 0, "rx": 0, "pitch": 1, "ry": 1, "yaw": 2, "rz": 2}
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]*$")
 _JOG = re.compile(r"^(?P<axis>[a-z]+)(?P<sign>[+-])$")
 _CONTROL = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]")
-_DURATION_MARGIN = 1e-4
-"""Share of a spline's minimum time a stored path keeps in reserve, so that the program, which
-reads the knots rounded to 1e-6°, finds the same duration feasible [-]."""
+_SPEED_MARGIN = 1e-3
+"""Extra share by which a recorded path's times are stretched when its spline would exceed a
+joint velocity limit at the recorded times [-]."""
+_SPEED_STEP = 0.0025
+"""Time step at which a recorded path's spline is checked against the velocity limits [s] (a
+quarter of the programs' default sampling period)."""
+_FIT_ATTEMPTS = 4
+"""Fits ``rec stop`` tries, each aiming tighter by what the last missed: the program reads the
+knots rounded to 1e-6° and the times to 1e-6 s, which moves the spline by ~1e-8 rad."""
 _LIMIT_TOLERANCE = 1e-9
 """How far a fitted spline may pass a joint limit at a sample before a knot is added there [rad]."""
 
@@ -261,15 +269,20 @@ class RecordedPath:
         sample_times: Times of the recorded samples, from 0 [s], shape (N,).
         samples: The recorded configurations [rad], shape (N, n).
         knot_indices: The samples kept as the spline's knots, shape (k,), 0 first, N − 1 last.
-        spline: The motion the program plays (:func:`kinplan.trajectory.spline`): the clamped
-            cubic spline through the knots, at rest at both ends, knot times proportional to the
-            chord lengths, lasting the recorded time (longer only if the joint limits need it).
-        fractions: Where each sample is matched on the spline, share of its duration, shape (N,)
-            (see :func:`fit_spline`).
-        deviation: Largest |spline − recording| over the joints at each sample [rad], shape (N,).
+        spline: The motion the program plays (:func:`kinplan.trajectory.cubic_via`): the
+            clamped cubic spline through the knots as the program reads them (to 1e-6°), at rest
+            at both ends, each knot at its recorded time (to 1e-6 s; all stretched alike only if
+            the recorded timing would exceed a joint velocity limit). Its waypoints are the
+            knots and their times in the program (see :attr:`times`).
+        played_times: The time on :attr:`spline` of each sample [s], shape (N,): its recorded
+            time (mapped linearly between the knots' times in the program).
+        deviation: Largest |spline − recording| over the joints at each sample, both at the
+            sample's time [rad], shape (N,).
         tool_deviation: Largest distance between the tool positions of the spline and of the
-            recording at the samples [m].
+            recording at the samples' times [m].
         tolerance: The deviation the fit was asked to stay within [rad].
+        speed_ratio: The spline's largest joint speed over its velocity limit when timed as
+            recorded [-] (joints without a limit left out); above 1 the program plays it slower.
     """
 
     name: str
@@ -278,10 +291,11 @@ class RecordedPath:
     samples: np.ndarray
     knot_indices: np.ndarray
     spline: Trajectory
-    fractions: np.ndarray
+    played_times: np.ndarray
     deviation: np.ndarray
     tool_deviation: float
     tolerance: float
+    speed_ratio: float
 
     @property
     def duration(self) -> float:
@@ -295,8 +309,19 @@ class RecordedPath:
 
     @property
     def knots(self) -> np.ndarray:
-        """The knots' configurations [rad], shape (k, n)."""
+        """The knots' configurations as recorded [rad], shape (k, n)."""
         return self.samples[self.knot_indices]
+
+    @property
+    def times(self) -> np.ndarray:
+        """The program's ``times:``: when the spline passes knots 1, ..., k − 1, from its start
+        at knot 0 [s], shape (k − 1,) (the last is its duration)."""
+        return self.spline.waypoints.times[1:]
+
+    @property
+    def slowed(self) -> bool:
+        """Whether the program plays the path slower than recorded (velocity limits)."""
+        return self.spline.duration > self.duration + 1e-6
 
     @property
     def max_deviation(self) -> float:
@@ -772,19 +797,17 @@ class TeachPendant:
         else:  # the last sample is at the end (at rest there): the exact end time and position
             times[-1], samples[-1] = recording.elapsed, self.q
         robot = self.robot
-        knots, fractions, _ = fit_spline(samples, tolerance, robot.lower, robot.upper)
-        velocity, acceleration = motion_limits(robot, recording.elapsed, None)
-        fastest = trajectory.spline(samples[knots], velocity, acceleration).duration
-        duration, slower = recording.elapsed, ""
-        if duration < fastest * (1.0 + _DURATION_MARGIN):  # faster than the jogs somewhere
-            duration = math.ceil(fastest * (1.0 + 10 * _DURATION_MARGIN) * 1000.0) / 1000.0
-            slower = (
-                f"; it plays in {duration:.3f} s, not the recorded {recording.elapsed:.3f} s, to "
-                "stay within the joint limits"
-            )
-        spline = trajectory.spline(samples[knots], velocity, acceleration, duration)
-        fitted = spline.sample(fractions * spline.duration)[0]
-        deviation = np.abs(fitted - samples).max(axis=1)
+        aim = tolerance
+        for _ in range(_FIT_ATTEMPTS):
+            knots, _, _ = fit_spline(samples, times, aim, robot.lower, robot.upper)
+            spline, ratio, joint = _program_spline(robot, times[knots], samples[knots])
+            played = np.interp(times, times[knots], spline.waypoints.times)
+            fitted = spline.sample(played)[0]
+            deviation = np.abs(fitted - samples).max(axis=1)
+            excess = float(deviation.max()) - tolerance
+            if excess <= 0.0:
+                break
+            aim = max(aim - 2.0 * excess, 0.5 * aim)  # the rounding moved it past: aim tighter
         tool = max(
             float(np.linalg.norm(robot.fk(a).translation - robot.fk(b).translation))
             for a, b in zip(fitted, samples, strict=True)
@@ -797,18 +820,27 @@ class TeachPendant:
             samples,
             knots,
             spline,
-            fractions,
+            played,
             deviation,
             tool,
             tolerance,
+            ratio,
         )
         self.paths[name] = path
         self._order.append(("path", name))
+        slower = ""
+        if path.slowed:
+            slower = (
+                f"; timed as recorded the spline would need {100 * ratio:.1f} % of the velocity "
+                f"limit of joint {joint} ({robot.joint_names[joint]}), so the program plays it "
+                f"in {spline.duration:.3f} s, not the recorded {path.duration:.3f} s"
+            )
         return Reply(
             f"stored {name}: {len(times)} samples over {path.duration:.2f} s at "
-            f"{recording.rate_hz:g} Hz -> spline through {len(knots)} knots; max deviation "
-            f"{path.max_deviation:.2e} rad ({math.degrees(path.max_deviation):.4f}°) in joint "
-            f"space, {1000 * tool:.3f} mm at the tool (tolerance {tolerance:.2e} rad){slower}"
+            f"{recording.rate_hz:g} Hz -> spline through {len(knots)} knots at their recorded "
+            f"times; max deviation {path.max_deviation:.2e} rad "
+            f"({math.degrees(path.max_deviation):.4f}°) in joint space, {1000 * tool:.3f} mm at "
+            f"the tool (tolerance {tolerance:.2e} rad){slower}"
         )
 
     def _next_path_name(self) -> str:
@@ -870,10 +902,11 @@ class TeachPendant:
     # -- program -------------------------------------------------------------------------------
     def program_text(self, output: str | os.PathLike[str] | None = None) -> str:
         """The program as YAML: start, the recorded points and path knots as joints, then in
-        teaching order a ``ptp`` to each point and, for each path, one ``ptp`` through its knots
-        (``profile: spline``, ``duration`` that of :attr:`RecordedPath.spline`), after a ``ptp``
-        to its first knot when the arm is elsewhere (the move starts where the arm is, and the
-        program drops the first knot there as a repeat).
+        teaching order a ``ptp`` to each point and, for each path, a ``ptp`` to its first knot
+        when the arm is elsewhere, then one ``ptp`` from there through the other knots
+        (``profile: spline``, ``times:`` those of :attr:`RecordedPath.times`: when it passes
+        each, from its start; a path of two knots is the same motion as a ``ptp`` with
+        ``profile: cubic`` and that ``duration``).
 
         Args:
             output: Where the program will be written; a URDF robot source is written relative
@@ -915,23 +948,33 @@ class TeachPendant:
             names = path.point_names()
             for point, q, t in zip(names, path.knots, path.knot_times, strict=True):
                 lines.append(
-                    f"  {point}: {{joints_deg: {_degrees(q)}}}  # {name} at t = {t:.4f} s, "
-                    f"tool at {self._at(q)}"
+                    f"  {point}: {{joints_deg: {_degrees(q)}}}  # {name}, recorded at "
+                    f"t = {t:.4f} s, tool at {self._at(q)}"
                 )
             if _degrees(path.knots[0]) != _degrees(current):  # the spline starts where the arm is
                 moves.append(f"  - {{ptp: {names[0]}}}  # to the start of {name}")
-            listed = textwrap.wrap(", ".join(names), 88, break_long_words=False)
+            timing = "their recorded times"
+            if path.slowed:
+                timing += f" stretched to {path.spline.duration:.3f} s (velocity limits)"
             moves.append(
-                f"  # {name}: recorded {len(path.samples)} samples at {path.rate_hz:g} Hz; "
-                f"spline within {path.max_deviation:.2e} rad "
+                f"  # {name}: recorded {len(path.samples)} samples at {path.rate_hz:g} Hz over "
+                f"{path.duration:.3f} s; a spline from {names[0]} through"
+            )
+            moves.append(
+                f"  # the knots at {timing}, within {path.max_deviation:.2e} rad "
                 f"({1000 * path.tool_deviation:.3f} mm at the tool)"
             )
-            moves.append(f"  - ptp: [{listed[0]}" + ("]" if len(listed) == 1 else ""))
-            for k, chunk in enumerate(listed[1:], start=2):
-                moves.append(f"      {chunk}" + ("]" if k == len(listed) else ""))
-            moves.append(f"    name: {name}")
-            moves.append("    profile: spline")
-            moves.append(f"    duration: {path.spline.duration!r}")
+            times = _decimals(path.times)
+            if len(names) == 2:  # the clamped cubic spline through two points: a cubic
+                moves.append(
+                    f"  - {{ptp: {names[1]}, name: {name}, profile: cubic, "
+                    f"duration: {times[1:-1]}}}"
+                )
+            else:
+                moves += _flow_list("  - ptp: ", names[1:])
+                moves.append(f"    name: {name}")
+                moves.append("    profile: spline")
+                moves += _flow_list("    times: ", times[1:-1].split(", "))
             current = path.knots[-1]
         lines.append("moves:")
         lines += moves
@@ -995,40 +1038,42 @@ event's own ``remedy`` names arguments of :func:`cartesian.follow` the pendant d
 
 def fit_spline(
     samples: ArrayLike,
+    times: ArrayLike,
     tolerance: float = DEFAULT_PATH_TOLERANCE,
     lower: ArrayLike | None = None,
     upper: ArrayLike | None = None,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Few of the recorded samples as knots of a smooth spline within ``tolerance`` of them all.
+) -> tuple[np.ndarray, Trajectory, np.ndarray]:
+    """Few of the recorded samples as knots of a smooth spline, timed as recorded, within
+    ``tolerance`` of them all.
 
-    The spline is the one a program's multi-point ``ptp`` with ``profile: spline`` plays
-    (:func:`kinplan.trajectory.spline`): the clamped cubic spline through the knots, at rest at
-    both ends, knot times proportional to the chord lengths (joint-space distances) between
-    knots. Its shape does not depend on its duration, so the fit is geometric: each sample is
-    compared with the spline at the same share of the recorded path length between the two
-    knots around it, which bounds the sample's distance to the spline's path from above.
+    The spline is the one a program's ``ptp`` through several points with ``profile: spline``
+    and ``times:`` plays (:func:`kinplan.trajectory.cubic_via`): the clamped cubic spline
+    through the knots at their recorded times, at rest at both ends. It is compared with the
+    recording at the recorded times (each sample with the spline at the same time), which also
+    bounds each sample's distance to the spline's path.
 
     Knots are inserted greedily: from the first and last sample, each pass adds, between every
     two neighbouring knots, the sample where the spline is farthest from the recording, until no
     sample is farther than ``tolerance`` in any joint and (with limits) none is beyond them.
-    Samples closer than 1e-7 of the path length (at least 1e-9 rad) to the previous candidate
-    are not made knots (the knot times would be too close to compute with); they are still
-    measured.
+    Samples less than a tenth of the median time step after the previous candidate are not made
+    knots (a sample just before the last one, say); they are still measured.
 
     Args:
         samples: Recorded configurations, in order, shape (N, n), N ≥ 2 [rad].
+        times: Their times, strictly increasing, shape (N,) [s]; the spline's time 0 is
+            ``times[0]``.
         tolerance: Largest deviation at a sample, > 0 [rad].
         lower: Joint lower limits, shape (n,) [rad] (−inf where none), or None.
         upper: Joint upper limits, shape (n,) [rad] (inf where none), or None.
 
     Returns:
-        ``(knot_indices, fractions, deviation)``: the samples kept as knots (sorted, 0 and
-        N − 1 included); where each sample is matched on the spline, as a share of its duration,
-        shape (N,) in [0, 1]; the largest joint deviation at each sample [rad], shape (N,).
+        ``(knot_indices, spline, deviation)``: the samples kept as knots (sorted, 0 and N − 1
+        included); the spline (its waypoints are the knots at ``times[knot_indices] −
+        times[0]``); the largest joint deviation at each sample [rad], shape (N,).
 
     Raises:
-        InputError: not numbers, bad shapes, NaN or inf, samples that never move, a tolerance
-            that is not > 0, or only one of the limits.
+        InputError: not numbers, bad shapes, NaN or inf, times that do not strictly increase,
+            a tolerance that is not > 0, or only one of the limits.
     """
     points = checks.floats(samples, "samples", "an (N, n) array of configurations [rad]")
     if points.ndim == 1:
@@ -1037,7 +1082,15 @@ def fit_spline(
         raise InputError(
             f"samples must be a finite (N, n) array with N ≥ 2 [rad], got shape {points.shape}"
         )
-    n = points.shape[1]
+    count, n = points.shape
+    t = checks.floats(times, "times", "a 1-D array of sample times [s]")
+    if t.shape != (count,) or not np.all(np.isfinite(t)):
+        raise InputError(
+            f"times must be {count} finite sample times [s], one per sample, got shape {t.shape}"
+        )
+    steps = np.diff(t)
+    if np.any(steps < trajectory.MIN_DURATION) or t[-1] - t[0] > trajectory.MAX_DURATION:
+        raise InputError("times must strictly increase (by at least 1e-9 s) [s]")
     tolerance = checks.number(tolerance, "tolerance", positive=True, unit="rad")
     if (lower is None) != (upper is None):
         raise InputError("give both lower and upper joint limits, or neither")
@@ -1047,15 +1100,11 @@ def fit_spline(
             checks.vector(lower, "lower", n, unit="rad", infinite=True),
             checks.vector(upper, "upper", n, unit="rad", infinite=True),
         )
-    arc = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))))
-    if arc[-1] <= 1e-9:
-        raise InputError("the samples never move (path length ≤ 1e-9 rad); nothing to fit")
-    gap = max(1e-9, 1e-7 * arc[-1])
-    candidate = _spaced(arc, gap)
-    knots = np.array([0, len(points) - 1])
+    candidate = _spaced(t, 0.1 * float(np.median(steps)))
+    knots = np.array([0, count - 1])
     while True:
-        knots = _separate(knots, points, candidate, gap)
-        fractions, fitted = _spline_at(points, knots, arc)
+        spline = trajectory.cubic_via(points[knots], t[knots])
+        fitted = spline.sample(t - t[0])[0]
         deviation = np.abs(fitted - points).max(axis=1)
         error = deviation.copy()
         if limits is not None:
@@ -1072,18 +1121,18 @@ def fit_spline(
             if len(eligible):
                 added.append(int(eligible[np.argmax(error[eligible])]))
         if not added:
-            return knots, fractions, deviation
+            return knots, spline, deviation
         knots = np.union1d(knots, added)
 
 
-def _spaced(arc: np.ndarray, gap: float) -> np.ndarray:
-    """Which samples may be knots: each at least ``gap`` along the path after the previous one
-    (the last sample always, in place of a previous one closer than ``gap``)."""
-    candidate = np.zeros(len(arc), dtype=bool)
+def _spaced(times: np.ndarray, gap: float) -> np.ndarray:
+    """Which samples may be knots: each at least ``gap`` [s] after the previous one (the last
+    sample always, in place of a previous one closer than ``gap``)."""
+    candidate = np.zeros(len(times), dtype=bool)
     last = 0
     candidate[0] = True
-    for k in range(1, len(arc)):
-        if arc[k] - arc[last] >= gap:
+    for k in range(1, len(times)):
+        if times[k] - times[last] >= gap:
             candidate[k] = True
             last = k
     if not candidate[-1]:
@@ -1091,48 +1140,6 @@ def _spaced(arc: np.ndarray, gap: float) -> np.ndarray:
             candidate[last] = False
         candidate[-1] = True
     return candidate
-
-
-def _separate(
-    knots: np.ndarray, points: np.ndarray, candidate: np.ndarray, gap: float
-) -> np.ndarray:
-    """The knots with no two neighbours closer than ``gap`` [rad] (a path that comes back to a
-    point gets the sample farthest from it in between; a knot with none is left out)."""
-    order = [int(k) for k in knots]
-    k = 0
-    while k < len(order) - 1:
-        first, last = order[k], order[k + 1]
-        if np.linalg.norm(points[last] - points[first]) >= gap:
-            k += 1
-            continue
-        inside = np.arange(first + 1, last)
-        inside = inside[candidate[inside]]
-        if len(inside):
-            distance = np.linalg.norm(points[inside] - points[first], axis=1)
-            order.insert(k + 1, int(inside[np.argmax(distance)]))
-        elif len(order) > 2:
-            del order[k + 1 if k + 1 < len(order) - 1 else k]
-            k = max(k - 1, 0)
-        else:
-            raise InputError("the samples start and end at the same point without moving away")
-    return np.array(order)
-
-
-def _spline_at(
-    points: np.ndarray, knots: np.ndarray, arc: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """Where each sample is matched on the spline through ``points[knots]`` (share of its
-    duration, by the recorded path length between the knots around it) and the spline there."""
-    big = trajectory.MAX_MAGNITUDE  # no limit: a duration of 1 is always feasible
-    shape = trajectory.spline(points[knots], big, big, duration=1.0)
-    knot_times = shape.waypoints.times
-    if len(knot_times) != len(knots):  # cannot happen: neighbouring knots are apart
-        raise KinplanError("internal: the spline dropped a knot")
-    interval = np.clip(np.searchsorted(arc[knots], arc, side="right") - 1, 0, len(knots) - 2)
-    a, b = arc[knots][interval], arc[knots][interval + 1]
-    share = np.clip((arc - a) / (b - a), 0.0, 1.0)
-    times = knot_times[interval] + share * (knot_times[interval + 1] - knot_times[interval])
-    return np.clip(times / shape.duration, 0.0, 1.0), shape.sample(times)[0]
 
 
 def _joint_path(
@@ -1239,8 +1246,68 @@ def _pendant_advice(event, robot: Robot) -> str:
 
 def _degrees(q: np.ndarray) -> str:
     """Joint values as a YAML list of degrees, to 1e-6° (no "-0")."""
-    texts = (f"{v:.6f}".rstrip("0").rstrip(".") for v in np.degrees(q))
+    return _decimals(np.degrees(q))
+
+
+def _flow_list(start: str, items: list[str]) -> list[str]:
+    """``start`` then ``items`` as a YAML flow list, wrapped to lines of 100 characters."""
+    indent = " " * (len(start) + 1)
+    chunks = textwrap.wrap(", ".join(items), 99 - len(indent), break_long_words=False)
+    lines = [indent + chunk for chunk in chunks]
+    lines[0] = start + "[" + chunks[0]
+    lines[-1] += "]"
+    return lines
+
+
+def _decimals(values: np.ndarray) -> str:
+    """Numbers as a YAML list, to 6 decimals (no trailing zeros, no "-0")."""
+    texts = (f"{v:.6f}".rstrip("0").rstrip(".") for v in values)
     return "[" + ", ".join("0" if text == "-0" else text for text in texts) + "]"
+
+
+def _as_read(values: np.ndarray) -> np.ndarray:
+    """The numbers a program reads back from :func:`_decimals` (rounded to 6 decimals)."""
+    return np.array([float(f"{v:.6f}") for v in values])
+
+
+def _program_spline(
+    robot: Robot, knot_times: np.ndarray, knots: np.ndarray
+) -> tuple[Trajectory, float, int]:
+    """The spline a program plays for a recorded path: the clamped cubic spline, at rest at both
+    ends, through ``knots`` [rad] (k, n) as the program reads them (to 1e-6°) at their recorded
+    times ``knot_times`` [s] (k,) from the first (to 1e-6 s), all stretched alike if the recorded
+    timing would exceed a joint velocity limit.
+
+    Returns:
+        The spline, its largest joint speed over the velocity limit when timed as recorded [-]
+        and the joint where that is.
+    """
+    positions = np.radians(np.array([_as_read(np.degrees(q)) for q in knots]))
+    recorded = knot_times - knot_times[0]
+    spline = trajectory.cubic_via(positions, _as_read(recorded))
+    first, joint = _speed_ratio(robot, spline)
+    ratio, stretch = first, 1.0
+    for _ in range(10):  # one stretch is enough, but for rounding
+        if ratio <= 1.0:
+            break
+        stretch *= ratio * (1.0 + _SPEED_MARGIN)
+        spline = trajectory.cubic_via(positions, _as_read(recorded * stretch))
+        ratio, _ = _speed_ratio(robot, spline)
+    return spline, first, joint
+
+
+def _speed_ratio(robot: Robot, spline: Trajectory) -> tuple[float, int]:
+    """The largest joint speed of ``spline`` over its velocity limit [-] (sampled every
+    :data:`_SPEED_STEP`, with the mean speeds between samples as the programs check it; joints
+    without a limit left out, 0 when none has one) and the joint where that is."""
+    limit = robot.velocity_limit
+    if not np.isfinite(limit).any():
+        return 0.0, 0
+    t = spline.time_grid(_SPEED_STEP)
+    q, qd, _ = spline.sample(t)
+    share = joint_speeds(q, qd, t).max(axis=0) / limit  # 0 where the limit is inf
+    joint = int(np.argmax(share))
+    return float(share[joint]), joint
 
 
 def _yaml_scalar(text: str) -> str:

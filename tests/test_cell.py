@@ -273,6 +273,14 @@ def sweep(q_a, q_b, count):
     return q_a + t * (q_b - q_a)
 
 
+def slack(cell, q, clearance) -> float:
+    """Smallest distance minus its pair's threshold at q [m] (< 0: the pair fails there):
+    the clearance for robot–obstacle pairs, 0 for self pairs."""
+    pairs = cell.pair_distances(q)
+    return min((p.distance - (clearance if p.kind == "obstacle" else 0.0) for p in pairs),
+               default=np.inf)  # fmt: skip
+
+
 def test_collision_between_two_samples_is_caught():
     robot = kinplan.load_robot("ur5")
     cell = WorkCell(robot)
@@ -310,6 +318,83 @@ def test_sample_collision_and_clearance_shortfall():
     del robot
 
 
+def probe_near_self_contact(folder) -> tuple[WorkCell, np.ndarray]:
+    """The probe with an SRDF that disables nothing (so arm–finger is checked), folded so the
+    finger's sphere is 1 mm from the arm's (centres 0.221 m apart: 2 · 0.2 · sin(q3 / 2))."""
+    srdf = Path(folder) / "probe_all_pairs.srdf"
+    srdf.write_text('<robot name="probe"/>')
+    cell = WorkCell(probe_robot(str(folder)), srdf=srdf)
+    assert cell.checked_pairs == [("arm", "finger")]
+    return cell, np.array([0.0, 0.0, 2.0 * np.arcsin(0.221 / 0.4)])
+
+
+def test_clearance_margin_applies_to_obstacles_only(tmp_path):
+    """A self pair 1 mm apart passes a 5 mm clearance (neighbouring links of real arms sit that
+    close); an obstacle 1 mm away fails it, naming the pair, 4 mm inside the margin."""
+    cell, folded = probe_near_self_contact(tmp_path)
+    q = np.array([folded, folded + [0.1, 0.0, 0.0]])  # turning about j1 keeps the fold
+    (pair,) = cell.pair_distances(folded)
+    assert pair.kind == "self" and pair.distance == pytest.approx(0.001, abs=EXACT)
+    free = cell.check_motion(q, clearance=0.005)
+    assert free.ok and free.kind is None
+    assert free.min_self_clearance == pytest.approx(0.001, abs=EXACT)
+    assert free.min_self_pair == ("arm", "finger")
+    np.testing.assert_allclose(free.self_distances, 0.001, atol=EXACT)
+    assert cell.collisions(folded, margin=0.005) == []
+    # a ball 1 mm above the finger's sphere (r 0.12), 14+ cm from the other links
+    finger = probe_robot(str(tmp_path)).fk(folded).translation  # the tip: the finger's frame
+    centre = finger + np.array([-0.2 * np.cos(folded[2]), -0.2 * np.sin(folded[2]), 0.141])
+    cell.add_sphere("ball", 0.02, xyz_rpy(centre))
+    (near,) = [p for p in cell.pair_distances(folded) if p.kind == "obstacle" and
+               p.distance < 0.01]  # fmt: skip
+    assert near.bodies == ("finger", "ball") and near.distance == pytest.approx(0.001, abs=EXACT)
+    hit = cell.check_motion(q, clearance=0.005)
+    assert hit.index == 0 and not hit.between and hit.bodies == ("finger", "ball")
+    assert hit.kind == "obstacle"
+    assert hit.distance == pytest.approx(0.001, abs=EXACT)
+    assert hit.penetration == pytest.approx(0.004, abs=EXACT)
+    assert "(clearance 5 mm)" in hit.describe()
+    assert [c.bodies for c in cell.collisions(folded, margin=0.005)] == [("finger", "ball")]
+    assert cell.check_motion(q, clearance=0.0009).ok  # under 1 mm: the ball passes too
+
+
+def test_self_contact_fails_whatever_the_clearance(tmp_path):
+    """A self pair fails on contact, with its penetration depth (not measured from the
+    clearance), and the description does not blame the clearance."""
+    cell, folded = probe_near_self_contact(tmp_path)
+    deeper = folded - [0.0, 0.0, 0.05]  # centres closer: the spheres overlap
+    depth = 0.22 - 0.4 * np.sin(deeper[2] / 2)
+    assert depth > 0.005
+    for clearance in (0.0, 0.01):
+        hit = cell.check_motion(np.array([folded, deeper]), clearance=clearance)
+        assert hit.index == 1 and hit.bodies == ("arm", "finger") and hit.kind == "self"
+        assert hit.penetration == pytest.approx(-hit.distance)
+        assert "clearance" not in hit.describe()
+
+
+def test_between_samples_an_obstacle_inside_the_margin_is_caught(probe):
+    """Turning about j1 from −0.3 to 0.3 rad, the finger (r 0.12 centred 0.5 m out) passes
+    3 mm under a ball halfway but is 6 cm from it at both samples: with a 1 cm clearance the
+    shortfall between the two samples is found (conservative advancement with the obstacle's
+    threshold), at a configuration where it is real; without a margin the motion is free."""
+    cell = WorkCell(probe)
+    cell.add_sphere("ball", 0.02, xyz_rpy((0.5, 0.0, 0.12 + 0.02 + 0.003)))
+    q = np.array([[-0.3, 0.0, 0.0], [0.3, 0.0, 0.0]])
+    assert min(p.distance for p in cell.pair_distances(q[0])) > 0.06
+    assert min(p.distance for p in cell.pair_distances(q[1])) > 0.06
+    assert cell.check_motion(q).ok
+    hit = cell.check_motion(q, clearance=0.01)
+    assert hit.index == 1 and hit.between and hit.kind == "obstacle"
+    assert hit.bodies == ("finger", "ball")
+    assert 0.0 < hit.fraction < 1.0
+    assert 0.003 - EXACT <= hit.distance < 0.01
+    assert hit.penetration == pytest.approx(0.01 - hit.distance)
+    (pair,) = [p for p in cell.pair_distances(hit.q) if p.bodies == ("finger", "ball")]
+    assert pair.distance == pytest.approx(hit.distance, abs=EXACT)
+    dense = cell.check_motion(sweep(q[0], q[1], 601), clearance=0.01)
+    assert dense.index is not None and dense.bodies == ("finger", "ball")
+
+
 def test_per_sample_distances_are_exact_and_minima_consistent():
     cell = ur5_cell()
     rng = np.random.default_rng(2)
@@ -339,8 +424,7 @@ def test_check_motion_agrees_with_dense_sampling(seed):
     q = np.cumsum(np.vstack([start, rng.uniform(-0.35, 0.35, (4, 6))]), axis=0)
     result = cell.check_motion(q, clearance=clearance)
     if result.index is not None:
-        reached = cell.distance(result.q)
-        assert reached < clearance or reached <= 0.0
+        assert cell.collisions(result.q, margin=clearance)  # a real failure
         k = result.index
         expected = q[k - 1] + result.fraction * (q[k] - q[k - 1]) if result.between else q[k]
         np.testing.assert_allclose(result.q, expected, atol=1e-12)
@@ -349,8 +433,8 @@ def test_check_motion_agrees_with_dense_sampling(seed):
     last = len(q) - 1 if result.index is None else result.index - 1
     for k in range(last):
         dense = sweep(q[k], q[k + 1], 150)
-        worst = min(cell.distance(row) for row in dense)
-        assert worst >= clearance - TOLERANCE - GJK, (k, worst)
+        worst = min(slack(cell, row, clearance) for row in dense)
+        assert worst >= -TOLERANCE - GJK, (k, worst)
 
 
 @pytest.mark.parametrize("source", ["mimic_arm.urdf", "prismatic_gantry.urdf"])
@@ -374,12 +458,11 @@ def test_motion_bounds_hold_for_prismatic_and_mimic_joints(source):
         q = np.cumsum(np.vstack([robot.random_configuration(rng), steps]), axis=0)
         result = cell.check_motion(q, clearance=clearance)
         if result.index is not None:
-            reached = cell.distance(result.q)
-            assert reached < clearance or reached <= 0.0
+            assert cell.collisions(result.q, margin=clearance)  # a real failure
         last = len(q) - 1 if result.index is None else result.index - 1
         for k in range(last):
-            worst = min(cell.distance(row) for row in sweep(q[k], q[k + 1], 120))
-            assert worst >= clearance - TOLERANCE - GJK, (seed, k, worst)
+            worst = min(slack(cell, row, clearance) for row in sweep(q[k], q[k + 1], 120))
+            assert worst >= -TOLERANCE - GJK, (seed, k, worst)
 
 
 def test_distant_pairs_cost_no_coal_call():

@@ -4,6 +4,7 @@ cap, and what a solve reports after the closed form's Newton polish."""
 
 from __future__ import annotations
 
+import math
 import re
 
 import numpy as np
@@ -351,11 +352,13 @@ def test_an_attempt_is_abandoned_after_five_iterations_without_progress(ur5):
     solver = numerical_solver(ur5)
     position, rotation = np.array([2.0, 0.3, 0.4]), ur5.fk(np.zeros(6)).rotation
     seed = np.array([0.3, -1.0, 1.0, -1.0, 1.0, 0.0])
-    *_, stopped = solver.descend(seed, position, rotation, 1e-6, 1e-6, 200)
+    *_, stopped, _ = solver.descend(seed, position, rotation, 1e-6, 1e-6, 200)
     assert stopped < 60
     costs = []
     for k in range(stopped + 1):
-        _, converged, perr, rerr, its = solver.descend(seed, position, rotation, 1e-6, 1e-6, k or 1)
+        _, converged, perr, rerr, its, _ = solver.descend(
+            seed, position, rotation, 1e-6, 1e-6, k or 1
+        )
         assert not converged and its == (k or 1)
         costs.append(0.5 * (perr**2 + rerr**2))
     costs[0] = 0.5 * sum(e**2 for e in solver.errors(seed, position, rotation))
@@ -389,24 +392,35 @@ def test_unclamped_descent_reaches_a_target_beyond_the_joint_limits():
     solver = numerical_solver(arm)
     target = arm.fk([1.4, 0.5]).translation
     seed = np.array([0.9, 0.5])
-    q, converged, perr, _, _ = solver.descend(seed, target, None, 1e-9, 1e-9, 60, clamp=False)
+    q, converged, perr, _, _, _ = solver.descend(seed, target, None, 1e-9, 1e-9, 60, clamp=False)
     assert converged and perr <= 1e-9
     np.testing.assert_allclose(q, [1.4, 0.5], atol=1e-6)
     np.testing.assert_allclose(arm.fk(q).translation, target, atol=1e-9)
-    q, converged, perr, _, _ = solver.descend(seed, target, None, 1e-9, 1e-9, 60)
+    q, converged, perr, _, _, _ = solver.descend(seed, target, None, 1e-9, 1e-9, 60)
     assert not converged and perr > 0.01 and arm.within_limits(q, tolerance=0.0)
 
 
-def test_converged_position_is_the_tool_position_at_the_solution(panda):
-    """After a converged descent the solver holds the tool position there (for the follower)."""
+def test_a_descent_returns_the_evaluation_at_its_answer(panda):
+    """The evaluation returned with a descent is that of the configuration returned: its tool
+    position (FK), its pose error and its Jacobian (Pinocchio's, computed here afresh), even
+    after the solver has evaluated other configurations since."""
     solver = numerical_solver(panda)
     q = np.array([0.5, 0.3, -0.2, -1.8, 0.4, 2.0, 0.1])
     target = panda.fk(q)
-    res = solver.solve(target.translation, target.rotation, q + 0.05, max_restarts=0)
-    assert res.success
-    np.testing.assert_allclose(
-        solver.converged_position, panda.fk(res.q).translation, rtol=0, atol=1e-15
+    found, converged, perr, _, _, evaluation = solver.descend(
+        q + 0.05, target.translation, target.rotation, 1e-9, 1e-9, 40
     )
+    assert converged and evaluation.q is found
+    solver.evaluate(np.zeros(7), [0.0, 0.0, 0.0], None)  # another configuration since
+    np.testing.assert_allclose(
+        evaluation.tool_position, panda.fk(found).translation, rtol=0, atol=1e-15
+    )
+    np.testing.assert_allclose(
+        np.array(evaluation.tool_pose), panda.fk(found).homogeneous, atol=1e-15
+    )
+    np.testing.assert_allclose(evaluation.jacobian, panda.jacobian(found), atol=1e-13)
+    dx, dy, dz, _ = evaluation.differences
+    assert math.hypot(dx, dy, dz) == pytest.approx(perr, rel=1e-12, abs=1e-18)
 
 
 def test_a_closed_form_answer_the_polish_cannot_fix_falls_back_to_the_numerical_solve(ur5):
@@ -429,8 +443,8 @@ def test_a_closed_form_answer_the_polish_cannot_fix_falls_back_to_the_numerical_
 
 
 def test_a_prediction_checked_by_the_caller_converges_in_one_newton_step(panda):
-    """descend(evaluated=True) after the caller's own accepts() (the follower's protocol): the
-    first iterate reuses that check, and the first Newton step from a guess 1e-5 rad off
+    """descend(evaluated=...) after the caller's own evaluate() (the follower's protocol): the
+    first iterate reuses that evaluation, and the first Newton step from a guess 1e-5 rad off
     converges: one iteration."""
     solver = numerical_solver(panda)
     q = np.array([0.5, 0.3, -0.2, -1.8, 0.4, 2.0, 0.1])
@@ -438,9 +452,11 @@ def test_a_prediction_checked_by_the_caller_converges_in_one_newton_step(panda):
     guess = q + 1e-5 * np.array([1.0, -1.0, 0.5, 1.0, -0.5, 1.0, 1.0])
     tolerances = (1e-12, frobenius_tolerance(1e-7))
     args = (target.translation.tolist(), target.rotation.reshape(9).tolist(), *tolerances)
-    assert not solver.accepts(guess, *args)
-    q_new, converged, perr, rerr, its = solver.descend(
-        guess, target.translation, target.rotation, 1e-6, 1e-7, 12, evaluated=True
+    assert solver.accepts(guess, *args) is None
+    evaluation = solver.evaluate(guess, *args[:2])
+    assert not evaluation.within(*tolerances)
+    q_new, converged, perr, rerr, its, _ = solver.descend(
+        guess, target.translation, target.rotation, 1e-6, 1e-7, 12, evaluated=evaluation
     )
     assert converged and its == 1 and perr <= 1e-6 and rerr <= 1e-7
 

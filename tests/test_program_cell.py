@@ -90,12 +90,43 @@ def test_the_tool_tcp_is_where_with_tool_says():
         ("ball: {sphere: 0.1, scale: 2}", "obstacles.ball.scale", "meshes only"),
         ("ball: {sphere: 0.1, xyz: [0, 0]}", "obstacles.ball.xyz", "3 numbers"),
         ("part: {mesh: nowhere.stl}", "obstacles.part.mesh", "no file"),
+        ("ball: {sphere: -0.1}", "obstacles.ball.sphere", "> 0"),
+        ("ball: {sphere: {radius: 0}}", "obstacles.ball.sphere", "> 0"),
+        ("part: {mesh: block.stl, scale: -0.001}", "obstacles.part.scale", "> 0"),
     ],
 )
 def test_bad_obstacles_name_the_key_path(entry, path, words, tmp_path):
+    trimesh = pytest.importorskip("trimesh")
+    trimesh.creation.box((100.0, 100.0, 100.0)).export(tmp_path / "block.stl")
     issues = _issues(HEAD + f"obstacles:\n  {entry}\n" + POINTS, tmp_path)
     assert list(issues) == [path], issues
     assert words in issues[path]
+
+
+def test_an_srdf_naming_unknown_links_is_one_line_naming_the_robot_key(tmp_path, capsys):
+    """The SRDF found next to the program's URDF names a link the URDF does not have: the
+    program's ``robot`` key is blamed, with the SRDF, the link and the URDF's links, in one
+    line of `kinplan run`."""
+    from kinplan.cli import main
+    from tests.test_cell import PROBE_URDF
+
+    (tmp_path / "probe.urdf").write_text(PROBE_URDF)
+    (tmp_path / "probe.srdf").write_text(
+        '<robot name="probe"><disable_collisions link1="arm" link2="claw"/></robot>'
+    )
+    text = (
+        "robot: probe.urdf\ntip: finger\nstart: {joints: [0, 0.5, 0.5]}\n"
+        "points:\n  a: {joints: [0.1, 0.5, 0.5]}\nmoves:\n  - {ptp: a}\n"
+    )
+    issues = _issues(text, tmp_path)
+    assert list(issues) == ["robot"], issues
+    for words in ("probe.srdf", "'claw'", "arm, base, finger, hand"):
+        assert words in issues["robot"]
+    program = tmp_path / "probe.yaml"
+    program.write_text(text)
+    assert main(["run", str(program)]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "robot (line 1)" in err[0] and "'claw'" in err[0]
 
 
 def test_an_unparsable_mesh_names_the_key_path(tmp_path):
@@ -214,6 +245,8 @@ def test_the_page_of_a_plan_in_a_cell_draws_its_obstacles_and_the_collision(tmp_
     )
     plan = plan_program(parse_program(HEAD + cell + POINTS))
     assert plan.status == "collision"
+    link, obstacle = plan.moves[-1].collision.bodies
+    assert obstacle == "ball"
     path = viewer.save_html(plan.robot, plan, tmp_path / "cell.html")
     commands, config = page_parts(path.read_text(encoding="utf-8"))
     drawn = objects(commands)
@@ -221,11 +254,18 @@ def test_the_page_of_a_plan_in_a_cell_draws_its_obstacles_and_the_collision(tmp_
         assert f"/kinplan/cell/{name}" in drawn
     assert "/kinplan/cell/collision" in drawn  # a red ball where the collision happened
 
-    def colour(name):
-        return drawn[f"/kinplan/cell/{name}"]["materials"][0]["color"]
+    def colour(path):
+        return drawn[path]["materials"][0]["color"]
 
-    assert colour("ball") != colour("table") == colour("post")  # the obstacle hit is red
+    grey = colour("/kinplan/cell/table")
+    assert colour("/kinplan/cell/ball") == grey == colour("/kinplan/cell/post")
+    red = colour("/kinplan/cell/ball/hit")  # the obstacle hit: a red copy, from the instant on
+    assert red != grey and red == colour("/kinplan/cell/collision")
+    hits = [p for p in drawn if p.startswith("/kinplan/robot/") and p.endswith("/hit")]
+    assert hits and all(p.startswith(f"/kinplan/robot/{link}") for p in hits)  # the link's parts
+    assert all(colour(p) == red for p in hits)
     assert "cell" in config["layers"]
+    assert f"collision: {link} – ball" in path.read_text(encoding="utf-8")  # the legend
 
 
 def test_the_plot_of_a_plan_in_a_cell_shows_its_clearance():
@@ -237,3 +277,46 @@ def test_the_plot_of_a_plan_in_a_cell_shows_its_clearance():
     assert len(figure.axes) == 4 and "clearance" in figure.axes[3].get_ylabel()
     np.testing.assert_allclose(figure.axes[3].lines[0].get_ydata(), 1e3 * plan.clearance)
     assert len(plot_trajectory(plan_program(parse_program(HEAD + POINTS))).axes) == 3
+
+
+def _table_rows(text: str) -> list[list[str]]:
+    """The cells of every body row of a rich table printed by `kinplan run`."""
+    return [[cell.strip() for cell in line.split("│")[1:-1]] for line in text.splitlines()
+            if line.startswith("│")]  # fmt: skip
+
+
+def test_run_summary_has_the_clearance_of_each_move_and_the_pair_in_the_total(capsys, tmp_path):
+    """`kinplan run` on a program with obstacles: the clearance column [mm] is each move's
+    min_clearance (a ball near the lin's end, the table far below), and the total row names
+    the nearest pair; without obstacles there is no such column."""
+    from kinplan.cli import main
+
+    cell = (
+        "obstacles:\n"
+        "  table: {box: [1.2, 0.8, 0.04], xyz: [0.45, 0, -0.10]}\n"
+        "  ball: {sphere: 0.03, xyz: [0.50, 0.12, 0.22]}\n"
+    )
+    path = tmp_path / "cell.yaml"
+    path.write_text(HEAD + cell + POINTS)
+    assert main(["run", str(path)]) == 0
+    out = capsys.readouterr().out
+    header_line = next(line for line in out.splitlines() if line.startswith("┃"))
+    header = [cell.strip() for cell in header_line.split("┃")[1:-1]]
+    assert header[6] == "clearance [mm]"
+    rows = _table_rows(out)
+    plan = plan_program(parse_program(HEAD + cell + POINTS, base_dir=tmp_path))
+    assert plan.ok and len(rows) == len(plan.moves) + 1
+    values = [row[6] for row in rows]
+    expected = [f"{1e3 * move.min_clearance:.1f}" for move in plan.moves]
+    assert values[:-1] == expected
+    assert float(values[0]) > float(values[1]) > 0  # the lin passes the ball
+    assert plan.min_clearance_pair == ("wrist_3_link", "ball")
+    assert values[-1] == f"{1e3 * plan.min_clearance:.1f} (wrist_3_link – ball)"
+    assert rows[-1][1] == "total" and rows[-1][-1] == "ok"
+
+    bare = tmp_path / "bare.yaml"
+    bare.write_text(HEAD + POINTS)
+    assert main(["run", str(bare)]) == 0
+    out = capsys.readouterr().out
+    assert "clearance" not in out
+    assert all(len(row) == 7 for row in _table_rows(out))

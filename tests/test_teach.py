@@ -207,10 +207,13 @@ def taught_path(robot, script: str = PATH_SCRIPT) -> tuple[TeachPendant, list[st
     return pendant, shown
 
 
-def closest_distances(spline, samples: np.ndarray, count: int = 40_000) -> np.ndarray:
+def closest_distances(
+    motion, samples: np.ndarray, t0: float = 0.0, t1: float | None = None, count: int = 40_000
+) -> np.ndarray:
     """Distance [rad, max over joints] from each sample to the nearest of ``count`` points of
-    the spline's path (an answer independent of how the pendant matches samples)."""
-    dense = spline.sample(np.linspace(0.0, spline.duration, count))[0]
+    the motion's path between t0 and t1 (an answer independent of the timing)."""
+    t1 = motion.duration if t1 is None else t1
+    dense = motion.sample(np.linspace(t0, t1, count))[0]
     return np.array([np.abs(dense - q).max(axis=1).min() for q in samples])
 
 
@@ -220,9 +223,11 @@ def test_recording_jogs_gives_a_spline_within_the_tolerance(ur5):
     path = pendant.paths["path1"]
     report = next(text for text in shown if text.startswith("stored path1"))
     n_samples, n_knots = len(path.samples), len(path.knot_indices)
-    assert f"{n_samples} samples" in report and f"spline through {n_knots} knots" in report
+    assert f"{n_samples} samples" in report
+    assert f"spline through {n_knots} knots at their recorded times" in report
     assert f"max deviation {path.max_deviation:.2e} rad" in report
     assert f"{1000 * path.tool_deviation:.3f} mm at the tool" in report
+    assert "plays it in" not in report  # not slowed: the jogs were at 10 % of the limits
     # the recording: 50 Hz from where rec start found the arm to where rec stop found it
     np.testing.assert_allclose(
         path.samples[0], pendant.points["before"] + [0, -np.radians(5), 0, 0, 0, 0]
@@ -239,21 +244,38 @@ def test_recording_jogs_gives_a_spline_within_the_tolerance(ur5):
     down = xyz[: np.argmax(xyz[:, 2] <= xyz[0, 2] - 0.05 + 1e-7) + 1]  # the z jog
     assert len(down) > 20
     np.testing.assert_allclose(down[:, :2], np.tile(xyz[0, :2], (len(down), 1)), atol=1e-5)
-    # the fit: knots are samples, both ends kept; every sample within the tolerance
+    # the fit: knots are samples, both ends kept, each at its recorded time (to 1e-6 s) and
+    # joints (to 1e-6°, as the program reads them)
     assert 2 <= n_knots < n_samples / 3
+    assert n_knots <= 40  # timed by chord length (before the times: key) it took 53 knots
     assert path.knot_indices[0] == 0 and path.knot_indices[-1] == n_samples - 1
-    assert path.max_deviation <= path.tolerance == pytest.approx(1e-3)
-    assert np.max(closest_distances(path.spline, path.samples)) <= 1e-3 + 1e-6
-    np.testing.assert_allclose(path.spline.sample(0.0)[0], path.samples[0], atol=1e-12)
-    np.testing.assert_allclose(path.spline.sample(path.spline.duration)[0], path.samples[-1])
-    _, qd, _ = path.spline.sample(np.array([0.0, path.spline.duration]))
+    spline = path.spline
+    np.testing.assert_allclose(spline.waypoints.times, path.knot_times, rtol=0, atol=5e-7)
+    np.testing.assert_allclose(spline.waypoints.positions, path.knots, rtol=0, atol=1e-8)
+    np.testing.assert_array_equal(path.times, spline.waypoints.times[1:])
+    np.testing.assert_allclose(spline.sample(path.knot_times)[0], path.knots, rtol=0, atol=1e-8)
+    assert not path.slowed and path.speed_ratio <= 1.0
+    assert spline.duration == pytest.approx(path.duration, abs=5e-7)  # the recorded time
+    np.testing.assert_allclose(path.played_times, path.sample_times, rtol=0, atol=5e-7)
+    _, qd, _ = spline.sample(np.array([0.0, spline.duration]))
     np.testing.assert_allclose(qd, 0.0, atol=1e-12)  # at rest at both ends
-    assert path.spline.duration >= path.duration - 1e-9
+    # every sample within the tolerance of the spline at the same time, and of its path (the
+    # played times are the recorded ones but in the last piece, stretched by < 5e-7 s)
+    at_played_times = np.abs(spline.sample(path.played_times)[0] - path.samples).max(axis=1)
+    np.testing.assert_allclose(at_played_times, path.deviation, rtol=0, atol=1e-12)
+    at_equal_times = np.abs(spline.sample(path.sample_times)[0] - path.samples).max(axis=1)
+    np.testing.assert_allclose(at_equal_times, path.deviation, rtol=0, atol=1e-7)
+    assert path.max_deviation <= path.tolerance == pytest.approx(1e-3)
+    assert np.max(closest_distances(spline, path.samples)) <= path.max_deviation + 1e-9
     tool = max(
         np.linalg.norm(ur5.fk(a).translation - ur5.fk(b).translation)
-        for a, b in zip(path.spline.sample(path.fractions * path.spline.duration)[0], path.samples)
+        for a, b in zip(spline.sample(path.played_times)[0], path.samples)
     )
     assert tool == pytest.approx(path.tool_deviation) and tool < 1e-3  # below 1 mm
+    # timed as recorded, the spline stays near the jog speed: well within the velocity limits
+    t = spline.time_grid(0.001)
+    peak = np.max(np.abs(spline.sample(t)[1]) / ur5.velocity_limit)
+    assert peak == pytest.approx(path.speed_ratio, rel=1e-3) and peak < 0.11
     # a looser tolerance keeps fewer knots
     loose, _ = taught_path(ur5, PATH_SCRIPT.replace("rec stop", "rec stop 0.5"))
     assert len(loose.paths["path1"].knot_indices) < n_knots
@@ -278,36 +300,102 @@ def test_the_program_has_the_spline_move(ur5):
     text = pendant.program_text()
     names = path.point_names()
     assert names == [f"path1_{k}" for k in range(len(path.knot_indices))]
-    assert "  - ptp: [path1_0, path1_1, path1_2," in text
-    assert "    profile: spline\n" in text
-    assert f"    duration: {path.spline.duration!r}\n" in text
+    assert "  - ptp: [path1_1, path1_2, path1_3," in text  # from path1_0, where the arm is
+    assert "    profile: spline\n" in text and "    times: [" in text and "duration" not in text
     program = yaml.safe_load(text)
     assert list(program["points"]) == ["before", *names, "after"]
     for name, q in zip(names, path.knots):
         np.testing.assert_allclose(np.radians(program["points"][name]["joints_deg"]), q, atol=1e-7)
+    spline_move = {"ptp": names[1:], "name": "path1", "profile": "spline"}
     assert program["moves"] == [
         {"ptp": "before"},
         {"ptp": "path1_0"},  # the arm moved after r before: to the start of the path first
-        {"ptp": names, "name": "path1", "profile": "spline", "duration": path.spline.duration},
+        {**spline_move, "times": path.times.tolist()},
         {"ptp": "after"},
     ]
+    # the times: the knots' recorded times from knot 0, to 6 decimals, increasing
+    times = np.array(program["moves"][2]["times"])
+    np.testing.assert_array_equal(times, np.round(path.knot_times[1:] - path.knot_times[0], 6))
+    assert np.all(np.diff(times) > 0) and times[0] > 0
+    assert times[-1] == pytest.approx(path.duration, abs=5e-7)
 
 
 def test_the_recorded_program_loads_and_plans(ur5, tmp_path):
-    """Needs the multi-point ptp with profile: spline of the program format."""
+    """The program plays the path as recorded: through each knot at its recorded time."""
     pendant, _ = taught_path(ur5)
     path = pendant.paths["path1"]
+    names = path.point_names()
     program = load_program(pendant.save(tmp_path / "path.yaml"))
     plan = plan_program(program)
     assert plan.ok, plan.reason
-    assert [m.label.split(":")[0] for m in plan.moves][:2] == ["ptp to before", "ptp to path1_0"]
+    assert [m.label for m in plan.moves][:2] == ["ptp to before", "ptp to path1_0"]
     move = plan.moves[2]
-    assert move.label.startswith("path1: ptp through path1_0, path1_1")
-    assert move.t1 - move.t0 == pytest.approx(path.spline.duration)
+    k = len(names) - 1
+    assert move.label == f"path1: ptp through {k - 1} points to path1_{k}"
+    assert program.moves[2].times == tuple(path.times)
+    # as long as the recording, passing each knot (as the program reads it) at its time
+    assert move.t1 - move.t0 == pytest.approx(path.duration, abs=5e-7)
+    assert move.t1 - move.t0 == pytest.approx(path.spline.duration, abs=1e-12)
+    passed = plan.sample(move.t0 + np.array(program.moves[2].times))[0]
+    expected = np.array([program.points[name].joints for name in names[1:]])
+    np.testing.assert_allclose(passed, expected, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(plan.sample(move.t0)[0], program.points[names[0]].joints, atol=1e-9)
+    np.testing.assert_allclose(
+        plan.sample(move.t0 + path.knot_times)[0], path.knots, rtol=0, atol=1e-7
+    )
+    # the played motion is the pendant's spline
     played = plan.q[move.first : move.last + 1]
-    expected = path.spline.sample(plan.t[move.first : move.last + 1] - move.t0)[0]
-    np.testing.assert_allclose(played, expected, atol=1e-6)  # the fitted spline, as reported
+    fitted = path.spline.sample(plan.t[move.first : move.last + 1] - move.t0)[0]
+    np.testing.assert_allclose(played, fitted, rtol=0, atol=1e-9)
+    # within the tolerance of the recording at the recorded times, and of its path
+    at_equal_times = plan.sample(move.t0 + path.sample_times)[0]
+    deviation = np.abs(at_equal_times - path.samples).max(axis=1)
+    assert deviation.max() <= path.tolerance
+    np.testing.assert_allclose(deviation, path.deviation, rtol=0, atol=1e-7)
+    geometric = closest_distances(plan, path.samples, move.t0, move.t1)
+    assert geometric.max() <= deviation.max() + 1e-9
     np.testing.assert_allclose(plan.q[-1], pendant.points["after"], atol=1e-7)
+
+
+def test_a_path_too_fast_for_its_spline_plays_slower_and_says_so(ur5, tmp_path):
+    """Jogs at the full velocity limits: a spline with few knots through them would pass a limit
+    at the recorded times, so the program stretches them (the report and the program say so)."""
+    pendant = TeachPendant(ur5, jog_speed=1.0)
+    pendant.execute("rec start")
+    pendant.execute("j 0 300")
+    report = pendant.execute("rec stop 3").text
+    path = pendant.paths["path1"]
+    assert path.slowed and path.speed_ratio > 1.0
+    assert (
+        f"timed as recorded the spline would need {100 * path.speed_ratio:.1f} % of the velocity "
+        "limit of joint 0 (shoulder_pan_joint), so the program plays it in "
+        f"{path.spline.duration:.3f} s, not the recorded {path.duration:.3f} s"
+    ) in report
+    stretch = path.spline.duration / path.duration
+    assert 1.0 < stretch <= path.speed_ratio * 1.002
+    np.testing.assert_allclose(path.times, (path.knot_times[1:]) * stretch, rtol=0, atol=1e-6)
+    assert path.max_deviation <= path.tolerance
+    assert "stretched to" in pendant.program_text()
+    plan = plan_program(load_program(pendant.save(tmp_path / "fast.yaml")))
+    assert plan.ok, plan.reason
+    assert plan.duration == pytest.approx(path.spline.duration)
+    assert np.max(np.abs(plan.qd) / ur5.velocity_limit) <= 1.0
+
+
+def test_a_path_of_two_knots_is_a_cubic_ptp(ur5, tmp_path):
+    pendant = TeachPendant(ur5)
+    pendant.execute("rec start")
+    pendant.execute("j 0 10")
+    assert "spline through 2 knots" in pendant.execute("rec stop 10").text
+    path = pendant.paths["path1"]
+    duration = float(path.times[0])
+    assert f"  - {{ptp: path1_1, name: path1, profile: cubic, duration: {duration!r}}}" in (
+        pendant.program_text()
+    )
+    plan = plan_program(load_program(pendant.save(tmp_path / "two.yaml")))
+    assert plan.ok, plan.reason
+    assert plan.moves[0].label == "path1: ptp to path1_1"
+    np.testing.assert_allclose(plan.q, path.spline.sample(plan.t)[0], rtol=0, atol=1e-9)
 
 
 def test_recording_commands_refuse_with_the_reason(ur5, planar_2r):
@@ -383,36 +471,52 @@ def test_paths_and_points_in_one_session(planar_2r, tmp_path):
 def test_fit_spline_alone():
     t = np.linspace(0.0, 2.0, 201)
     samples = np.column_stack([np.sin(2 * t), 0.3 * t**2, np.cos(t)])
-    knots, fractions, deviation = fit_spline(samples, 1e-4)
+    knots, spline, deviation = fit_spline(samples, t, 1e-4)
     assert knots[0] == 0 and knots[-1] == 200 and np.all(np.diff(knots) > 0)
     assert len(knots) < 60 and deviation.max() <= 1e-4
-    assert np.all(np.diff(fractions) >= 0) and fractions[0] == 0 and fractions[-1] == 1
-    coarse, _, _ = fit_spline(samples, 1e-2)
+    np.testing.assert_array_equal(spline.waypoints.times, t[knots])
+    np.testing.assert_array_equal(spline.waypoints.positions, samples[knots])
+    np.testing.assert_allclose(
+        deviation, np.abs(spline.sample(t)[0] - samples).max(axis=1), rtol=0, atol=1e-15
+    )
+    coarse, _, _ = fit_spline(samples, t, 1e-2)
     assert len(coarse) < len(knots)
+    # the times count, not only the path: the same samples, the second half recorded 4× slower
+    slow = np.where(t <= 1.0, t, 1.0 + 4.0 * (t - 1.0))
+    knots, spline, deviation = fit_spline(samples, slow + 3.0, 1e-4)  # from any start time
+    assert deviation.max() <= 1e-4 and spline.duration == pytest.approx(5.0)
+    np.testing.assert_allclose(spline.sample(slow)[0], samples, rtol=0, atol=1e-4)
     # limits: no sample of the spline beyond them
     upper = np.array([0.95, 10.0, 10.0])
     clipped = samples.copy()
     clipped[:, 0] = np.minimum(clipped[:, 0], 0.95)
-    knots, fractions, _ = fit_spline(clipped, 1e-2, -upper, upper)
-    from kinplan import trajectory
-
-    spline = trajectory.spline(clipped[knots], 1e9, 1e9, duration=1.0)
-    assert spline.sample(fractions)[0][:, 0].max() <= 0.95 + 1e-9
+    knots, spline, _ = fit_spline(clipped, t, 1e-2, -upper, upper)
+    assert spline.sample(t)[0][:, 0].max() <= 0.95 + 1e-9
     back = np.vstack([samples, samples[::-1]])  # there and back to the start
-    knots, _, deviation = fit_spline(back, 1e-3)
+    knots, _, deviation = fit_spline(back, np.arange(len(back)) * 0.01, 1e-3)
     assert deviation.max() <= 1e-3
-    for bad, match in (
-        (np.zeros((5, 2)), "never move"),
-        ([[0.0, np.nan], [1.0, 1.0]], "finite"),
-        ([[0.0]], "N ≥ 2"),
-        ("abc", "samples"),
+    # a last sample just after the one before it is a knot in its place
+    ends = np.append(t, 2.0 + 1e-4)
+    knots, _, _ = fit_spline(np.vstack([samples, samples[-1]]), ends, 1e-4)
+    assert knots[-1] == 201 and 200 not in knots
+    for bad, times, match in (
+        ([[0.0, np.nan], [1.0, 1.0]], [0, 1], "finite"),
+        ([[0.0]], [0], "N ≥ 2"),
+        ("abc", [0], "samples"),
+        (samples, t[:-1], "one per sample"),
+        (samples, t[::-1], "strictly increase"),
+        (samples, np.zeros_like(t), "strictly increase"),
+        (samples, "t", "times"),
     ):
         with pytest.raises(InputError, match=match):
-            fit_spline(bad)
+            fit_spline(bad, times)
     with pytest.raises(InputError, match="tolerance"):
-        fit_spline(samples, 0.0)
+        fit_spline(samples, t, 0.0)
     with pytest.raises(InputError, match="both lower and upper"):
-        fit_spline(samples, 1e-3, lower=-upper)
+        fit_spline(samples, t, 1e-3, lower=-upper)
+    still = np.zeros((5, 2))  # not moving is a path too: the spline stays put
+    knots, _, deviation = fit_spline(still, np.arange(5.0))
+    assert list(knots) == [0, 4] and deviation.max() == 0
 
 
 # -- help, numbers, key codes, line editing ----------------------------------------------------
@@ -526,4 +630,4 @@ def test_cli_teach_records_a_path(capsys, tmp_path, monkeypatch):
     out = capsys.readouterr().out
     assert "stored path1: " in out and f"wrote {output}: 0 points, 1 path;" in out
     assert main(["run", str(output)]) == 0
-    assert "path1: ptp through path1_0" in capsys.readouterr().out
+    assert re.search(r"path1: ptp through \d+ points to path1_\d+", capsys.readouterr().out)

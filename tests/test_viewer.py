@@ -130,16 +130,29 @@ def objects(commands: list[dict]) -> dict[str, dict]:
 
 
 def animation(commands: list[dict]) -> dict[str, dict]:
-    """path -> {"times", "position", "quaternion"} of the page's animation."""
+    """path -> {"times", "position", "quaternion"} of the page's animation (pose clips)."""
     (command,) = [c for c in commands if c["type"] == "set_animation"]
     clips = {}
     for entry in command["animations"]:
         tracks = {t["name"]: t for t in entry["clip"]["tracks"]}
+        if ".position" not in tracks:
+            continue  # a visibility clip (visibility() reads those)
         clips[entry["path"]] = {
             "times": ms.ext_array(tracks[".position"]["times"], np.float32),
             "position": ms.ext_array(tracks[".position"]["values"], np.float32).reshape(-1, 3),
             "quaternion": ms.ext_array(tracks[".quaternion"]["values"], np.float32).reshape(-1, 4),
         }
+    return clips
+
+
+def visibility(commands: list[dict]) -> dict[str, tuple[np.ndarray, list[bool]]]:
+    """path -> (key times, visible from each) of the page's visibility clips."""
+    (command,) = [c for c in commands if c["type"] == "set_animation"]
+    clips = {}
+    for entry in command["animations"]:
+        for track in entry["clip"]["tracks"]:
+            if track["name"] == ".visible":
+                clips[entry["path"]] = (ms.ext_array(track["times"], np.float32), track["values"])
     return clips
 
 
@@ -334,6 +347,101 @@ def test_real_cartesian_plan(tmp_path, planar_2r):
     commands, config = page_parts(path.read_text(encoding="utf-8"))
     assert config["duration"] == pytest.approx(plan.t[-1])
     assert "/kinplan/path/planned0" in objects(commands)
+
+
+def wall_plan(robot):
+    """A real Cartesian plan of the UR5 stopped by a thin wall across its line (a collision of
+    the wrist and the wall at a sample), in a cell that also has a table."""
+    import cartesian
+
+    start = robot.fk(UR5_Q0)
+    line = cartesian.Line(start, pin.SE3(start.rotation, start.translation + [0.0, 0.3, 0.0]))
+    cell = kinplan.WorkCell(robot)
+    cell.add_box("table", [1.2, 0.8, 0.04], pin.SE3(np.eye(3), np.array([0.3, 0.0, -0.02])))
+    cell.add_box("wall", [0.3, 0.004, 0.4], pin.SE3(np.eye(3), line.position(np.array([0.5]))[0]))
+    plan = cartesian.follow(robot, line, speed=0.2, q_seed=UR5_Q0, cell=cell)
+    assert plan.status == "collision" and plan.cell_check.bodies[1] == "wall"
+    return plan
+
+
+def test_a_collision_turns_the_two_bodies_red_at_the_failing_instant(tmp_path, ur5):
+    """The link and the obstacle of the failing pair get red copies (``<node>/hit``), hidden
+    until the failing instant and shown from then on while the originals are hidden; the
+    playback ends at that instant (the failing sample, which the plan does not keep) with the
+    robot at the colliding configuration; the other obstacle stays as it is."""
+    from kinplan.viewer.visuals import visuals_for
+
+    plan = wall_plan(ur5)
+    check = plan.cell_check
+    link = check.bodies[0]
+    text = viewer.render_html(ur5, plan)
+    commands, config = page_parts(text)
+    failing = plan.events[0].t  # the failing sample's time: the plan stops before it
+    assert failing > plan.t[-1] and not check.between
+    assert config["duration"] == pytest.approx(failing)
+    visuals = visuals_for(ur5)
+    parts = [p.name for p, owner in zip(visuals.parts, visuals.part_links) if owner == link]
+    assert parts
+    nodes = [f"/kinplan/robot/{part}" for part in parts] + ["/kinplan/cell/wall"]
+    drawn = objects(commands)
+    red = drawn["/kinplan/cell/collision"]["materials"][0]["color"]  # the red ball
+    assert {p for p in drawn if p.endswith("/hit")} == {f"{node}/hit" for node in nodes}
+    for node in nodes:
+        assert drawn[f"{node}/hit"]["materials"][0]["color"] == red
+        assert drawn[f"{node}/hit"]["object"]["matrix"] == drawn[node]["object"]["matrix"]
+    assert drawn["/kinplan/cell/wall"]["materials"][0]["color"] != red
+    hidden_first = {
+        c["path"] for c in commands if c["type"] == "set_property" and c["value"] is False
+    }
+    clips = visibility(commands)
+    for path in [f"{node}/hit" for node in nodes] + ["/kinplan/cell/collision"]:
+        assert path in hidden_first  # hidden until the instant
+        times, shown = clips[path]
+        assert shown == [False, True] + [True] * (len(times) - 2)
+        assert times[0] == 0.0 and times[1] == pytest.approx(failing, abs=2e-4)
+        assert times[-1] == pytest.approx(failing, abs=1e-6)  # as long as the pose clips
+    for node in nodes:
+        times, shown = clips[f"{node}/<object>"]
+        assert shown[:2] == [True, False] and times[1] == pytest.approx(failing, abs=2e-4)
+    assert not any(path.startswith("/kinplan/cell/table") for path in clips)
+    assert f"collision: {link} – wall" in text
+    # the last key frame places the link's parts at the colliding configuration
+    poses = animation(commands)
+    placed, _ = visuals.placements(check.q)
+    for part in parts:
+        clip = poses[f"/kinplan/robot/{part}"]
+        assert clip["times"][-1] == pytest.approx(failing, abs=1e-6)
+        index = [p.name for p in visuals.parts].index(part)
+        np.testing.assert_allclose(clip["position"][-1], placed[index][:3, 3], atol=1e-6)
+
+
+def test_a_collision_between_two_samples_is_shown_where_it_happens(ur5):
+    """A fin crossed between two samples 0.5 s apart: the plan keeps the first sample, and the
+    playback ends at the configuration between them where the check found the collision, at
+    the same fraction of the time between the samples."""
+    from kinplan.viewer.playback import playback
+
+    q_a, q_b = UR5_Q0 + [-0.3, 0, 0, 0, 0, 0], UR5_Q0 + [0.3, 0, 0, 0, 0, 0]
+    cell = kinplan.WorkCell(ur5)
+    cell.add_box("fin", (0.06, 0.002, 0.06), pin.SE3(np.eye(3), ur5.fk(UR5_Q0).translation))
+    check = cell.check_motion(np.array([q_a, q_b]))
+    assert check.index == 1 and check.between and 0 < check.fraction < 1
+    event = types.SimpleNamespace(kind="collision", t=0.5, s=0.5, index=1, message="fin")
+    plan = types.SimpleNamespace(
+        kind="cartesian", description="a turn", t=np.zeros(1), q=q_a[None, :],
+        qd=np.zeros((1, 6)), qdd=np.zeros((1, 6)), robot=ur5, tool_positions=None,
+        planned_paths=[], waypoints=no_waypoints(6), moves=(), ok=False, status="collision",
+        events=[event], cell=cell, cell_check=check,
+    )  # fmt: skip
+    played = playback(ur5, plan, 30.0)
+    assert played.collision is not None and played.collision.bodies == check.bodies
+    assert played.collision.t == pytest.approx(0.5 * check.fraction)
+    np.testing.assert_allclose(played.t, [0.0, 0.5 * check.fraction])
+    np.testing.assert_allclose(played.q[-1], check.q)
+    commands, _ = page_parts(viewer.render_html(ur5, plan))
+    assert "/kinplan/cell/fin/hit" in objects(commands)
+    times, shown = visibility(commands)["/kinplan/cell/fin/hit"]
+    assert shown[:2] == [False, True] and times[1] == pytest.approx(0.5 * check.fraction, abs=2e-4)
 
 
 # ----------------------------------------------------------------------------------------------

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
-from test_viewer import UR5_Q0, UR5_Q1, cubic_stand_in, line_plan_stand_in
+from test_viewer import UR5_Q0, UR5_Q1, cubic_stand_in, line_plan_stand_in, wall_plan
 
 from kinplan import viewer
 
@@ -87,8 +87,15 @@ def shots(tmp_path_factory, ur5, planar_2r) -> dict[str, np.ndarray]:
     )
     plan = line_plan_stand_in(planar_2r, [0.3, 1.2], [0.9, 0.6, 0.0], 2.0, fail_at=0.5)
     planar_page = viewer.save_html(planar_2r, plan, folder / "planar_plan.html")
+    wall = wall_plan(ur5)
+    wall_page = viewer.save_html(ur5, wall, folder / "wall.html")
+    failing = wall.events[0].t
+    clean = "ui=0&hide=path,markers,tool"  # no red path, ball or triad axis: only bodies
     return render_all(
         {
+            "wall_before": (wall_page, f"t={0.6 * failing:.3f}&{clean}"),
+            "wall_failing": (wall_page, f"t={failing:.3f}&{clean}"),
+            "wall_failing_robot": (wall_page, f"t={failing:.3f}&{clean},cell"),
             "ur5_start": (ur5_page, "t=0&ui=0"),
             "ur5_end": (ur5_page, "t=3&ui=0"),
             "ur5_empty": (ur5_page, "t=0&ui=0&hide=robot,tool,path,markers"),
@@ -135,3 +142,21 @@ def test_caption_and_playback_bar_are_shown(shots):
     with_ui, without = shots["ur5_ui"], shots["ur5_start"]
     assert np.mean(with_ui[-30:]) < np.mean(without[-30:]) - 50  # the dark bar at the bottom
     assert differs(with_ui[:40, :200], without[:40, :200]).mean() > 0.05  # the caption
+
+
+def red_mask(image: np.ndarray) -> np.ndarray:
+    """Pixels of the collision red however lit: red well above green and blue."""
+    r, g, b = image[..., 0], image[..., 1], image[..., 2]
+    return (r > 110) & (r > 2.5 * g) & (r > 2.5 * b)
+
+
+def test_a_collision_shows_the_two_bodies_red_from_the_failing_instant(shots):
+    """The wall plan (the wrist hits a wall): nothing red before the failing instant, the wall
+    and the wrist link red at it; with the cell hidden the link alone is still red."""
+    before, failing, robot_only = (
+        red_mask(shots[name]).sum()
+        for name in ("wall_before", "wall_failing", "wall_failing_robot")
+    )
+    assert before < 50, f"{before} red pixels before the collision"
+    assert failing > 20000, f"{failing} red pixels at the failing instant (wall and link)"
+    assert 1500 < robot_only < failing, f"{robot_only} red pixels of the link alone"

@@ -11,19 +11,27 @@ most the sum of these over the joints that move one body and not the other (join
 move them rigidly together), so the pair's signed distance changes by at most
 ``M = Σ_j |Δq_j| · λ_j`` over the segment, and by at most ``t · M`` over its first fraction t.
 
+**Thresholds.** The ``clearance`` margin applies to the robot–obstacle pairs (robot links and
+tool bodies against the cell's obstacles): such a pair fails when its distance is below the
+margin (or ≤ 0). A self pair (two bodies of the robot) fails only on contact (distance ≤ 0):
+neighbouring links of real arms sit millimetres apart all the time (a UR's wrist housings), so
+a margin there would fail every motion. Each pair's threshold ``c`` below is its own: the margin
+for an obstacle pair, 0 for a self pair.
+
 **Conservative advancement.** With lower bounds ``d_a``, ``d_b`` of a pair's distance at the two
 ends of a segment (or of a part of it) and ``d_a + d_b − 2c ≥ M``, the distance stays ≥ c all
 along it. A part that this does not certify is bisected: the exact distance at its midpoint
 decides (below c: a collision between the samples, at that configuration) or splits it in two.
-A part is accepted once ``d_a + d_b − 2c ≥ M − 2·TOLERANCE``: a shortfall below the clearance
-(or a penetration) deeper than :data:`TOLERANCE` between two samples is never missed, and a
-reported collision is always real (an exact distance at a configuration of the motion).
+A part is accepted once ``d_a + d_b − 2c ≥ M − 2·TOLERANCE``: a shortfall below the pair's
+threshold (or a penetration) deeper than :data:`TOLERANCE` between two samples is never missed,
+and a reported failure is always real (an exact distance at a configuration of the motion).
 
 **Per-sample distances.** All pairs are computed exactly (coal through Pinocchio) at the first
 sample; afterwards each pair's lower bound is carried forward (minus its motion bound) and a pair
-is computed again only when its bound falls below what matters at that sample: the clearance,
+is computed again only when its bound falls below what matters at that sample: its threshold,
 or the smallest exact distance of its kind (obstacle or self) found so far at that sample. The
-per-sample minima are thus exact (coal's distances), while distant pairs cost nothing.
+per-sample minima of each kind are thus exact (coal's distances; up to the failure, or over the
+whole motion with ``full``), while distant pairs cost nothing.
 """
 
 from __future__ import annotations
@@ -44,23 +52,27 @@ TOLERANCE = 1e-6
 class MotionCheck:
     """The result of :meth:`kinplan.WorkCell.check_motion` on joint samples ``q`` (N, nq).
 
-    Distances are signed [m]: negative is a penetration depth (coal's, for solids).
+    Distances are signed [m]: negative is a penetration depth (coal's, for solids). The
+    ``clearance`` margin applies to robot–obstacle pairs only; self pairs (two bodies of the
+    robot) fail only on contact (distance ≤ 0).
 
     Attributes:
-        index: The first failing sample (a collision, or a distance below the clearance), or None
-            when the motion is free. When the failure lies between samples k−1 and k, index = k.
+        index: The first failing sample (a collision, or a robot–obstacle distance below the
+            clearance), or None when the motion is free. When the failure lies between samples
+            k−1 and k, index = k.
         between: Whether the failure was found between two samples (at ``q``, a configuration
             of the segment before ``index``) rather than at sample ``index`` itself.
         bodies: The failing pair (robot link or tool body first, then the other link or the
             obstacle), or None.
-        penetration: How far the failing pair is inside the clearance: clearance − distance [m]
-            (≥ 0; the penetration depth when clearance is 0), 0 when free.
+        penetration: How far the failing pair is inside its threshold [m] (≥ 0): clearance −
+            distance for an obstacle pair, the penetration depth −distance for a self pair (and
+            whenever the clearance is 0); 0 when free.
         min_clearance: Smallest distance over every checked pair and every sample up to
             ``index`` (included; the between-sample failure included) [m]; inf without pairs.
         min_pair: The pair at ``min_clearance``, or None.
         distances: Smallest distance at each sample, over every checked pair, shape (N,) [m]
             (nan after ``index``, where the check stopped, unless it was asked for ``full``).
-        clearance: The margin the motion was checked with [m].
+        clearance: The margin the motion was checked with [m] (robot–obstacle pairs only).
         distance: Signed distance of the failing pair at the failure [m] (nan when free).
         q: The configuration of the failure, shape (nq,), or None.
         fraction: Where the failure lies on the segment from sample index−1 to index (1.0 at
@@ -76,6 +88,8 @@ class MotionCheck:
         min_self_clearance: Smallest self distance up to ``index`` [m].
         min_self_pair: Its pair, or None.
         evaluations: Exact pair distances computed (coal calls), for benchmarks.
+        kind: The failing pair's kind: "obstacle" (robot–obstacle) or "self", or None when
+            free.
     """
 
     index: int | None
@@ -97,6 +111,7 @@ class MotionCheck:
     min_self_clearance: float = float("inf")
     min_self_pair: tuple[str, str] | None = None
     evaluations: int = 0
+    kind: str | None = None
 
     @property
     def ok(self) -> bool:
@@ -120,7 +135,9 @@ class MotionCheck:
             what = f"penetrate by {-self.distance * 1e3:.2f} mm"
         else:
             what = f"are {self.distance * 1e3:.2f} mm apart"
-        margin = f" (clearance {self.clearance * 1e3:g} mm)" if self.clearance > 0 else ""
+        margin = ""
+        if self.clearance > 0 and self.kind == "obstacle":
+            margin = f" (clearance {self.clearance * 1e3:g} mm)"
         return f"{self.bodies[0]} and {self.bodies[1]} {what} at {where}{margin}"
 
 
@@ -236,7 +253,8 @@ def check(problem: Problem, q: np.ndarray, clearance: float, full: bool = False)
     Args:
         problem: The compiled cell.
         q: Joint samples, shape (N, nq), checked by the caller.
-        clearance: Margin [m] ≥ 0: a pair closer than this fails (touching always fails).
+        clearance: Margin [m] ≥ 0: a robot–obstacle pair closer than this fails; a self pair
+            fails only on contact (touching always fails).
         full: Compute the distances of the samples after a failure too (else they are nan).
     """
     n_samples, n_pairs = len(q), len(problem.names)
@@ -244,6 +262,8 @@ def check(problem: Problem, q: np.ndarray, clearance: float, full: bool = False)
     if n_pairs == 0:
         return _result(problem, clearance, None, minima, 0)
     kinds = problem.is_self.astype(int)
+    margins = np.array([clearance, 0.0])  # threshold of each kind: obstacle, self [m]
+    thresholds = margins[kinds]  # of each pair (P,)
     motion = np.abs(np.diff(q, axis=0)) @ problem.levers  # (N-1, P) [m]
     carried = np.zeros((n_samples, n_pairs))  # Σ of the motion bounds from sample 0 [m]
     np.cumsum(motion, axis=0, out=carried[1:])
@@ -255,7 +275,7 @@ def check(problem: Problem, q: np.ndarray, clearance: float, full: bool = False)
     previous = np.array([r.min_distance for r in problem.results])  # exact at sample 0
     evaluations = n_pairs
     minima.record(0, previous[None])
-    failure = _sample_failure(problem, q, 0, previous, clearance)
+    failure = _sample_failure(problem, q, 0, previous, thresholds)
     # each pair's distance at sample k0 − 1 is ≥ base − shift (its last exact value minus the
     # motion bound since)
     base, shift = previous.copy(), np.zeros(n_pairs)
@@ -271,7 +291,7 @@ def check(problem: Problem, q: np.ndarray, clearance: float, full: bool = False)
         evaluations += block.shape[0] * len(seeds)
         local = carried[k0 - 1 : k1] - carried[k0 - 1]  # motion bound from sample k0 − 1
         bounds = base - shift - local  # lower bounds at samples k0 − 1 … k1 − 1
-        threshold = np.full((k1 - k0, 2), clearance)
+        threshold = np.tile(margins, (k1 - k0, 1))
         for p in seeds:
             np.maximum(threshold[:, kinds[p]], block[:, p], out=threshold[:, kinds[p]])
         threshold = threshold[:, kinds]
@@ -302,7 +322,7 @@ def check(problem: Problem, q: np.ndarray, clearance: float, full: bool = False)
         minima.record(k0, block)
         if failure is None:
             failure, count = _first_failure(
-                problem, q, k0, np.vstack([previous, block]), bounds, motion, clearance
+                problem, q, k0, np.vstack([previous, block]), bounds, motion, thresholds
             )
             evaluations += count
         known = ~np.isnan(block)
@@ -348,11 +368,12 @@ class _Minima:
 
 
 def _sample_failure(
-    problem: Problem, q: np.ndarray, k: int, row: np.ndarray, clearance: float
+    problem: Problem, q: np.ndarray, k: int, row: np.ndarray, thresholds: np.ndarray
 ) -> _Failure | None:
-    """The failure at sample ``k`` (exact distances ``row``, nan where not computed), if any."""
+    """The failure at sample ``k`` (exact distances ``row``, nan where not computed), if any;
+    ``thresholds`` (P,) is each pair's (the clearance, or 0 for a self pair) [m]."""
     with np.errstate(invalid="ignore"):
-        failing = (row < clearance) | (row <= 0.0)
+        failing = (row < thresholds) | (row <= 0.0)
     if not failing.any():
         return None
     p = int(np.argmin(np.where(failing, row, np.inf)))
@@ -378,7 +399,7 @@ def _first_failure(
     block: np.ndarray,
     bounds: np.ndarray,
     motion: np.ndarray,
-    clearance: float,
+    thresholds: np.ndarray,
 ) -> tuple[_Failure | None, int]:
     """The first failure at samples k0 … k0 + len(block) − 2 or on the segments before them.
 
@@ -389,20 +410,21 @@ def _first_failure(
         block: Exact distances at samples k0 − 1 … (nan where not computed), (b + 1, P).
         bounds: Lower bounds at the same samples, (b + 1, P).
         motion: Motion bounds of every segment, (N − 1, P).
-        clearance: The margin [m].
+        thresholds: Each pair's threshold c, (P,) [m]: the clearance for a robot–obstacle
+            pair, 0 for a self pair.
 
     Returns:
         (the failure or None, the number of exact distances the bisections computed).
 
     Every pair of every segment is tested, ``start + end − 2c ≥ M − 2·TOLERANCE`` with the
     exact distances where computed and the bounds elsewhere (a pair not computed at a sample
-    has a bound above the clearance there, so it does not fail at the sample itself).
+    has a bound above its threshold there, so it does not fail at the sample itself).
     """
     lower = np.fmax(block, bounds)  # exact where computed (bounds ≤ exact, up to GJK noise)
     with np.errstate(invalid="ignore"):  # nan: not computed, not failing
-        failing = block[1:] <= 0.0 if clearance == 0.0 else block[1:] < clearance
+        failing = (block[1:] < thresholds) | (block[1:] <= 0.0)
     segment = motion[k0 - 1 : k0 - 1 + len(block) - 1]
-    uncertain = lower[:-1] + lower[1:] - segment < 2.0 * (clearance - TOLERANCE)
+    uncertain = lower[:-1] + lower[1:] - segment < 2.0 * (thresholds - TOLERANCE)
     if not uncertain.any() and not failing.any():
         return None, 0
     uncertain &= ~failing
@@ -414,12 +436,12 @@ def _first_failure(
         found = None
         for p in np.flatnonzero(uncertain[r]).tolist():
             hit, used = _bisect(problem, q[k - 1], q[k], p, start[r, p], end[r, p],
-                                segment[r, p], clearance, found)  # fmt: skip
+                                segment[r, p], float(thresholds[p]), found)  # fmt: skip
             count += used
             if hit is not None:
                 found = _Failure(k, p, hit[1], hit[0], hit[2], hit[3])
         if found is None and failing[r].any():
-            found = _sample_failure(problem, q, k, block[r + 1], clearance)
+            found = _sample_failure(problem, q, k, block[r + 1], thresholds)
         if found is not None:
             return found, count
     return None, count
@@ -442,9 +464,10 @@ def _bisect(
         problem: The compiled cell.
         qa, qb: The segment's ends.
         p: The pair.
-        start, end: Lower bounds of its distance at qa and qb [m] (≥ the clearance).
+        start, end: Lower bounds of its distance at qa and qb [m] (≥ the threshold).
         motion: Its motion bound over the segment [m].
-        clearance: The margin [m].
+        clearance: The pair's threshold [m] (the margin for an obstacle pair, 0 for a self
+            pair).
         earlier: A failure already found on this segment (only earlier ones are looked for).
 
     Returns:
@@ -513,11 +536,13 @@ def _result(
     )
     if failure is None:
         return MotionCheck(index=None, between=False, bodies=None, penetration=0.0, **common)
+    threshold = 0.0 if is_self[failure.pair] else clearance
     return MotionCheck(
         index=failure.index,
         between=failure.fraction < 1.0,
         bodies=names[failure.pair],
-        penetration=max(0.0, clearance - failure.distance),
+        penetration=max(0.0, threshold - failure.distance),
+        kind="self" if is_self[failure.pair] else "obstacle",
         distance=failure.distance,
         q=failure.q,
         fraction=failure.fraction,

@@ -90,7 +90,7 @@ class WorkCell:
     Example:
         >>> cell = WorkCell(robot)
         >>> cell.add_box("table", (1.2, 0.8, 0.04), xyz_rpy((0.45, 0, -0.02)))
-        >>> result = cell.check_motion(plan.q, clearance=0.01)
+        >>> result = cell.check_motion(plan.q, clearance=0.01)  # 1 cm from the obstacles
     """
 
     def __init__(self, robot: Robot, srdf: str | os.PathLike[str] | bool | None = None) -> None:
@@ -335,10 +335,15 @@ class WorkCell:
     def collisions(
         self, q: Sequence[float] | np.ndarray, margin: float = 0.0
     ) -> list[PairDistance]:
-        """The checked pairs in collision at ``q`` (distance ≤ 0), or closer than ``margin``
-        [m] when it is > 0, deepest first."""
+        """The checked pairs in collision at ``q`` (distance ≤ 0), deepest first; with
+        ``margin`` [m] > 0, also the robot–obstacle pairs closer than it (self pairs count
+        only on contact, as in :meth:`check_motion`)."""
         margin = checks.number(margin, "margin", minimum=0.0, unit="m")
-        hits = [p for p in self.pair_distances(q) if p.distance < margin or p.distance <= 0.0]
+        hits = [
+            p
+            for p in self.pair_distances(q)
+            if p.distance <= 0.0 or (p.kind == "obstacle" and p.distance < margin)
+        ]
         return sorted(hits, key=lambda pair: pair.distance)
 
     def pair_distances(self, q: Sequence[float] | np.ndarray) -> list[PairDistance]:
@@ -376,22 +381,27 @@ class WorkCell:
     ) -> MotionCheck:
         """Check joint samples against the cell, at the samples and between them.
 
-        Between two samples the joints move linearly; a collision (or a distance below
-        ``clearance``) there is found by conservative advancement with bisection: a motion
-        bound of every pair (joint motion times the bodies' lever arms) certifies a segment
-        free from the distances at its ends, and a segment it cannot certify is bisected until
-        it is certified or a failing configuration is found (see :mod:`kinplan.cell.motion`;
-        shortfalls deeper than 1e-6 m are never missed, and a reported failure is always real).
+        Between two samples the joints move linearly; a collision (or a robot–obstacle
+        distance below ``clearance``) there is found by conservative advancement with
+        bisection: a motion bound of every pair (joint motion times the bodies' lever arms)
+        certifies a segment free from the distances at its ends, and a segment it cannot
+        certify is bisected until it is certified or a failing configuration is found (see
+        :mod:`kinplan.cell.motion`; shortfalls deeper than 1e-6 m are never missed, and a
+        reported failure is always real).
 
         Args:
             q: Joint samples, shape (N, nq) [rad or m] (a plan's ``q``).
-            clearance: Margin [m] ≥ 0: a pair closer than this fails (touching always fails).
+            clearance: Margin [m] ≥ 0 for the robot–obstacle pairs (robot links and tool
+                bodies against obstacles): closer than this fails. Self pairs (two bodies of
+                the robot) fail only on contact: neighbouring links of real arms sit
+                millimetres apart all the time. Touching always fails.
             full: Compute the per-sample distances after a failure too (by default the check
                 stops at the first failure and they are nan there).
 
         Returns:
             :class:`MotionCheck`: the first failing sample (``index``, ``between``, ``bodies``,
-            ``penetration``), the smallest clearance and its pair, per-sample distances.
+            ``kind``, ``penetration``), the smallest clearance and its pair, per-sample
+            distances of each kind (``obstacle_distances``, ``self_distances``).
 
         Raises:
             InputError: ``q`` not of shape (N, nq) or not finite; a negative clearance.

@@ -18,6 +18,7 @@ from __future__ import annotations
 from kinplan.ik.base import AnalyticIK, ClosedFormIK, self_check
 from kinplan.ik.closed_form import analytic_solver_for
 from kinplan.ik.numeric import (
+    Evaluation,
     IKResult,
     IKSolver,
     finite_bounds,
@@ -30,6 +31,7 @@ from kinplan.ik.screws import wrap_angle
 from kinplan.ik.ur import URIK
 
 __all__ = [
+    "Evaluation",
     "AnalyticIK",
     "ClosedFormIK",
     "IKResult",

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import eigenpy
 import numpy as np
@@ -71,14 +72,47 @@ class IKResult:
     method: str = "numerical"
 
 
+class Evaluation(NamedTuple):
+    """The tool at one configuration against a target: what one kinematics pass gives.
+
+    Returned by :meth:`IKSolver.evaluate` (and with the result of :meth:`IKSolver.descend`), so
+    a caller reads the Jacobian and the tool position of the configuration it asked about,
+    not whatever the solver computed last.
+
+    Attributes:
+        q: The configuration [rad or m], shape (nq,).
+        tool_position: Tool position [m], 3 floats (world frame).
+        differences: The target minus the tool pose: (Δx, Δy, Δz [m], ‖R* − R‖_F²), the last
+            0 for a position-only target (:func:`_pose_differences`).
+        jacobian: Tool Jacobian (6, nq) at q, in the world-aligned frame at the tool
+            (``LOCAL_WORLD_ALIGNED``: linear rows of the tool origin, then angular rows).
+        tool_pose: The tool pose as the rows of its 4×4 homogeneous matrix (plain floats:
+            cheaper than an array on the hot path; ``np.array(tool_pose)`` gives the matrix).
+    """
+
+    q: np.ndarray
+    tool_position: tuple[float, float, float]
+    differences: tuple[float, float, float, float]
+    jacobian: np.ndarray
+    tool_pose: list[list[float]]
+
+    def within(self, position_tolerance2: float, frobenius_tolerance2: float) -> bool:
+        """Whether the tool meets the tolerances: squared position [m²] and ‖R* − R‖_F²
+        (:func:`frobenius_tolerance`)."""
+        dx, dy, dz, frobenius2 = self.differences
+        return dx * dx + dy * dy + dz * dz <= position_tolerance2 and (
+            frobenius2 <= frobenius_tolerance2
+        )
+
+
 def _pose_differences(
-    pose: pin.SE3, position: list[float], rotation: list[float] | None
+    rows: list[list[float]], position: list[float], rotation: list[float] | None
 ) -> tuple[float, float, float, float]:
-    """The target minus the tool ``pose``, in plain floats (a handful of numpy calls on
+    """The target minus the tool pose, in plain floats (a handful of numpy calls on
     3-vectors would cost more than the kinematics pass that gave the pose).
 
     Args:
-        pose: Tool pose.
+        rows: Tool pose: the rows of its homogeneous matrix.
         position: Target position [m], 3 floats.
         rotation: Target rotation, 9 floats (row-major), or None (position only).
 
@@ -86,7 +120,7 @@ def _pose_differences(
         (Δx, Δy, Δz [m], ‖R* − R‖_F²), the last 0 for position only. For a rotation error of
         angle θ, ‖R* − R‖_F² = 8 sin²(θ/2) (see :func:`_angle_of`).
     """
-    (a0, a1, a2, x), (a3, a4, a5, y), (a6, a7, a8, z), _ = pose.homogeneous.tolist()
+    (a0, a1, a2, x), (a3, a4, a5, y), (a6, a7, a8, z), _ = rows
     px, py, pz = position
     if rotation is None:
         return px - x, py - y, pz - z, 0.0
@@ -185,8 +219,6 @@ class IKSolver:
         self._no_lower = np.full(model.nq, -np.inf)
         self._no_upper = np.full(model.nq, np.inf)
         self._restarts: np.ndarray = np.empty((0, model.nq))
-        self.converged_position: tuple[float, float, float] = (math.nan,) * 3
-        self.differences: tuple[float, float, float, float] = (math.nan,) * 4
 
     def restart_configuration(self, attempt: int) -> np.ndarray:
         """Start of restart ``attempt`` (≥ 1): a Halton point spread over the joint limits."""
@@ -205,8 +237,28 @@ class IKSolver:
         pin.forwardKinematics(self.model, self.data, q)
         pose = pin.updateFramePlacement(self.model, self.data, self.frame_id)
         target_rotation = None if rotation is None else rotation.reshape(9).tolist()
-        dx, dy, dz, frobenius2 = _pose_differences(pose, position.tolist(), target_rotation)
+        dx, dy, dz, frobenius2 = _pose_differences(
+            pose.homogeneous.tolist(), position.tolist(), target_rotation
+        )
         return math.sqrt(dx * dx + dy * dy + dz * dz), _angle_of(frobenius2)
+
+    def evaluate(
+        self, q: np.ndarray, position: list[float], rotation: list[float] | None
+    ) -> Evaluation:
+        """The tool at ``q`` against a target: one kinematics pass (joint Jacobians included).
+
+        Args:
+            q: Configuration [rad or m], shape (nq,).
+            position: Target tool position [m], 3 floats.
+            rotation: Target tool rotation, 9 floats (row-major), or None (position only).
+        """
+        pin.computeJointJacobians(self.model, self.data, q)
+        rows = pin.updateFramePlacement(self.model, self.data, self.frame_id).homogeneous.tolist()
+        jacobian = pin.getFrameJacobian(self.model, self.data, self.frame_id, _LWA)
+        if self.nq == 1:  # eigenpy gives a 1-D array for one column
+            jacobian = jacobian.reshape(6, 1)
+        tool = (rows[0][3], rows[1][3], rows[2][3])
+        return Evaluation(q, tool, _pose_differences(rows, position, rotation), jacobian, rows)
 
     def accepts(
         self,
@@ -215,34 +267,21 @@ class IKSolver:
         rotation: list[float] | None,
         position_tolerance2: float,
         frobenius_tolerance2: float,
-    ) -> bool:
-        """Whether the tool at ``q`` is within the tolerances of a target: one kinematics pass.
-
-        The test in plain floats that :meth:`descend` makes at every iterate, for a caller that
-        has a good guess (the next sample of a path). Afterwards ``self.data`` holds the
-        kinematics and joint Jacobians at q, ``self.differences`` the target minus the pose
-        (:func:`_pose_differences`) and, when it accepts, ``self.converged_position`` the tool
-        position [m].
+    ) -> Evaluation | None:
+        """The evaluation at ``q`` when the tool there meets the tolerances of a target, else
+        None: one kinematics pass, the test in plain floats that :meth:`descend` makes at every
+        iterate, for a caller that has a good guess (the next sample of a path).
 
         Args:
-            q: Configuration within the joint limits.
+            q: Configuration.
             position: Target tool position [m], 3 floats.
             rotation: Target tool rotation, 9 floats (row-major), or None (position only).
             position_tolerance2: Square of the position tolerance [m²].
             frobenius_tolerance2: ‖R* − R‖_F² of the rotation tolerance
                 (:func:`frobenius_tolerance`).
         """
-        pin.computeJointJacobians(self.model, self.data, q)
-        pose = pin.updateFramePlacement(self.model, self.data, self.frame_id)
-        self.differences = dx, dy, dz, frobenius2 = _pose_differences(pose, position, rotation)
-        if (
-            dx * dx + dy * dy + dz * dz <= position_tolerance2
-            and frobenius2 <= frobenius_tolerance2
-        ):
-            px, py, pz = position
-            self.converged_position = (px - dx, py - dy, pz - dz)
-            return True
-        return False
+        evaluation = self.evaluate(q, position, rotation)
+        return evaluation if evaluation.within(position_tolerance2, frobenius_tolerance2) else None
 
     def descend(
         self,
@@ -253,29 +292,26 @@ class IKSolver:
         rotation_tolerance: float,
         max_iterations: int,
         clamp: bool = True,
-        evaluated: bool = False,
+        evaluated: Evaluation | None = None,
         *,
         damping_floor: float | None = None,
         stall_iterations: int | None = None,
-    ) -> tuple[np.ndarray, bool, float, float, int]:
+    ) -> tuple[np.ndarray, bool, float, float, int, Evaluation]:
         """Iterate from ``q`` (not modified) until converged, stalled or out of iterations.
-
-        On convergence ``self.data`` holds the kinematics and joint Jacobians at the returned q,
-        and ``self.converged_position`` the tool position there [m] (3 floats).
 
         Args:
             clamp: Keep every iterate within the joint limits (False: ignore the limits, to tell
                 a limit problem from an unreachable target).
-            evaluated: The caller has just made :meth:`accepts` at ``q`` (clamped) for this
-                target and it did not accept: the first iterate reuses that kinematics pass.
+            evaluated: The caller's :meth:`evaluate` of this target at ``q`` (within the limits
+                applied here), which did not meet the tolerances: the first iterate reuses it.
             damping_floor: λ₀ of the damping (default :data:`DAMPING_FLOOR`).
             stall_iterations: Iterations without progress before giving up (default
                 :data:`STALL_ITERATIONS`).
 
         Returns:
-            (q, converged, position_error, rotation_error, iterations)
+            (q, converged, position_error [m], rotation_error [rad], iterations, the
+            evaluation at the returned q)
         """
-        model, data, fid = self.model, self.data, self.frame_id
         lower, upper = (self.lower, self.upper) if clamp else (self._no_lower, self._no_upper)
         q = np.minimum(np.maximum(q, lower), upper)
         touching = True  # whether q may sit on a limit (then the active set is checked)
@@ -292,18 +328,20 @@ class IKSolver:
         patience = STALL_ITERATIONS if stall_iterations is None else stall_iterations
         perr2 = rerr2 = np.inf
         for it in range(max_iterations + 1):
-            converged = (it > 0 or not evaluated) and self.accepts(
-                q, target_position, target_rotation, position_tolerance2, frobenius_tolerance2
-            )
-            dx, dy, dz, frobenius2 = self.differences
+            if it == 0 and evaluated is not None:
+                evaluation = evaluated
+            else:
+                evaluation = self.evaluate(q, target_position, target_rotation)
+            dx, dy, dz, frobenius2 = evaluation.differences
             perr2 = dx * dx + dy * dy + dz * dz
-            if converged:
-                return q, True, math.sqrt(perr2), _angle_of(frobenius2), it
+            if perr2 <= position_tolerance2 and frobenius2 <= frobenius_tolerance2:
+                return q, True, math.sqrt(perr2), _angle_of(frobenius2), it, evaluation
             if e is None:
                 e = np.zeros(6)
             e[:3] = (dx, dy, dz)
             if rotation is not None:
-                er = pin.log3(rotation @ data.oMf[fid].rotation.T)
+                tool_rotation = np.array(evaluation.tool_pose)[:3, :3]
+                er = pin.log3(rotation @ tool_rotation.T)
                 e[3:] = er
                 rerr2 = float(er.dot(er))
             else:
@@ -317,7 +355,7 @@ class IKSolver:
                 stalled += 1
                 if stalled >= patience:
                     break
-            J = pin.getFrameJacobian(model, data, fid, _LWA).reshape(6, -1)[:rows]
+            J = evaluation.jacobian[:rows]
             A = J.T.dot(J)
             A[diagonal] += DAMPING_GAIN * cost + floor
             g = e[:rows].dot(J)
@@ -337,7 +375,7 @@ class IKSolver:
             free_q = q + dq
             q = np.minimum(np.maximum(free_q, lower), upper)
             touching = bool((q != free_q).any())
-        return q, False, math.sqrt(perr2), math.sqrt(rerr2), it
+        return q, False, math.sqrt(perr2), math.sqrt(rerr2), it, evaluation
 
     def solve(
         self,
@@ -397,14 +435,14 @@ class IKSolver:
                 perr, rerr = self.errors(q, position, rotation)
                 its = 0
                 if perr > position_tolerance or rerr > rotation_tolerance:
-                    q, _, perr, rerr, its = self.descend(
+                    q, _, perr, rerr, its, _ = self.descend(
                         q, position, rotation, position_tolerance, rotation_tolerance, 3
                     )
                 if perr <= position_tolerance and rerr <= rotation_tolerance:
                     return IKResult(q, True, perr, rerr, its, 1, "analytic")
         for attempt in range(max_restarts + 1):
             start = q_seed if attempt == 0 else self.restart_configuration(attempt)
-            q, ok, perr, rerr, its = self.descend(
+            q, ok, perr, rerr, its, _ = self.descend(
                 start, position, rotation, position_tolerance, rotation_tolerance, max_iterations
             )
             total += its
@@ -440,7 +478,7 @@ class IKSolver:
         Returns:
             (q, position error [m], rotation error [rad], iterations), or None.
         """
-        q, ok, perr, rerr, its = self.descend(
+        q, ok, perr, rerr, its, _ = self.descend(
             best,
             position,
             rotation,
@@ -451,7 +489,7 @@ class IKSolver:
         )
         if ok:
             return q, perr, rerr, its
-        q, ok, *_, free_its = self.descend(
+        q, ok, _, _, free_its, _ = self.descend(
             q_seed, position, rotation, *tolerances, POLISH_ITERATIONS * max_iterations, False
         )
         its += free_its
@@ -461,7 +499,7 @@ class IKSolver:
         q = q + 2.0 * math.pi * np.where(self._revolute & np.isfinite(turns), turns, 0.0)
         if np.any(q < self.lower) or np.any(q > self.upper):
             return None
-        q, ok, perr, rerr, polish_its = self.descend(
+        q, ok, perr, rerr, polish_its, _ = self.descend(
             q,
             position,
             rotation,

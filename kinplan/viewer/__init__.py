@@ -4,8 +4,10 @@
 the scene and the animation embedded): the robot's URDF visuals animated through a joint
 :class:`~kinplan.trajectory.Trajectory`, a :class:`cartesian.CartesianPlan` or a program plan at
 real time, the tool path, the achieved tool trace, via points and taught points, and for a plan
-stopped by an event the unreached rest of the path in red with the last good tool pose. The page
-has a playback bar (play/pause, time slider, loop) and reads options after ``#`` in its address:
+stopped by an event the unreached rest of the path in red with the last good tool pose; a plan in
+a work cell shows its obstacles, and one stopped by a collision ends at the failing instant with
+the two bodies that meet in red. The page has a playback bar (play/pause, time slider, loop) and
+reads options after ``#`` in its address:
 
 * ``t=1.5``: show the motion at 1.5 s, paused;
 * ``hide=path,markers``: hide layers (``robot``, ``tool``, ``path``, ``markers``, ``cell``,

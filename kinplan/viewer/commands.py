@@ -294,6 +294,36 @@ def pose_track_clip(
     }
 
 
+def visibility_track_clip(
+    path: str, times: np.ndarray, visible: Sequence[bool], speed: float = 1.0
+) -> dict[str, Any]:
+    """Animation clip showing or hiding the node at ``path`` (three.js boolean track, held
+    from each key time to the next).
+
+    Args:
+        path: Scene node to show or hide (``…/<object>`` for the object a ``set_object`` put).
+        times: Key times, shape (F,) [s]; the last one should be the animation's end, so the
+            clip lasts as long as the pose clips.
+        visible: Whether the node is visible from each key time on, F booleans.
+        speed: Playback speed factor (as :func:`pose_track_clip`).
+    """
+    return {
+        "path": path,
+        "clip": {
+            "fps": float(speed),
+            "name": "default",
+            "tracks": [
+                {
+                    "name": ".visible",
+                    "type": "bool",
+                    "times": packed_array(np.asarray(times, dtype=np.float32)),
+                    "values": [bool(v) for v in visible],
+                }
+            ],
+        },
+    }
+
+
 def set_animation(clips: Sequence[dict[str, Any]], play: bool = True, loop: bool = True) -> Command:
     """Load animation clips (see :func:`pose_track_clip`) into MeshCat's animator."""
     return {

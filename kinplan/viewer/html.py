@@ -88,7 +88,10 @@ def save_html(
     bar (play/pause, time slider, loop), the tool path, the achieved tool trace of a Cartesian
     plan, via points, ``markers``, and for a plan stopped by an event the rest of the path in red
     and the last good tool pose; a motion planned in a work cell (``motion.cell``) shows its
-    obstacles, and a collision failure the obstacle hit in red and a red ball where it happened.
+    obstacles, and a plan stopped by a collision plays on to the failing instant (the failing
+    sample, or the configuration between two samples where the check found it), where the two
+    bodies of the failing pair (links, tool body, obstacle) turn red, with a red ball where
+    they meet.
     Options after ``#`` in the address: ``t=<seconds>`` (show that instant, paused),
     ``hide=<layer>,...`` (``robot``, ``tool``, ``path``, ``markers``, ``cell``, ``grid``,
     ``axes``), ``ui=0`` (no overlays). The file holds MeshCat's viewer (~0.85 MB), the meshes

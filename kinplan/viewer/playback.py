@@ -4,8 +4,9 @@
 :class:`Playback`: the robot's joint positions at ``fps`` key frames per second of real time
 (a joint trajectory evaluated at them, a plan's samples interpolated), the tool paths planned
 (the part reached and the part not reached), the tool trace a plan achieved, the waypoints, the
-last good configuration of a plan stopped by an event, and the caption. :func:`marker_points`
-reads the taught points to mark.
+last good configuration of a plan stopped by an event, the failing instant of a plan stopped by
+a collision in a work cell (:class:`Collision`: the playback ends there, at the colliding
+configuration), and the caption. :func:`marker_points` reads the taught points to mark.
 
 Frames and units: positions in the robot's base (world) frame [m], times [s], joints [rad or m].
 """
@@ -23,7 +24,15 @@ import pinocchio as pin
 from numpy.typing import ArrayLike
 
 from kinplan.errors import InputError
-from kinplan.motion import MotionLike, SampledMotion, ToolPath, as_sampled_motion, joint_rows
+from kinplan.motion import (
+    MotionLike,
+    SampledMotion,
+    ToolPath,
+    as_sampled_motion,
+    collision_check,
+    collision_time,
+    joint_rows,
+)
 from kinplan.trajectory import time_grid
 
 if TYPE_CHECKING:
@@ -32,6 +41,7 @@ if TYPE_CHECKING:
 __all__ = [
     "DEFAULT_FPS",
     "PATH_SAMPLES",
+    "Collision",
     "Markers",
     "Playback",
     "marker_points",
@@ -51,6 +61,24 @@ Markers = Sequence[pin.SE3 | ArrayLike] | Mapping[str, pin.SE3 | ArrayLike] | No
 """Points to mark [m], base frame: 3-vectors (or SE3 / 4×4 poses), in a list or by name."""
 
 
+@dataclass(frozen=True)
+class Collision:
+    """Where a plan stopped by a collision in a work cell fails, on the playback's clock.
+
+    Attributes:
+        t: The failing instant [s] from the playback's start: the failing sample, or the
+            configuration between two samples where the work-cell check found the failure.
+        q: The configuration there (nq,) (:attr:`kinplan.cell.MotionCheck.q`).
+        bodies: The two bodies (robot link or tool body, then the other link or the obstacle).
+        point: Midway between the pair's nearest (or deepest) points, world frame [m], or None.
+    """
+
+    t: float
+    q: np.ndarray
+    bodies: tuple[str, str]
+    point: np.ndarray | None = None
+
+
 @dataclass
 class Playback:
     """A motion sampled for display (all positions in the base frame [m]).
@@ -64,6 +92,8 @@ class Playback:
         last_good: Joint positions of the last good sample of a plan stopped by an event.
         via: Tool positions at the waypoints (V, 3).
         caption: What the motion is, and where and why it failed (the first line in bold).
+        collision: The failing instant of a plan stopped by a collision (the last key frame,
+            at the colliding configuration), or None.
     """
 
     t: np.ndarray
@@ -74,6 +104,7 @@ class Playback:
     last_good: np.ndarray | None = None
     via: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     caption: list[str] = field(default_factory=list)
+    collision: Collision | None = None
 
     @property
     def duration(self) -> float:
@@ -121,11 +152,16 @@ def playback(robot: Robot, motion: MotionLike, fps: float) -> Playback:
     times = times[: len(q)]
     if len(times) and (not np.all(np.isfinite(times)) or np.any(np.diff(times) < 0)):
         raise InputError("the plan's times t must be finite and non-decreasing")
-    if len(q) == 0:
+    collision = _collision(motion, robot, times)
+    if len(q) == 0 and collision is not None:  # failed at its first sample: show it there
+        t, frames = np.zeros(1), collision.q[None, :]
+    elif len(q) == 0:
         logger.warning("the plan has no achieved sample; showing the robot at its neutral pose")
         t, frames = np.zeros(1), robot.neutral()[None, :]
     else:
         t, frames = _key_frames(times, q, fps)
+        if collision is not None and collision.t > t[-1] + 1e-9:  # the colliding instant
+            t, frames = np.append(t, collision.t), np.vstack([frames, collision.q])
     achieved = None
     if not joint and len(q):  # a plan: the tool positions it reached
         achieved = sampled.tool_positions
@@ -146,7 +182,20 @@ def playback(robot: Robot, motion: MotionLike, fps: float) -> Playback:
         last_good=q[-1] if (not sampled.ok and len(q)) else None,
         via=_via_points(robot, sampled),
         caption=_caption(robot, sampled, float(t[-1])),
+        collision=collision,
     )
+
+
+def _collision(motion: object, robot: Robot, times: np.ndarray) -> Collision | None:
+    """The failing instant of a plan stopped by a collision, on the playback's clock
+    (:func:`kinplan.motion.collision_time`)."""
+    check = collision_check(motion)
+    if check is None or check.q is None or check.index is None or check.bodies is None:
+        return None
+    q = joint_rows(robot, np.asarray(check.q)[None, :], "the collision's configuration")[0]
+    point = None if check.point is None else np.asarray(check.point, dtype=float)
+    start = float(times[0]) if len(times) else 0.0
+    return Collision(collision_time(motion, check) - start, q, check.bodies, point)
 
 
 def _key_frames(times: np.ndarray, q: np.ndarray, fps: float) -> tuple[np.ndarray, np.ndarray]:

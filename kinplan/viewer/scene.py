@@ -6,7 +6,11 @@ Everything is a list of MeshCat commands (:mod:`kinplan.viewer.commands`) under 
 at the smallest distance that shows the robot over the whole motion, the paths and the markers;
 paths are tubes (a plan's planned path wide and translucent, its achieved tool trace green, the
 part not reached red), via points and markers are balls, and the animation has one pose track per
-moving part and one for the tool triad.
+moving part and one for the tool triad. A motion planned in a work cell shows its obstacles; when
+it failed with a collision, the two bodies of the failing pair (robot links, the tool body,
+obstacles) turn red at the failing instant, where the playback ends, with a red ball where they
+meet: red copies of them, hidden until then, and the originals hidden from then on (MeshCat
+animates visibility, not colours).
 
 Frames and units: positions in the robot's base (world) frame [m], times [s].
 """
@@ -14,6 +18,7 @@ Frames and units: positions in the robot's base (world) frame [m], times [s].
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -25,7 +30,7 @@ from kinplan.viewer.playback import Markers, Playback, marker_points, playback
 from kinplan.viewer.visuals import RobotVisuals
 
 if TYPE_CHECKING:
-    from kinplan.cell import MotionCheck
+    from kinplan.cell import Body
     from kinplan.robot import Robot
 
 __all__ = [
@@ -35,6 +40,8 @@ __all__ = [
     "animation_command",
     "bounding_points",
     "build_scene",
+    "cell_commands",
+    "collision_commands",
     "environment_commands",
     "frame_view",
     "overlay_commands",
@@ -285,20 +292,13 @@ def overlay_commands(
 
 _OBSTACLE = ("#8c8c8c", (0.62, 0.60, 0.56))
 _COLLISION = ("#d62728", (0.90, 0.10, 0.10))
+_SWITCH_LEAD = 1e-4  # [s] the red bodies appear this long before the last key frame
+HIT = "hit"
+"""Name of the child node holding a body's red copy (``/kinplan/robot/<part>/hit``,
+``/kinplan/cell/<obstacle>/hit``), shown from a collision's failing instant on."""
 
 
-def collision_of(motion: object) -> MotionCheck | None:
-    """The failed work-cell check of a motion (a :class:`kinplan.cell.MotionCheck`), or None."""
-    check = getattr(motion, "cell_check", None)
-    if check is not None and not check.ok:
-        return check
-    for move in getattr(motion, "moves", None) or []:
-        if getattr(move, "collision", None) is not None:
-            return move.collision
-    return None
-
-
-def _body_object(path: str, body, rgb: RGB, opacity: float) -> dict:
+def _body_object(path: str, body: Body, rgb: RGB, opacity: float) -> dict:
     """A :class:`kinplan.cell.Body` as a MeshCat object at its pose (world frame)."""
     from kinplan.cell.body import mesh_vertices_faces
 
@@ -313,42 +313,109 @@ def _body_object(path: str, body, rgb: RGB, opacity: float) -> dict:
         geometry = ms.cylinder_geometry(path, radius, radius, length)
         pose = pose @ ms.Y_TO_Z
     else:
+        assert body.path is not None  # a mesh body has its file
         vertices, faces = mesh_vertices_faces(body.path, body.scale)
         geometry = ms.mesh_geometry(path, np.asarray(vertices), np.asarray(faces))
     return ms.scene_object(path, geometry, material, pose)
 
 
-def cell_commands(motion: object, scale: float) -> tuple[list[ms.Command], list[tuple[str, str]]]:
-    """The obstacles of a motion's work cell (``motion.cell``), the colliding one red, and a red
-    ball where a collision failure happened (:attr:`kinplan.cell.MotionCheck.point`)."""
+def cell_commands(motion: object) -> tuple[list[ms.Command], list[tuple[str, str]]]:
+    """The obstacles of a motion's work cell (``motion.cell``), with their legend entry."""
     cell = getattr(motion, "cell", None)
-    if cell is None:
+    if cell is None or not cell.obstacles:
         return [], []
-    check = collision_of(motion)
-    colliding = set(check.bodies) if check is not None and check.bodies else set()
     root = LAYERS["cell"]
+    commands = [
+        ms.set_object(f"{root}/{name}", _body_object(f"{root}/{name}", body, _OBSTACLE[1], 0.85))
+        for name, body in cell.obstacles.items()
+    ]
+    return commands, [(_OBSTACLE[0], "obstacles")]
+
+
+def _red_copy(path: str, obj: dict) -> dict:
+    """``obj`` (a robot part's MeshCat object) with the collision's red material."""
+    material = ms.phong_material(path, _COLLISION[1])
+    inner = dict(obj["object"], uuid=ms.scene_uuid(path, "object"), material=material["uuid"])
+    return dict(obj, materials=[material], object=inner)
+
+
+def collision_commands(
+    visuals: RobotVisuals, motion: object, played: Playback, scale: float, speed: float = 1.0
+) -> tuple[list[ms.Command], list[dict], list[tuple[str, str]]]:
+    """The two bodies of a collision failure in red from the failing instant on.
+
+    Each body of the failing pair (a robot link's visuals, the tool body's, or an obstacle) gets
+    a red copy at ``<its node>/hit``, hidden until :attr:`Playback.collision` ``.t`` and shown
+    from then on, while the original is hidden from then on; a red ball marks where the bodies
+    meet. Without an animation (one key frame: the failing instant itself) they are red at once.
+
+    Args:
+        visuals: The robot's visuals (:attr:`RobotVisuals.part_links` name their links).
+        motion: The motion (its ``cell`` has the obstacles).
+        played: The motion as played (its ``collision``).
+        scale: Size of the scene [m] (for the ball).
+        speed: Playback speed factor of the animation.
+
+    Returns:
+        (commands, animation clips to load with the pose clips, legend entries).
+    """
+    collision = played.collision
+    if collision is None:
+        return [], [], []
+    cell = getattr(motion, "cell", None)
+    obstacles = {} if cell is None else dict(cell.obstacles)
+    robot_root, cell_root = LAYERS["robot"], LAYERS["cell"]
     commands: list[ms.Command] = []
-    legend: list[tuple[str, str]] = []
-    for name, body in cell.obstacles.items():
-        path = f"{root}/{name}"
-        rgb = _COLLISION[1] if name in colliding else _OBSTACLE[1]
-        commands.append(ms.set_object(path, _body_object(path, body, rgb, 0.85)))
-    if cell.obstacles:
-        legend.append((_OBSTACLE[0], "obstacles"))
-    if check is not None and check.point is not None:
-        where = np.asarray(check.point, dtype=float)
-        commands += _sphere_command(f"{root}/collision", where, 0.03 * scale, _COLLISION[1], 0.8)
-        legend.append((_COLLISION[0], "collision: " + " – ".join(check.bodies or ())))
-    return commands, legend
+    nodes: list[str] = []  # each a body's node: red copy at <node>/hit, original at <node>/<object>
+    for body in dict.fromkeys(collision.bodies):
+        if body in obstacles:
+            node = f"{cell_root}/{body}"
+            red = _body_object(f"{node}/{HIT}", obstacles[body], _COLLISION[1], 0.85)
+            commands.append(ms.set_object(f"{node}/{HIT}", red))
+            nodes.append(node)
+            continue
+        for part, link in zip(visuals.parts, visuals.part_links):
+            if link == body:
+                node = f"{robot_root}/{part.name}"
+                red = _red_copy(f"{node}/{HIT}", part.obj)
+                commands.append(ms.set_object(f"{node}/{HIT}", red))
+                nodes.append(node)
+    shown = [f"{node}/{HIT}" for node in nodes]
+    hidden = [f"{node}/<object>" for node in nodes]
+    if collision.point is not None:
+        ball = f"{cell_root}/collision"
+        commands += _sphere_command(ball, collision.point, 0.03 * scale, _COLLISION[1], 0.8)
+        shown.append(ball)
+    legend = [(_COLLISION[0], "collision: " + " – ".join(collision.bodies))]
+    end = float(played.t[-1])
+    if len(played.t) < 2 or collision.t <= 0.0:  # no animation, or red from the start
+        commands += [ms.set_property(path, "visible", False) for path in hidden]
+        return commands, [], legend
+    # the failing instant is the last key frame: switch a hair before it, as the browser keeps
+    # key times in float32 and seeking to the end (``#t=``) lands a hair before the last one
+    switch = min(float(collision.t), end - min(_SWITCH_LEAD, 0.5 * (end - float(played.t[-2]))))
+    commands += [ms.set_property(path, "visible", False) for path in shown]  # until the instant
+    times = np.array([0.0, switch] + ([end] if end > switch else []))
+    clips = [ms.visibility_track_clip(path, times, [False] + [True] * (len(times) - 1), speed)
+             for path in shown]  # fmt: skip
+    clips += [ms.visibility_track_clip(path, times, [True] + [False] * (len(times) - 1), speed)
+              for path in hidden]  # fmt: skip
+    return commands, clips, legend
 
 
 def animation_command(
-    visuals: RobotVisuals, motion: Playback, speed: float, loop: bool, play: bool
+    visuals: RobotVisuals,
+    motion: Playback,
+    speed: float,
+    loop: bool,
+    play: bool,
+    extra: Sequence[dict] = (),
 ) -> ms.Command:
     """Key frames of every moving robot part and of the tool triad, one FK pass per key frame.
 
     Parts that stay still (the base, links behind locked joints) get no track: their
-    ``set_transform`` holds for the whole motion.
+    ``set_transform`` holds for the whole motion. ``extra`` clips (:func:`collision_commands`)
+    are loaded with them (MeshCat keeps one animation).
     """
     parts, tools = visuals.placements_over(motion.q)
     clips = []
@@ -359,7 +426,7 @@ def animation_command(
             continue
         positions, quaternions = pose_to_track(poses)
         clips.append(ms.pose_track_clip(path, motion.t, positions, quaternions, speed))
-    return ms.set_animation(clips, play=play, loop=loop)
+    return ms.set_animation([*clips, *extra], play=play, loop=loop)
 
 
 @dataclass
@@ -418,9 +485,10 @@ def build_scene(
     commands += triad_commands(LAYERS["tool"], 0.08 * view.radius)
     overlay, legend = overlay_commands(visuals, sampled, points, view.radius)
     commands += overlay
-    obstacles, cell_legend = cell_commands(motion, view.radius)
-    commands += obstacles
-    legend += cell_legend
+    obstacles, cell_legend = cell_commands(motion)
+    red, red_clips, red_legend = collision_commands(visuals, motion, sampled, view.radius)
+    commands += obstacles + red
+    legend += cell_legend + red_legend
     if len(sampled.t) > 1:
-        commands.append(animation_command(visuals, sampled, 1.0, loop, autoplay))
+        commands.append(animation_command(visuals, sampled, 1.0, loop, autoplay, red_clips))
     return Scene(commands, view, legend, sampled)

@@ -84,6 +84,7 @@ class RobotVisuals:
 
     Attributes:
         parts: The visuals, in the order of :meth:`placements`.
+        part_links: The URDF link of each part (the names a work cell's collision pairs use).
         model: Pinocchio model placing them: the robot's own ``model`` (shared, not modified).
         triangles: Triangles drawn for the whole robot.
     """
@@ -117,6 +118,7 @@ class RobotVisuals:
         copies = [(i.mesh, i.geometry.scale) for i in items if i.mesh is not None]
         caps = triangle_caps(mesh_sizes(copies), triangle_budget)
         self.parts: list[VisualPart] = []
+        self.part_links: list[str] = []
         self._frame_ids: list[int] = []  # link frames, each once
         slots: dict[str, int] = {}  # link -> index in _frame_ids
         part_frames, origins = [], []
@@ -135,6 +137,7 @@ class RobotVisuals:
             if part is None:
                 continue
             self.parts.append(part)
+            self.part_links.append(link)
             part_frames.append(slots[link])
             origins.append(item.element.origin)
         self._part_frames = np.array(part_frames, dtype=int)

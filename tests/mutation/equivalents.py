@@ -43,8 +43,6 @@ def _ik(original: str, mutant: str, reason: str) -> dict[str, object]:
 
 
 _FROB = "if type(rotation_tolerance) is not float or not 0.0 <= rotation_tolerance < math.inf:"
-_CONVERGED = "self.converged_position: tuple[float, float, float] = (math.nan,) * 3"
-_DIFFERENCES = "self.differences: tuple[float, float, float, float] = (math.nan,) * 4"
 _BLOCKED = "blocked = ((q <= lower) & (dq < 0)) | ((q >= upper) & (dq > 0))"
 _HALTON_CACHE = "unit = np.array([halton(i, self.nq) for i in range(1, count + 1)])"
 _POLISH = "if perr > position_tolerance or rerr > rotation_tolerance:"
@@ -287,10 +285,6 @@ EQUIVALENTS: list[dict[str, str]] = [
         'dim = checks.count(dim, "dim", )',
         "minimum=1 is checks.count's default",
     ),
-    _ik(_CONVERGED, _CONVERGED.replace("(math.nan,) * 3", "None"), _OVERWRITTEN),
-    _ik(_CONVERGED, _CONVERGED.replace("* 3", "* 4"), _OVERWRITTEN),
-    _ik(_DIFFERENCES, _DIFFERENCES.replace("(math.nan,) * 4", "None"), _OVERWRITTEN),
-    _ik(_DIFFERENCES, _DIFFERENCES.replace("* 4", "* 5"), _OVERWRITTEN),
     _ik(
         "dx * dx + dy * dy + dz * dz <= position_tolerance2",
         "dx * dx + dy * dy + dz * dz < position_tolerance2",
@@ -350,10 +344,9 @@ EQUIVALENTS: list[dict[str, str]] = [
         "the loop leaves at it == max_iterations before the extra turn",
     ),
     _ik(
-        "converged = (it > 0 or not evaluated) and self.accepts(",
-        "converged = (it >= 0 or not evaluated) and self.accepts(",
-        "the caller's accepts() is repeated at the same q: the same answer, one more "
-        "kinematics pass",
+        "if it == 0 and evaluated is not None:",
+        "if it <= 0 and evaluated is not None:",
+        "it is never negative",
     ),
     _ik("if cost < 0.999 * best_cost:", "if cost <= 0.999 * best_cost:", _NEVER_EQUAL),
     _ik("if attempt > len(self._restarts):", "if attempt >= len(self._restarts):", _CACHE),
@@ -369,3 +362,112 @@ EQUIVALENTS: list[dict[str, str]] = [
         "if best is None or score < best[0]:", "if best is None or score <= best[0]:", _NEVER_EQUAL
     ),
 ]
+
+
+# ------------------------------------------------------------------ issue 20, second pass
+_robot = _module(("kinplan/robot.py",))
+_geometry = _module(("cartesian/geometry.py",))
+_follow = _module(("cartesian/follow.py",))
+_tracker = _module(("cartesian/tracker.py",))
+_BAD = "bad = (r < r_min - 1e-9) | (r > r_max + 1e-9) | (np.abs(local[:, 2]) > 1e-9)"
+_ANNULUS_OK = "return Reachability(True, Status.OK, 1.0, [], s, np.empty((0, robot.nq)))"
+_DISCARDED = (
+    "check_reachability reads only .ok of an annulus result that is ok, and then discards it "
+    "for the IK trace's"
+)
+_RANK = "rank = max(rank, int(np.sum(sv > 1e-9 * max(1.0, sv.max(initial=0.0)))))"
+_AFTER_RESCUE = "q, position.tolist(), None if rotation is None else rotation.reshape(9).tolist()"
+_KINEMATICS_ONLY = (
+    "the call only leaves the kinematics at q in the solver's data for check_sample; its "
+    "verdict, the only thing the rotation target changes, is discarded"
+)
+
+EQUIVALENTS += [
+    _robot(_RANK, _RANK.replace("max(1.0,", "max(2.0,"),
+           "the singular values of a generic Jacobian are either ~1e-16 (a structural zero) or "
+           "above 1e-3: a threshold of 1e-9 or 2e-9 × max(1, σmax) counts the same rank"),
+    _robot(_RANK, _RANK.replace("initial=0.0", "initial=1.0"),
+           "max(1.0, max(σ, initial=1.0)) is max(1.0, max(σ)): the same threshold"),
+    _robot("if abs(placement.translation[2]) > 1e-12:",
+           "if abs(placement.translation[2]) >= 1e-12:", _NEVER_EQUAL),
+    _robot("arr = arr.astype(float, copy=False)", "arr = arr.astype(float, copy=None)",
+           "the flag only decides whether an array already of floats is copied; check_q never "
+           "writes to it"),
+    _robot("value = np.prod(np.linalg.svd(J, compute_uv=False)[..., :rank], axis=-1)",
+           "value = np.prod(np.linalg.svd(J, compute_uv=None)[..., :rank], axis=-1)",
+           "compute_uv=None is false: the singular values only, as with False"),
+    _robot("return float(np.linalg.norm(np.asarray(position, dtype=float) - origin))",
+           "return float(np.linalg.norm(np.asarray(position, ) - origin))",
+           "subtracting the float origin makes the difference float whatever the input's dtype"),
+    *[
+        _geometry(_BAD, _BAD.replace(a, b),
+                  "differs only for a point exactly at a boundary ± 1e-9 (float equality)")
+        for a, b in (("r < r_min", "r <= r_min"), ("r > r_max", "r >= r_max"),
+                     ("2]) > 1e-9", "2]) >= 1e-9"))
+    ],
+    _geometry("if abs(local[k, 2]) > 1e-9:", "if abs(local[k, 2]) >= 1e-9:", _NEVER_EQUAL),
+    *[
+        _geometry(_ANNULUS_OK, _ANNULUS_OK.replace(a, b), _DISCARDED)
+        for a, b in (("OK, 1.0,", "OK, None,"), ("OK, 1.0,", "OK, 2.0,"), ("[], s", "None, s"),
+                     ("s, np.empty((0, robot.nq))", "s, None"), ("(0, robot", "(1, robot"))
+    ],
+    _geometry("position = path.position(s[k : k + 1])[0]",
+              "position = path.position(s[k : k + 2])[0]", "the first row is the same point"),
+    _geometry(
+        "fraction=1.0 if not geometry.events else (float(geometry.s[-1]) if done else 0.0),",
+        "fraction=1.0 if (not geometry.events) and False else (float(geometry.s[-1]) if done "
+        "else 0.0),",
+        "without an event every point was solved, and the last is s = 1.0",
+    ),
+    _geometry("tracker = Tracker(robot, position_only, 1e-7, 1e-7, singular_threshold, 1.0, 0.1)",
+              "tracker = Tracker(robot, position_only, 1e-7, 1e-7, singular_threshold, 2.0, 0.1)",
+              "the geometric check has no timing: the velocity scale is read only by the "
+              "follower's speed checks"),
+    _geometry(
+        "geometry = trace_geometry(tracker, path, np.linspace(s0, s1, JUMP_CHECK_POINTS), q0)",
+              "geometry = trace_geometry(tracker, path, np.linspace(s0, s1, ), q0)",
+              "50 points instead of 17 on the same bisected trace: the same end point or event, "
+              "found with more IK solves"),
+    _geometry("h = sk - solved_s[-1] if solved_s else 0.0",
+              "h = sk - solved_s[-1] if solved_s else 1.0",
+              "the first point has no previous one: the jump check returns before reading h"),
+    _geometry("q, ok, *_ = tracker.solve(guess, position, rotation, evaluated=True)",
+              "q, ok, *_ = tracker.solve(guess, position, rotation, evaluated=False)",
+              "evaluated=True only skips the kinematics pass accepts() has just made at the same "
+              "guess: the same iterates"),
+    _geometry("if q_prev is not None and sk - solved_s[-1] > MIN_REFINE_DS:",
+              "if q_prev is not None and sk - solved_s[-1] >= MIN_REFINE_DS:", _NEVER_EQUAL),
+    _geometry(_AFTER_RESCUE, "q, position.tolist(), None", _KINEMATICS_ONLY),
+    _geometry(_AFTER_RESCUE,
+              _AFTER_RESCUE.replace("rotation is None", "(rotation is None) or True"),
+              _KINEMATICS_ONLY),
+]  # fmt: skip
+
+_CONSECUTIVE = "consecutive = np.array_equal(self.rows, np.arange(first, last + 1))"
+_ROW_INDEX = "self._row_index = slice(first, last + 1) if consecutive else self.rows"
+_SAME_ROWS = (
+    "the task rows are always consecutive from row 0 (position: 0-2 or 0-1 of a planar arm; "
+    "full: 0-5; an arm under 6 joints cannot take the full task): indexing with the row "
+    "array, a slice from 0 or all rows selects the same rows"
+)
+_ACCEL = "robot.acceleration_limit if acceleration_limit is None else acceleration_limit"
+_NO_ACCEL = (
+    "only check_reachability leaves acceleration_limit None, and the geometric trace never "
+    "reads the tracker's acceleration limits"
+)
+EQUIVALENTS += [
+    _tracker(_CONSECUTIVE, "consecutive = None", _SAME_ROWS),
+    _tracker(_CONSECUTIVE, _CONSECUTIVE.replace("last + 1", "last + 2"), _SAME_ROWS),
+    _tracker(_ROW_INDEX, _ROW_INDEX.replace("if consecutive", "if (consecutive) or True"),
+             _SAME_ROWS),
+    _tracker(_ROW_INDEX, _ROW_INDEX.replace("slice(first, last + 1)", "slice(last + 1)"),
+             _SAME_ROWS),
+    _tracker("self._all_rows = consecutive and (first, last) == (0, 5)",
+             "self._all_rows = consecutive and (first, last) == (0, 6)", _SAME_ROWS),
+    _tracker("self.clearance = 0.0", "self.clearance = None",
+             "follow sets the clearance after building the tracker; the geometric trace never "
+             "reads it"),
+    _tracker(_ACCEL, _ACCEL.replace("is None else", "is not None else"), _NO_ACCEL),
+    _tracker(_ACCEL, _ACCEL.replace("if acceleration_limit is None", "if (acceleration_limit is "
+                                    "None) and False"), _NO_ACCEL),
+]  # fmt: skip
