@@ -58,6 +58,8 @@ from equivalents import EQUIVALENTS  # noqa: E402
 FOLLOW_TESTS = [
     "tests/test_cartesian.py",
     "tests/test_follow_monitoring.py",
+    "tests/test_follow_mutants.py",
+    "tests/test_follow_cell.py",
     "tests/test_paths.py",
     "tests/test_validation.py",
 ]
@@ -71,6 +73,7 @@ MODULES: dict[str, list[str]] = {
     ],
     "kinplan/robot.py": [
         "tests/test_robot.py",
+        "tests/test_robot_mutants.py",
         "tests/test_ik.py",
         "tests/test_urdf*.py",
         "tests/test_validation.py",

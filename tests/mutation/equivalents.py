@@ -471,3 +471,39 @@ EQUIVALENTS += [
     _tracker(_ACCEL, _ACCEL.replace("if acceleration_limit is None", "if (acceleration_limit is "
                                     "None) and False"), _NO_ACCEL),
 ]  # fmt: skip
+EQUIVALENTS.append(
+    _geometry(
+        "if not ok or np.max(np.abs(q - q_prev)) > MAX_JOINT_STEP:",
+        "if not ok or np.max(np.abs(q - q_prev)) >= MAX_JOINT_STEP:",
+        _NEVER_EQUAL,
+    )
+)
+_SQUARE = (
+    "a square J returns from factor (LU of J) before this line, and rates uses lu.solve(b) "
+    "for it: the line only sees wide (< 0) or tall (> 0) Jacobians"
+)
+_FACTOR = "self._lu = eigenpy.PartialPivLU(J.dot(J.T) if self._shape < 0 else J.T.dot(J))"
+_RATES = "return lu.solve(b).dot(J) if shape < 0 else lu.solve(b.dot(J))"
+_ALL = "J = self._J = jacobian if self._all_rows else jacobian[self._row_index]"
+EQUIVALENTS += [
+    _tracker("first, last = int(self.rows[0]), int(self.rows[-1])",
+             "first, last = int(self.rows[0]), int(self.rows[+1])", _SAME_ROWS),
+    _tracker(_ALL, _ALL.replace("if self._all_rows", "if (self._all_rows) and False"),
+             _SAME_ROWS),
+    _tracker(_FACTOR, _FACTOR.replace("self._shape < 0", "self._shape <= 0"), _SQUARE),
+    _tracker(_RATES, _RATES.replace("shape < 0", "shape <= 0"), _SQUARE),
+    _tracker("return not m >= self.singular_threshold or m <= self.rank_floor",
+             "return not m >= self.singular_threshold or m < self.rank_floor", _NEVER_EQUAL),
+    _tracker("if ratios.max() > 1.0:", "if ratios.max() >= 1.0:", _NEVER_EQUAL),
+    _tracker("if abs(res.q[j] - q_prev[j]) <= self.jump_tolerance:",
+             "if abs(res.q[j] - q_prev[j]) < self.jump_tolerance:", _NEVER_EQUAL),
+]  # fmt: skip
+_REUSED = (
+    "the evaluation at the guess is only reused to save one kinematics pass; without it solve "
+    "evaluates the same guess itself: the same iterates"
+)
+_SOLVE_CALL = "guess, positions[k], rotations[k], evaluated=evaluation"
+EQUIVALENTS += [
+    _follow(_SOLVE_CALL, _SOLVE_CALL.replace("evaluated=evaluation", "evaluated=None"), _REUSED),
+    _follow(_SOLVE_CALL + " )", "guess, positions[k], rotations[k], )", _REUSED),
+]
