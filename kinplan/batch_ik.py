@@ -2,21 +2,26 @@
 
 Three solvers, chosen per arm:
 
-* **closed form, vectorised** (planar 2R, UR family): every branch of every target in one numpy
-  pass of the arm's closed-form solver (``Robot.closed_form_ik``), then per target the branch
-  and the 2π-equivalents nearest its seed, the choice :meth:`kinplan.Robot.ik` makes; the
-  solutions are checked by forward kinematics and polished by a few Newton steps where the
-  rounding left them outside the tolerances, as :meth:`Robot.ik` does;
-* **closed form, per target** (panda-type arms, θ7 searched): the solver's ``nearest`` target
-  after target, checked the same way;
+* **closed form, vectorised** (planar 2R, UR family): per target the branch and the
+  2π-equivalents nearest its seed, the choice :meth:`kinplan.Robot.ik` makes. The UR family
+  runs the single-pose formulas of ``URIK.nearest`` on arrays (:meth:`URIK.nearest_many`, in
+  passes of :data:`UR_CHUNK` targets); the targets that ``nearest`` leaves to the all-branch
+  path near a singularity, and the planar 2R, list every branch in one numpy pass
+  (``all_branches``) and keep the nearest. The solutions are checked by forward kinematics and
+  polished by a few Newton steps where the rounding left them outside the tolerances, as
+  :meth:`Robot.ik` does;
+* **closed form with a θ7 search** (panda-type arms): ``PandaIK.nearest``'s search stage by
+  stage on all targets at once (:meth:`PandaIK.nearest_many`), targets near a free angle by
+  ``nearest`` itself; checked the same way;
 * **Levenberg–Marquardt over targets** (any other serial arm): the damped least-squares iteration
   of :class:`kinplan.ik.IKSolver` run on all unfinished targets at once, with numpy's batched
-  Cholesky solves; targets that stall restart from the same Halton configurations as
+  solves; targets that stall restart from the same Halton configurations as
   :meth:`Robot.ik`.
 
 :class:`BatchKinematics` evaluates forward kinematics and tool Jacobians of a serial chain of
 revolute and prismatic joints for many configurations at once, from the Pinocchio model's joint
-placements; it is checked against Pinocchio on construction (an arm it cannot represent — a
+placements, as a few BLAS products per joint on rotations stored as rows (one column per
+configuration); it is checked against Pinocchio on construction (an arm it cannot represent — a
 mimic joint, say — gets None, and the caller loops over :meth:`Robot.ik`).
 """
 
@@ -42,6 +47,8 @@ from kinplan.ik.numeric import (
     POLISH_STALL_ITERATIONS,
     STALL_ITERATIONS,
 )
+from kinplan.ik.panda import PandaIK
+from kinplan.ik.ur import URIK
 
 if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
     from kinplan.robot import Robot
@@ -59,6 +66,12 @@ _HALF_TURN_SAFE = math.pi - 1e-9
 _POLISH_ITERATIONS = 3
 #: Targets solved per numpy pass (bounds the memory of the per-branch arrays: ~1 kB a target).
 CHUNK = 16384
+#: Targets of one pass of the vectorised UR closed form (within a CHUNK): its arrays then stay
+#: in the CPU caches, and its BLAS products below BLAS_COLUMNS.
+UR_CHUNK = 4096
+#: Columns of one BLAS product at most: OpenBLAS runs larger products of a few rows on several
+#: threads, which wait for each other (measured 10× slower) when another process holds a core.
+BLAS_COLUMNS = 4096
 #: Numerical restarts tried side by side per target when few targets are left: as many as
 #: make about SIDE_BY_SIDE_ROWS rows, at most RESTARTS_AT_ONCE.
 RESTARTS_AT_ONCE = 8
@@ -115,6 +128,41 @@ class BatchKinematics:
         tool = model.frames[robot.tip_id].placement
         self._tool_rotation = tool.rotation.copy()
         self._tool_translation = tool.translation.copy()
+        self._rows = self._row_operators()
+
+    def _row_operators(
+        self,
+    ) -> tuple[list[tuple[np.ndarray, np.ndarray, np.ndarray, int]], np.ndarray]:
+        """The chain as linear maps on rotations stored as 9 rows (entry (i, j) in row 3i + j,
+        one column per configuration), for :meth:`_pass`.
+
+        Right-multiplying R by a constant C is ``kron(I, Cᵀ)`` on those rows. Per joint, with R
+        the rotation of its parent and K the cross-product matrix of its axis:
+
+        * ``ops``: a revolute joint's (27, 9) stack of the maps giving R·R_j·(I + K²),
+          R·R_j·K and R·R_j·K², so that R·R_j·Rot(axis, θ) = ops₀R + sin θ·ops₁R − cos θ·ops₂R
+          (Rodrigues); a prismatic joint's (9, 9) map giving R·R_j;
+        * ``lever`` (3, 9): R·p_j, the joint's origin relative to its parent's;
+        * ``along`` (3, 9): R·R_j·axis, the joint's axis in the base frame (a prismatic joint
+          moves its origin along it by its value).
+
+        Then the tool (12, 9): its rotation R·R_tool (rows 0–8) and offset R·t_tool (9–11).
+        """
+        eye = np.eye(3)
+        steps = []
+        for R_j, p_j, revolute, axis, K, index in self._joints:
+            placed = np.kron(eye, R_j.T)
+            lever = np.kron(eye, p_j[None, :])
+            along = np.kron(eye, axis[None, :]) @ placed
+            if revolute:
+                cross, cross2 = np.kron(eye, K.T) @ placed, np.kron(eye, (K @ K).T) @ placed
+                steps.append((np.vstack((placed + cross2, cross, cross2)), lever, along, index))
+            else:
+                steps.append((placed, lever, along, index))
+        tool = np.vstack(
+            (np.kron(eye, self._tool_rotation.T), np.kron(eye, self._tool_translation[None, :]))
+        )
+        return steps, tool
 
     @classmethod
     def of(cls, robot: Robot) -> BatchKinematics | None:
@@ -139,53 +187,84 @@ class BatchKinematics:
                 return None
         return kinematics
 
-    def _chain(self, q: np.ndarray, with_axes: bool):
-        count = len(q)
-        rotation = np.broadcast_to(np.eye(3), (count, 3, 3))
-        position = np.zeros((count, 3))
-        rows = count if with_axes else 0  # the joint axes and origins only when asked for
-        axes, origins = np.empty((rows, self.nq, 3)), np.empty((rows, self.nq, 3))
-        revolute = np.empty(self.nq, dtype=bool)
-        for k, (R_j, p_j, is_revolute, axis, K, index) in enumerate(self._joints):
-            position = position + rotation @ p_j
-            rotation = rotation @ R_j
-            value = q[:, index]
-            if with_axes:
-                axes[:, k] = rotation @ axis
-                origins[:, k] = position
-                revolute[k] = is_revolute
-            if is_revolute:  # R·Rot(axis, θ) = R + sin θ·(R K) + (1 − cos θ)·(R K²)
-                RK = rotation @ K
-                rotation = (
-                    rotation
-                    + np.sin(value)[:, None, None] * RK
-                    + (1.0 - np.cos(value))[:, None, None] * (RK @ K)
-                )
-            else:
-                position = position + (rotation @ axis) * value[:, None]
-        tool_position = position + rotation @ self._tool_translation
-        tool_rotation = rotation @ self._tool_rotation
-        return tool_position, tool_rotation, axes, origins, revolute
-
     def fk(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Tool positions (N, 3) [m] and rotations (N, 3, 3) in the base frame of joint rows
         ``q`` (N, nq)."""
-        position, rotation, *_ = self._chain(np.asarray(q, dtype=float), False)
+        position, rotation = self.fk_rows(q)
+        return position.T, rotation.T.reshape(-1, 3, 3)
+
+    def fk_rows(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`fk` as rows: positions (3, N) [m] and rotations (9, N), entry (i, j) of the
+        rotation in row 3i + j. A few BLAS products of (27, 9) maps with the (9, N) rotation
+        rows per joint (see :meth:`_row_operators`) and one sine and cosine pass."""
+        position, rotation, _, _ = self._pass(np.asarray(q, dtype=float), False)
         return position, rotation
+
+    def _pass(
+        self, q: np.ndarray, with_axes: bool
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Tool positions (3, N), rotations (9, N) and, ``with_axes``, each joint's axis and
+        origin in the base frame (nq, 3, N) (in chain order; else empty)."""
+        count = len(q)
+        if count > BLAS_COLUMNS:  # slices: see BLAS_COLUMNS
+            parts = [
+                self._pass(q[k : k + BLAS_COLUMNS], with_axes)
+                for k in range(0, count, BLAS_COLUMNS)
+            ]
+            return tuple(np.concatenate(p, axis=-1) for p in zip(*parts))  # type: ignore[return-value]
+        columns = np.ascontiguousarray(q.T)
+        sines, cosines = np.sin(columns), np.cos(columns)
+        steps, tool = self._rows
+        rows = len(steps) if with_axes else 0
+        axes, origins = np.empty((rows, 3, count)), np.empty((rows, 3, count))
+        rotation = np.eye(3).reshape(9, 1)
+        position = np.zeros((3, 1))
+        for k, (ops, lever, along, index) in enumerate(steps):
+            position = position + lever @ rotation
+            value = columns[index]
+            if with_axes:
+                axes[k] = along @ rotation
+                origins[k] = position
+            if len(ops) == 27:  # revolute: R·R_j·Rot(axis, θ), see _row_operators
+                mapped = ops @ rotation
+                rotation = mapped[:9] + sines[index] * mapped[9:18]
+                rotation -= cosines[index] * mapped[18:]
+            else:
+                rotation = ops @ rotation
+                position = position + (along @ rotation) * value
+        out = tool @ np.broadcast_to(rotation, (9, count))
+        return position + out[9:], out[:9], axes, origins
+
+    def errors(
+        self, q: np.ndarray, positions: np.ndarray, rotations: np.ndarray | None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Squared tool position errors [m²] and ‖R* − R‖_F² (0 for position only) of joint rows
+        ``q`` (N, nq) at targets ``positions`` (N, 3), ``rotations`` (N, 3, 3) or None."""
+        reached, reached_rotations = self.fk_rows(q)
+        difference = positions.T - reached
+        position2 = np.einsum("in,in->n", difference, difference)
+        if rotations is None:
+            return position2, np.zeros(len(q))
+        difference = rotations.reshape(-1, 9).T - reached_rotations
+        return position2, np.einsum("in,in->n", difference, difference)
 
     def fk_jacobian(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`fk` and the tool Jacobians (N, 6, nq), rows [linear; angular], world-aligned
         at the tool (as :meth:`kinplan.Robot.jacobian`)."""
         q = np.asarray(q, dtype=float)
-        position, rotation, axes, origins, revolute = self._chain(q, True)
-        J = np.zeros((len(q), 6, self.nq))
-        columns = [j[5] for j in self._joints]
-        lever = position[:, None, :] - origins
-        linear = np.where(revolute[None, :, None], np.cross(axes, lever), axes)
-        angular = np.where(revolute[None, :, None], axes, 0.0)
-        J[:, :3, columns] = np.swapaxes(linear, 1, 2)
-        J[:, 3:, columns] = np.swapaxes(angular, 1, 2)
-        return position, rotation, J
+        position, rotation, axes, origins = self._pass(q, True)
+        J = np.zeros((6, self.nq, len(q)))
+        for k, joint in enumerate(self._joints):
+            column, axis = joint[5], axes[k]
+            if joint[2]:  # revolute: ω × (p − origin), ω
+                lever = position - origins[k]
+                J[0, column] = axis[1] * lever[2] - axis[2] * lever[1]
+                J[1, column] = axis[2] * lever[0] - axis[0] * lever[2]
+                J[2, column] = axis[0] * lever[1] - axis[1] * lever[0]
+                J[3:, column] = axis
+            else:
+                J[:3, column] = axis
+        return position.T, rotation.T.reshape(-1, 3, 3), J.transpose(2, 0, 1)
 
 
 def log3(rotations: np.ndarray) -> np.ndarray:
@@ -275,6 +354,28 @@ def nearest_equivalent(
     return out
 
 
+def _rotation_defects(columns: list[tuple[np.ndarray, ...]]) -> tuple[np.ndarray, np.ndarray]:
+    """‖RᵀR − I‖_F² and det R of many rotations given by their three columns, each a 3-tuple of
+    (N,) arrays: dot products of the columns (a batched 3×3 product and ``np.linalg.det`` cost
+    several times more per matrix)."""
+    c0, c1, c2 = columns
+    with np.errstate(invalid="ignore", over="ignore"):
+
+        def dot(a: tuple[np.ndarray, ...], b: tuple[np.ndarray, ...]) -> np.ndarray:
+            return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+        diagonal = [dot(c, c) - 1.0 for c in (c0, c1, c2)]
+        off = [dot(c0, c1), dot(c0, c2), dot(c1, c2)]
+        defect = diagonal[0] ** 2 + diagonal[1] ** 2 + diagonal[2] ** 2
+        defect += 2.0 * (off[0] ** 2 + off[1] ** 2 + off[2] ** 2)
+        cross = (
+            c1[1] * c2[2] - c1[2] * c2[1],
+            c1[2] * c2[0] - c1[0] * c2[2],
+            c1[0] * c2[1] - c1[1] * c2[0],
+        )
+        return defect, dot(c0, cross)
+
+
 def parse_targets(targets: object) -> tuple[np.ndarray, np.ndarray | None]:
     """Positions (N, 3) [m] and rotations (N, 3, 3) (None for positions) of
     :meth:`Robot.ik_batch`'s targets: an (N, 4, 4) array, a list of ``pin.SE3`` or an (N, 3)
@@ -304,11 +405,12 @@ def parse_targets(targets: object) -> tuple[np.ndarray, np.ndarray | None]:
         if matrices.ndim != 3 or matrices.shape[1:] != (4, 4):
             raise InputError(f"targets must be {wanted}; got an array of shape {matrices.shape}")
     rotations = matrices[:, :3, :3]
-    defect = np.sum((np.swapaxes(rotations, 1, 2) @ rotations - np.eye(3)) ** 2, axis=(1, 2))
-    finite = np.all(np.isfinite(matrices), axis=(1, 2))
-    bottom = np.all(matrices[:, 3] == (0.0, 0.0, 0.0, 1.0), axis=1)
+    rows = np.ascontiguousarray(matrices.reshape(-1, 16).T)  # row 4i + j: entry (i, j)
+    defect, determinant = _rotation_defects([(rows[j], rows[4 + j], rows[8 + j]) for j in range(3)])
+    finite = np.all(np.isfinite(rows), axis=0)
+    bottom = (rows[12] == 0.0) & (rows[13] == 0.0) & (rows[14] == 0.0) & (rows[15] == 1.0)
     with np.errstate(invalid="ignore"):
-        bad = ~finite | ~(defect <= 1e-12) | (np.linalg.det(rotations) < 0) | ~bottom
+        bad = ~finite | ~(defect <= 1e-12) | (determinant < 0) | ~bottom
     if bad.any():
         k = int(np.flatnonzero(bad)[0])
         if not finite[k]:
@@ -429,6 +531,30 @@ class BatchSolver:
     def _closed_form(self, positions, rotations, seeds, tolerances):
         solver = self.closed_form
         assert isinstance(solver, ClosedFormIK)  # vectorised: it lists every branch at once
+        if rotations is not None and isinstance(solver, URIK):
+            # the single-pose formulas on arrays; near singularities, all branches (as ik)
+            parts = [
+                solver.nearest_many(positions[part], rotations[part], seeds[part])
+                for part in (slice(k, k + UR_CHUNK) for k in range(0, len(positions), UR_CHUNK))
+            ]
+            q, branch, mask, left = (np.concatenate(x) for x in zip(*parts))
+            rest = np.flatnonzero(left)
+            if rest.size:
+                q[rest], branch[rest], mask[rest] = self._all_branch_choice(
+                    positions[rest], rotations[rest], seeds[rest]
+                )
+        else:
+            q, branch, mask = self._all_branch_choice(positions, rotations, seeds)
+        found = branch >= 0
+        q = np.where(found[:, None], q, np.clip(seeds, self.lower, self.upper))
+        q, success = self._verify(positions, rotations, q, found, tolerances)
+        return q, success, branch.astype(np.int8), mask
+
+    def _all_branch_choice(self, positions, rotations, seeds):
+        """(q, branch (−1: none), mask) of the branch nearest each seed, from every branch of
+        the closed form (:meth:`ClosedFormIK.all_branches`)."""
+        solver = self.closed_form
+        assert isinstance(solver, ClosedFormIK)  # vectorised: it lists every branch at once
         raw, _ = solver.all_branches(positions, rotations, seeds)  # (N, S, nq)
         candidates = nearest_equivalent(raw, seeds[:, None, :], self.lower, self.upper)
         distance = ((candidates - seeds[:, None, :]) ** 2) @ solver.weights
@@ -436,18 +562,21 @@ class BatchSolver:
         branch = np.argmin(distance, axis=1)  # ties: the lower branch index, as nearest()
         found = np.isfinite(distance[np.arange(len(branch)), branch])
         q = candidates[np.arange(len(branch)), branch]
-        q = np.where(found[:, None], q, np.clip(seeds, self.lower, self.upper))
-        q, success = self._verify(positions, rotations, q, found, tolerances)
         bits = np.isfinite(distance) << np.arange(distance.shape[1], dtype=np.uint16)
         mask = np.bitwise_or.reduce(bits.astype(np.uint16), axis=1)
-        return q, success, np.where(found, branch, -1).astype(np.int8), mask
+        return q, np.where(found, branch, -1), mask
 
     def _closed_form_loop(self, positions, rotations, seeds, tolerances):
         solver = self.closed_form
         assert solver is not None  # "closed-form-loop": the arm has a closed form
         q = np.clip(seeds, self.lower, self.upper)
         found = np.zeros(len(positions), dtype=bool)
-        for k in range(len(positions)):
+        loop: range | np.ndarray = range(len(positions))
+        if rotations is not None and isinstance(solver, PandaIK):
+            q_many, found, left = solver.nearest_many(positions, rotations, seeds)
+            q[found] = q_many[found]
+            loop = np.flatnonzero(left)  # near a free angle: nearest() decides
+        for k in loop:
             rotation = None if rotations is None else rotations[k]
             solution = solver.nearest(positions[k], rotation, seeds[k])
             if solution is not None:
@@ -459,8 +588,7 @@ class BatchSolver:
         outside the tolerances."""
         position_tolerance, rotation_tolerance = tolerances
         assert self.kinematics is not None  # the closed-form methods need it (method())
-        reached, reached_rotations = self.kinematics.fk(q)
-        position2, frobenius2 = _errors(positions, rotations, reached, reached_rotations)
+        position2, frobenius2 = self.kinematics.errors(q, positions, rotations)
         good = (position2 <= position_tolerance**2) & (
             frobenius2 <= frobenius_tolerance(rotation_tolerance)
         )

@@ -2,7 +2,9 @@
 
 Closed-form arms (UR5, planar 2R, panda) must give ik's success and the same q; numerical arms
 (no closed form) the same success on reachable targets within the tolerance, every q within the
-limits. The vectorised forward kinematics and Jacobians are checked against Pinocchio.
+limits. The vectorised forward kinematics and Jacobians are checked against Pinocchio; the
+vectorised pieces of the closed forms (joint choice, rotation checks) against their single-value
+versions.
 """
 
 from __future__ import annotations
@@ -14,7 +16,8 @@ import pinocchio as pin
 import pytest
 
 import kinplan
-from kinplan.batch_ik import BatchKinematics, log3
+from kinplan.batch_ik import BLAS_COLUMNS, BatchKinematics, _rotation_defects, log3
+from kinplan.ik.screws import TAU, joint_choice, joint_choice_many
 
 URDF = Path(__file__).parent / "urdf"
 
@@ -189,3 +192,152 @@ def test_log3_matches_pinocchio_also_near_half_turns():
     for R, w in zip(rotations, got):
         np.testing.assert_allclose(pin.exp3(w), R, atol=1e-9)
         assert np.linalg.norm(w) <= np.pi + 1e-12
+
+
+def _seeded_targets(robot, rng, reachable: int, random: int):
+    """SE3 targets and one random seed each: FK of random configurations, then random poses."""
+    targets = _targets(robot, rng, reachable, random)
+    seeds = np.array([robot.random_configuration(rng) for _ in targets])
+    return targets, seeds
+
+
+def _assert_same_as_ik(robot, targets, seeds, max_restarts=2):
+    """ik_batch gives ik's success on every target and the same q (1e-9 rad) where both
+    succeed; every q within the limits."""
+    q, success = robot.ik_batch(targets, q_seed=seeds)
+    results = [
+        robot.ik(t, q_seed=None if seeds is None else seeds[k], max_restarts=max_restarts)
+        for k, t in enumerate(targets)
+    ]
+    expected = np.array([r.success for r in results])
+    differ = np.flatnonzero(success != expected)
+    assert differ.size == 0, f"success differs at targets {differ[:10]}"
+    both = np.flatnonzero(success)
+    np.testing.assert_allclose(q[both], np.array([results[k].q for k in both]), atol=1e-9)
+    errors = _tool_errors(robot, q[both], [targets[k] for k in both])
+    assert errors[:, 0].max() <= 1e-6 and errors[:, 1].max() <= 1e-6
+    assert np.all((q >= robot.lower - 1e-12) & (q <= robot.upper + 1e-12))
+    return success
+
+
+@pytest.mark.parametrize("seeded", [True, False])
+def test_ur5_thousands_of_targets_as_ik_also_near_singularities(seeded):
+    """The vectorised single-pose formulas (and, near singularities, the all-branch path)
+    choose ik's branch: random seeds or the default one, reachable and random targets, and
+    configurations at or near the wrist (θ5 = 0, π), elbow (θ3 = 0, π) and shoulder
+    singularities, where ik leaves the single-pose path."""
+    robot = kinplan.load_robot("ur5")
+    rng = np.random.default_rng(18)
+    q_true = np.array([robot.random_configuration(rng) for _ in range(2400)])
+    q_true[:200, 4] = rng.choice([0.0, 1e-9, 1e-6, 1e-4, np.pi], 200)
+    q_true[200:400, 2] = rng.choice([0.0, 1e-9, 1e-6, 1e-4, np.pi], 200)
+    q_true[400:500, 1:4] = 0.0  # elbow straight, wrist centre far from the shoulder axis
+    targets = [robot.fk(q) for q in q_true]
+    targets += [pin.SE3(pin.SE3.Random().rotation, rng.uniform(-1.0, 1.0, 3)) for _ in range(600)]
+    seeds = np.array([robot.random_configuration(rng) for _ in targets]) if seeded else None
+    positions, rotations = robot.batch_solver.kinematics.fk(q_true)
+    left = robot.closed_form_ik.nearest_many(positions, rotations, q_true)[3]
+    assert left[:400].sum() > 200 and left[500:].sum() < 10  # the all-branch path is exercised
+    success = _assert_same_as_ik(robot, targets, seeds)
+    assert success[:2400].all() and not success[2400:].all()
+
+
+@pytest.mark.parametrize("seeded", [True, False])
+def test_panda_thousands_of_targets_as_ik(seeded):
+    """The vectorised θ7 search takes ik's stage and θ7 value on every target."""
+    robot = kinplan.load_robot("panda")
+    rng = np.random.default_rng(180)
+    targets, seeds = _seeded_targets(robot, rng, 1500, 300)
+    success = _assert_same_as_ik(robot, targets, seeds if seeded else None)
+    assert success[:1500].all() and not success[1500:].all()
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_seeds_beyond_the_limits_as_ik(name):
+    """Seeds whole turns and more outside the limits: ik's distance to the seed itself and
+    equivalents chosen from the seed clipped into the limits."""
+    robot = kinplan.load_robot(name)
+    rng = np.random.default_rng(21)
+    targets, seeds = _seeded_targets(robot, rng, 300, 50)
+    seeds += rng.choice([-9.0, -3.0, 0.0, 3.0, 9.0], seeds.shape)
+    _assert_same_as_ik(robot, targets, seeds)
+
+
+def test_panda_near_free_angles_left_to_nearest():
+    """θ2 = 0 puts axis 3 on axis 1 (θ1 and θ3 then share one free angle): seeded with the
+    configuration itself, the θ7 search meets it, leaves those targets to nearest() and still
+    gives ik's answers; seeded elsewhere, the same targets go through the vectorised path."""
+    robot = kinplan.load_robot("panda")
+    rng = np.random.default_rng(3)
+    q_true = np.array([robot.random_configuration(rng) for _ in range(40)])
+    q_true[:, 1] = 0.0
+    targets = [robot.fk(q) for q in q_true]
+    positions, rotations = robot.batch_solver.kinematics.fk(q_true)
+    assert robot.closed_form_ik.nearest_many(positions, rotations, q_true)[2].all()
+    _assert_same_as_ik(robot, targets, q_true)
+    _assert_same_as_ik(robot, targets, q_true + 0.05)
+
+
+@pytest.mark.parametrize("source", ["ur5", "panda", URDF / "prismatic_gantry.urdf"])
+def test_batch_fk_agrees_with_pinocchio_beyond_one_blas_slice(source):
+    """fk (rows of BLAS products, sliced) against Pinocchio's FK to 1e-12, on more
+    configurations than one slice holds."""
+    robot = kinplan.load_robot(source)
+    kinematics = BatchKinematics.of(robot)
+    rng = np.random.default_rng(12)
+    q = np.array([robot.random_configuration(rng) for _ in range(BLAS_COLUMNS + 37)])
+    positions, rotations = kinematics.fk(q)
+    for k in rng.choice(len(q), 300, replace=False).tolist() + [len(q) - 1]:
+        pose = robot.fk(q[k])
+        np.testing.assert_allclose(positions[k], pose.translation, atol=1e-12, err_msg=str(k))
+        np.testing.assert_allclose(rotations[k], pose.rotation, atol=1e-12, err_msg=str(k))
+    targets = np.zeros((len(q), 4, 4))
+    targets[:, :3, :3], targets[:, :3, 3], targets[:, 3, 3] = rotations, positions, 1.0
+    position2, frobenius2 = kinematics.errors(q, positions, rotations)
+    assert position2.max() < 1e-28 and frobenius2.max() < 1e-28
+
+
+def test_joint_choice_many_matches_joint_choice():
+    """The vectorised joint choice against the single-value one: random values, references
+    and limits, values at exactly half a turn (ties), at the limits, beyond them, continuous."""
+    rng = np.random.default_rng(7)
+    cases = [(-2.0 * np.pi, 2.0 * np.pi, 1.0), (-np.pi, np.pi, 2.5), (-2.9, 2.9, 0.5)]
+    cases += [(-0.07, 3.75, 1.0), (-np.inf, np.inf, 1.0), (0.3, 0.3 + 1e-13, 1.0)]
+    for lower, upper, weight in cases:
+        count = 4000
+        ref = rng.uniform(-9.0, 9.0, count)
+        values = rng.uniform(-12.0, 12.0, (2, count))
+        values[0, :500] = ref[:500] + np.pi  # ties between two equivalents
+        values[1, :500] = ref[:500] - np.pi + TAU * rng.integers(-2, 3, 500)
+        if np.isfinite(lower):
+            values[0, 500:700] = lower + TAU * rng.integers(-2, 3, 200)
+            values[1, 500:700] = upper + 1e-13 + TAU * rng.integers(-2, 3, 200)
+        values[0, 700] = np.nan
+        clipped = np.clip(ref, lower, upper)
+        q, cost = joint_choice_many(values, ref, clipped, lower, upper, weight)
+        for i in range(2):
+            for k in range(count):
+                v = float(values[i, k])
+                single = (
+                    None
+                    if np.isnan(v)
+                    else joint_choice(v, (float(ref[k]), float(clipped[k]), lower, upper, weight))
+                )
+                if single is None:
+                    assert cost[i, k] == np.inf, (lower, upper, i, k)
+                else:  # the same q to the last bit; the cost to rounding (x·x vs x**2)
+                    assert q[i, k] == single[0], (lower, upper, i, k)
+                    assert cost[i, k] == pytest.approx(single[1], rel=1e-14, abs=1e-300)
+
+
+def test_rotation_checks_of_many_targets():
+    """The defect ‖RᵀR − I‖² and det of the target check, from column products, against a
+    matrix product and numpy's determinant."""
+    rng = np.random.default_rng(2)
+    rotations = np.array([pin.SE3.Random().rotation for _ in range(200)])
+    rotations[:50] += rng.normal(scale=1e-3, size=(50, 3, 3))
+    rotations[50:60] *= -1.0
+    defect, determinant = _rotation_defects([tuple(rotations[:, :, j].T) for j in range(3)])
+    expected = np.sum((np.swapaxes(rotations, 1, 2) @ rotations - np.eye(3)) ** 2, axis=(1, 2))
+    np.testing.assert_allclose(defect, expected, rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(determinant, np.linalg.det(rotations), atol=1e-12)

@@ -156,6 +156,58 @@ def joint_choice(
     return q, weight * (q - ref) ** 2
 
 
+def joint_choice_many(
+    values: np.ndarray,
+    ref: np.ndarray,
+    clipped: np.ndarray,
+    lower: float,
+    upper: float,
+    weight: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`joint_choice` of many values of one joint, vectorised (the batch closed forms).
+
+    The equivalent nearest the reference, ``c = value + 2π·round((clipped − value)/2π)``, is
+    within half a turn of it, so its neighbours at ±2π are farther: it is the choice when it is
+    within the limits, else the neighbour on the side of the limits (when that one is within
+    them). Only at half a turn (|c − clipped| ≥ ``HALF_TURN_SAFE``), where two equivalents tie,
+    does :func:`near_angle` decide, value by value.
+
+    Args:
+        values: Joint values [rad], any 2π representative (NaN: none), shape (..., N).
+        ref: References [rad], shape (N,).
+        clipped: The references clipped into the limits [rad], shape (N,).
+        lower, upper: The joint's limits [rad] (±inf for a continuous joint).
+        weight: The joint's weight in the distance.
+
+    Returns:
+        (q, cost) shaped like ``values``: q as :func:`joint_choice` chooses it, and
+        w·(q − ref)², inf where no equivalent is within the limits (q is then meaningless).
+    """
+    with np.errstate(invalid="ignore"):
+        turns = np.round((clipped - values) / TAU)
+        q = values + TAU * turns
+        tie = np.abs(q - clipped) >= HALF_TURN_SAFE
+        turns -= q > upper + LIMIT_TOL  # value + 2π·turns as near_angle: the same last bit
+        turns += q < lower - LIMIT_TOL
+        q = values + TAU * turns
+        valid = (q >= lower - LIMIT_TOL) & (q <= upper + LIMIT_TOL)
+        np.minimum(np.maximum(q, lower, out=q), upper, out=q)
+    cost = q - ref
+    cost *= cost
+    if weight != 1.0:
+        cost *= weight
+    np.copyto(cost, np.inf, where=~valid)
+    if tie.any():
+        for index in zip(*np.nonzero(tie)):
+            near = near_angle(float(values[index]), float(clipped[index[-1]]), lower, upper)
+            if near is None:
+                cost[index] = np.inf
+            else:
+                q[index] = near
+                cost[index] = weight * (near - float(ref[index[-1]])) ** 2
+    return q, cost
+
+
 def compose_scan(maps: np.ndarray) -> np.ndarray:
     """Prefix compositions of branch maps by doubling (Hillis–Steele), O(N log N) in numpy.
 

@@ -20,6 +20,7 @@ from kinplan.ik.screws import (
     TINY,
     Screws,
     joint_choice,
+    joint_choice_many,
     parallel,
     perpendicular,
     plane_basis,
@@ -452,6 +453,165 @@ def _fast_elbow(
     return branches[0], branches[1]
 
 
+# ---------------------------------------------------------------------------- UR fast, many poses
+def _pair(first: np.ndarray, second: np.ndarray, axis: int) -> np.ndarray:
+    """``first`` and ``second`` (same shape) stacked as index 0 and 1 of a new ``axis``."""
+    return np.stack((first, second), axis=axis)
+
+
+def _fast_nearest_many(
+    k: _URFast,
+    joints: tuple[tuple[float, float, float], ...],
+    positions: np.ndarray,
+    rotations: np.ndarray,
+    refs: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """:meth:`URIK._nearest_fast` of many poses at once: the same formulas on arrays.
+
+    Arrays run branch-major: (2, N) per shoulder branch, (2, 2, N) per (shoulder, wrist) pair,
+    (2, 2, 2, N) per branch, so each step is a few numpy passes over contiguous rows. The
+    cosine and sine of an angle that comes out of atan2 or arccos are taken from its arguments
+    (no trigonometric call): atan2 and arccos are the only transcendental passes.
+
+    Args:
+        k: The arm's constants.
+        joints: Per joint (lower, upper, weight).
+        positions: Tool positions (N, 3) [m]; rotations: tool rotations (N, 3, 3).
+        refs: References (6, N) [rad], one column per pose.
+
+    Returns:
+        (q (N, 6) [rad], branch (N,) int (−1: none within the limits), mask (N,) uint16 with
+        bit b set when branch b has a solution within the limits, left (N,) bool: the poses
+        :meth:`URIK.nearest` leaves to the batch path (near a singularity), whose other
+        outputs are meaningless).
+    """
+    n = len(positions)
+    values = k.matrix @ rotations.reshape(n, 9).T  # (12, N)
+    along = np.reshape(k.shoulder_axes, (3, 3)) @ positions.T  # (3, N)
+    along_u = values[9] + along[0] - k.p1_along[0]
+    x = values[10] + along[1] - k.p1_along[1]
+    y = values[11] + along[2] - k.p1_along[2]
+    radius = np.maximum(np.sqrt(x * x + y * y), TINY)
+    ratio = k.shoulder_offset / radius
+    size = np.abs(ratio)
+    no_shoulder = size > 1.0 + CLAMP + _FAST_EDGE
+    left = (size > 1.0 - _FAST_EDGE) & ~no_shoulder
+    np.copyto(ratio, np.nan, where=no_shoulder)  # NaN lanes: no solution, no tie to decide
+    np.clip(ratio, -1.0, 1.0, out=ratio)
+    # θ1 = base ± half: base = atan2(y, x), cos(half) = ratio
+    base, half = np.arctan2(y, x), np.arccos(ratio)
+    t1 = _pair(base + half, base - half, 0)  # (2, N)
+    cos_base, sin_base = x / radius, y / radius
+    sin_half = np.sqrt(np.maximum(1.0 - ratio * ratio, 0.0))
+    p, m = cos_base * ratio, sin_base * sin_half
+    c1 = _pair(p - m, p + m, 0)
+    p, m = sin_base * ratio, cos_base * sin_half
+    s1 = _pair(p + m, p - m, 0)
+    # wrist (_fast_wrist): θ5 = δ ± half5, cos/sin of half5 from its atan2 arguments
+    b5 = c1 * values[3] + s1 * values[6]
+    b6 = c1 * values[4] + s1 * values[7]
+    b7 = c1 * values[5] + s1 * values[8]
+    sine = np.sqrt(b5 * b5 + b7 * b7)
+    left |= np.any(sine < _FAST_WRIST, axis=0) & ~no_shoulder
+    half5 = np.arctan2(sine, b6)
+    t5 = _pair(k.delta5 + half5, k.delta5 - half5, 1)  # (2, 2, N)
+    norm = np.maximum(np.sqrt(sine * sine + b6 * b6), TINY)
+    cos_half5, sin_half5 = b6 / norm, sine / norm
+    cos_d, sin_d = math.cos(k.delta5), math.sin(k.delta5)
+    p, m = cos_d * cos_half5, sin_d * sin_half5
+    c5 = _pair(p - m, p + m, 1)
+    p, m = sin_d * cos_half5, cos_d * sin_half5
+    s5 = _pair(p + m, p - m, 1)
+    a5, a6, a7 = k.a_wrist
+    g5, g7 = c5 * a5, c5 * a7 - s5 * a6
+    b5, b7 = b5[:, None], b7[:, None]
+    sin6, cos6 = b7 * g5 - b5 * g7, b5 * g5 + b7 * g7
+    t6 = np.arctan2(sin6, cos6)
+    norm = np.maximum(np.sqrt(sin6 * sin6 + cos6 * cos6), TINY)
+    c6, s6 = cos6 / norm, sin6 / norm
+    # _fast_plane_axes, per shoulder branch
+    m5 = c1 * values[6] - s1 * values[3]
+    m6 = c1 * values[7] - s1 * values[4]
+    m7 = c1 * values[8] - s1 * values[5]
+    (eu, eb), (fu, fb) = k.e_shoulder, k.f_shoulder
+    ge5, ge6, ge7 = (eu * values[j] + eb * mj for j, mj in enumerate((m5, m6, m7)))
+    gf5, gf6, gf7 = (fu * values[j] + fb * mj for j, mj in enumerate((m5, m6, m7)))
+    turned = c1 * y - s1 * x
+    offset_e = (k.plane_offset[0] + eu * along_u) + eb * turned
+    offset_f = (k.plane_offset[1] + fu * along_u) + fb * turned
+    # _fast_planar_target, per (shoulder, wrist) pair
+    d5, d6, d7 = k.d_wrist
+    x6, x7 = c5 * d6 + s5 * d7, c5 * d7 - s5 * d6
+    z5, z7 = c6 * d5 - s6 * x7, s6 * d5 + c6 * x7
+    e5, e6, e7 = k.e_wrist
+    y6, y7 = c5 * e6 + s5 * e7, c5 * e7 - s5 * e6
+    v5, v7 = c6 * e5 - s6 * y7, s6 * e5 + c6 * y7
+    ge5, ge6, ge7, gf5, gf6, gf7 = (g[:, None] for g in (ge5, ge6, ge7, gf5, gf6, gf7))
+    target_x = offset_e[:, None] + z5 * ge5 + x6 * ge6 + z7 * ge7
+    target_y = offset_f[:, None] + z5 * gf5 + x6 * gf6 + z7 * gf7
+    phi = np.arctan2(v5 * gf5 + y6 * gf6 + v7 * gf7, v5 * ge5 + y6 * ge6 + v7 * ge7)
+    # _fast_elbow: ψ3 = offset ± bend; ψ2 = atan2(target) − atan2(v), v = r23 + Rot(ψ3) r34,
+    # taken as one atan2
+    l23, l34 = k.l23, k.l34
+    cosine = (target_x * target_x + target_y * target_y - (l23 * l23 + l34 * l34)) / (
+        2.0 * l23 * l34
+    )
+    size = np.abs(cosine)
+    no_elbow = size > 1.0 + CLAMP + _FAST_EDGE  # (2, 2, N)
+    near_edge = (size > 1.0 - _FAST_EDGE) & ~no_elbow
+    left |= np.any(near_edge.reshape(4, n), axis=0) & ~no_shoulder
+    np.copyto(cosine, np.nan, where=no_elbow)
+    np.clip(cosine, -1.0, 1.0, out=cosine)
+    bend = np.arccos(cosine)
+    sin_bend = np.sqrt(np.maximum(1.0 - cosine * cosine, 0.0))
+    offset = k.elbow_offset
+    psi3 = _pair(offset + bend, offset - bend, 2)  # (2, 2, 2, N)
+    (r1x, r1y), (r2x, r2y) = k.r23, k.r34
+    co, so = math.cos(offset), math.sin(offset)
+    ax, ay = co * r2x - so * r2y, so * r2x + co * r2y  # Rot(offset) r34
+    # v = r23 + cos(bend)·(ax, ay) ± sin(bend)·(−ay, ax) for ψ3 = offset ± bend
+    vx, vy = r1x + ax * cosine, r1y + ay * cosine
+    dx, dy = ay * sin_bend, ax * sin_bend
+    # ψ2 = atan2(v × target, v · target) with v = (vx ∓ dx, vy ± dy)
+    cross0, cross1 = vx * target_y - vy * target_x, dx * target_y + dy * target_x
+    dot0, dot1 = vx * target_x + vy * target_y, dy * target_y - dx * target_x
+    psi2 = np.arctan2(
+        _pair(cross0 - cross1, cross0 + cross1, 2), _pair(dot0 + dot1, dot0 - dot1, 2)
+    )
+    sign2, sign3, sign4 = k.signs
+    t4 = phi[:, :, None] - psi2 - psi3
+    # the nearest branch (_nearest_fast): per joint the equivalent nearest the reference
+    ref_clipped = np.clip(refs, [[j[0]] for j in joints], [[j[1]] for j in joints])
+
+    def choose(joint: int, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        lower, upper, weight = joints[joint]
+        return joint_choice_many(values, refs[joint], ref_clipped[joint], lower, upper, weight)
+
+    q1, cost1 = choose(0, t1)
+    q5, cost5 = choose(4, t5)
+    q6, cost6 = choose(5, t6)
+    head = (cost1[:, None] + cost5) + cost6  # the order of _nearest_fast's sums
+    q2, cost2 = choose(1, sign2 * psi2)
+    q3, cost3 = choose(2, sign3 * psi3)
+    q4, cost4 = choose(3, sign4 * t4)
+    cost = (((head[:, :, None] + cost2) + cost3) + cost4).reshape(8, n)
+    branch = np.argmin(cost, axis=0)  # ties: the lower branch index, as _nearest_fast
+    columns = np.arange(n)
+    found = cost[branch, columns] < np.inf
+    mask = np.zeros(n, dtype=np.uint16)
+    for b in range(8):
+        mask |= (cost[b] < np.inf).astype(np.uint16) << b
+    q = np.empty((n, 6))
+    pair = branch >> 1
+    q[:, 0] = q1[branch >> 2, columns]
+    q[:, 1] = q2.reshape(8, n)[branch, columns]
+    q[:, 2] = q3.reshape(8, n)[branch, columns]
+    q[:, 3] = q4.reshape(8, n)[branch, columns]
+    q[:, 4] = q5.reshape(4, n)[pair, columns]
+    q[:, 5] = q6.reshape(4, n)[pair, columns]
+    return q, np.where(found, branch, -1), mask, left
+
+
 class URIK(ClosedFormIK):
     """Closed-form IK of a UR-type arm: up to 8 solutions (shoulder × wrist × elbow).
 
@@ -513,6 +673,33 @@ class URIK(ClosedFormIK):
         return self._nearest_batch_path(position, rotation, q_ref)
 
     nearest.__doc__ = ClosedFormIK.nearest.__doc__
+
+    def nearest_many(
+        self, positions: np.ndarray, rotations: np.ndarray, q_ref: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`nearest` of many poses, each with its own reference, in one vectorised pass
+        (the single-pose formulas on arrays; inputs unchecked).
+
+        Args:
+            positions: Tool positions in the world frame [m], shape (N, 3).
+            rotations: Tool rotations in the world frame, shape (N, 3, 3).
+            q_ref: References [rad], shape (N, 6).
+
+        Returns:
+            (q (N, 6) [rad], branch (N,) int (−1: no solution within the limits), mask (N,)
+            uint16 of the branches with a solution within the limits (bit ``branch``), left
+            (N,) bool). ``left`` marks the poses :meth:`nearest` leaves to the vectorised
+            all-branch path (near a singularity, or every pose when the geometry has no
+            single-pose path); their other outputs are meaningless.
+        """
+        count = len(positions)
+        if self._fast is None:
+            left = np.ones(count, dtype=bool)
+            return np.zeros((count, 6)), np.full(count, -1), np.zeros(count, np.uint16), left
+        joints = tuple(zip(*self._limits, self._weight_floats))
+        refs = np.ascontiguousarray(np.asarray(q_ref, dtype=float).T)
+        with np.errstate(invalid="ignore", divide="ignore"):  # NaN lanes: no solution
+            return _fast_nearest_many(self._fast, joints, positions, rotations, refs)
 
     def _nearest_batch_path(
         self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray

@@ -23,6 +23,7 @@ SCRIPTS = [
     ("Trajectory sampling", ["bench_trajectory.py"]),
     ("Joint timing: S-curve and time-optimal", ["bench_timing.py"]),
     ("Batch IK and capability maps", ["bench_reach.py"]),
+    ("Batch IK against issue 18's targets", ["bench_ik_batch.py"]),
 ]
 
 
