@@ -241,14 +241,14 @@ def _strategies_one_after_another(
     dt: float,
 ) -> ProgramPlan:
     """The lecture's three motions from the start to the end, one after another (back to the
-    start between them), as one motion whose moves are labelled 1., 2., 3. for the playback."""
+    start between them), as one motion whose moves are named in the playback bar."""
     q_start = single.sample(np.array([0.0]))[0][0]
     builder = MotionBuilder(robot, q_start, dt=dt)
-    builder.trajectory(single, label="1. one cubic per joint")
+    builder.trajectory(single, label="one cubic per joint")
     builder.ptp_joints(q_start, label="back to the start")
-    builder.trajectory(via, label="2. two cubics through the via point")
+    builder.trajectory(via, label="two cubics through the via point")
     builder.ptp_joints(q_start, label="back to the start")
-    builder.trajectory(_plan_trajectory(line), label="3. Cartesian straight line")
+    builder.trajectory(_plan_trajectory(line), label="Cartesian straight line")
     return builder.finish(points=paths_marks())
 
 

@@ -129,6 +129,11 @@ class MoveSpan(Protocol):
         """``"ok"`` or why the move failed."""
         ...
 
+    @property
+    def label(self) -> str:
+        """What the move is, e.g. ``"approach: lin to b"``."""
+        ...
+
 
 @dataclass(frozen=True)
 class PlannedPath:

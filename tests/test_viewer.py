@@ -622,3 +622,20 @@ def test_meshes_trimesh_cannot_read_are_embedded_as_files(monkeypatch):
         assert geometry["type"] == "_meshfile_geometry" and geometry["format"] == "dae"
         assert "<COLLADA" in geometry["data"]
         np.testing.assert_allclose(a.bounds, b.bounds, atol=1e-5)
+
+
+def test_the_playback_bar_names_the_move_under_way(planar_2r):
+    """A program plan's moves reach the page as (start time, "number. label"), in time order,
+    so the bar can name the move under way; a single motion has none."""
+    from kinplan.program import MotionBuilder
+
+    builder = MotionBuilder(planar_2r, np.array([0.3, 0.6]))
+    builder.ptp_joints([0.8, 0.2], label="swing out")
+    builder.ptp_joints([0.3, 0.6], label="back")
+    plan = builder.finish()
+    _, config = page_parts(viewer.render_html(planar_2r, plan))
+    moves = config["moves"]
+    assert [name for _, name in moves] == ["1. swing out", "2. back"]
+    assert moves[0][0] == 0.0 and moves[1][0] == pytest.approx(plan.moves[1].t0)
+    single = viewer.render_html(planar_2r, cubic_stand_in([0.0, 0.0], [0.5, 0.5], 1.0))
+    assert page_parts(single)[1]["moves"] == []

@@ -65,6 +65,7 @@ def render_html(
         "loop": bool(loop),
         "camera_target": ms.to_threejs(scene.view.target),
         "layers": LAYERS,
+        "moves": scene.motion.moves,
     }
     caption = scene.motion.caption
     return static_html(scene.commands, config, title or caption[0], caption, scene.legend)

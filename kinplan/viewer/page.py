@@ -55,7 +55,8 @@ def static_html(
         commands: Scene commands, applied in order when the page loads (typed arrays that
             occur in several commands are stored once, see :func:`shared_scene`).
         config: Settings for the page script (``duration`` [s], ``camera_target`` in three.js
-            coordinates [m], ``layers``: name -> scene path for the ``#hide=`` option).
+            coordinates [m], ``layers``: name -> scene path for the ``#hide=`` option, ``moves``:
+            (start time [s], label) of each move, shown in the playback bar).
         title: Page title.
         caption: Lines shown at the top left (the first in bold).
         legend: (CSS colour, label) pairs shown under the caption.
@@ -186,6 +187,7 @@ body {{ margin: 0; overflow: hidden; font: 13px/1.4 system-ui, sans-serif;
 #kp-bar input[type=range] {{ flex: 1; }}
 #kp-bar button {{ width: 34px; }}
 #kp-time {{ font-variant-numeric: tabular-nums; min-width: 120px; text-align: right; }}
+#kp-move {{ max-width: 40%; overflow: hidden; text-overflow: ellipsis; white-space: nowrap; }}
 </style>
 </head>
 <body>
@@ -194,6 +196,7 @@ body {{ margin: 0; overflow: hidden; font: 13px/1.4 system-ui, sans-serif;
 <div id="kp-bar">
 <button id="kp-play" title="play / pause (space)">&#9654;</button>
 <input id="kp-slider" type="range" min="0" max="1" step="0.001" value="0">
+<span id="kp-move"></span>
 <span id="kp-time"></span>
 <label><input id="kp-loop" type="checkbox"> loop</label>
 </div>
@@ -247,6 +250,13 @@ _PAGE_SCRIPT = r"""
   const button = document.getElementById("kp-play");
   const slider = document.getElementById("kp-slider");
   const label = document.getElementById("kp-time");
+  const moveLabel = document.getElementById("kp-move");
+  const moves = config.moves || [];
+  function moveAt(t) {  // the label of the move under way at t (moves in time order)
+    let text = "";
+    for (const [start, name] of moves) { if (t >= start - 1e-9) text = name; else break; }
+    return text;
+  }
   const loop = document.getElementById("kp-loop");
   if (options.get("ui") === "0") {
     bar.style.display = "none";
@@ -292,6 +302,8 @@ _PAGE_SCRIPT = r"""
     const t = animator.time || 0;
     if (!dragging) slider.value = t;
     label.textContent = t.toFixed(2) + " / " + duration.toFixed(2) + " s";
+    const current = moveAt(t);
+    if (moveLabel.textContent !== current) moveLabel.textContent = current;
     button.innerHTML = animator.playing ? "&#10074;&#10074;" : "&#9654;";
     requestAnimationFrame(tick);
   }

@@ -94,6 +94,8 @@ class Playback:
         caption: What the motion is, and where and why it failed (the first line in bold).
         collision: The failing instant of a plan stopped by a collision (the last key frame,
             at the colliding configuration), or None.
+        moves: (start time [s], "number. label") of each move of a program, in time order
+            (shown in the playback bar); empty for a single motion.
     """
 
     t: np.ndarray
@@ -105,6 +107,7 @@ class Playback:
     via: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     caption: list[str] = field(default_factory=list)
     collision: Collision | None = None
+    moves: list[tuple[float, str]] = field(default_factory=list)
 
     @property
     def duration(self) -> float:
@@ -183,6 +186,7 @@ def playback(robot: Robot, motion: MotionLike, fps: float) -> Playback:
         via=_via_points(robot, sampled),
         caption=_caption(robot, sampled, float(t[-1])),
         collision=collision,
+        moves=[(float(m.t0), f"{m.number}. {m.label}") for m in sampled.moves],
     )
 
 
