@@ -292,3 +292,185 @@ def test_reachability_bisects_so_no_checked_step_exceeds_a_tenth_of_a_radian(pla
         np.testing.assert_allclose(q, elbow_up_ik(x, y), atol=1e-6)
     with pytest.raises(InputError, match="q_seed"):
         cartesian.check_reachability(planar_2r, line, q_seed=[0.0])
+
+
+# ---------------------------------------------------------------------------- issue 20, third pass
+LINE_2R = ([1.2, 0.3, 0.0], [0.4, 1.1, 0.0])
+
+
+@pytest.mark.parametrize("key", ["position_only", "retime"])
+def test_follow_names_a_flag_that_is_not_a_boolean(planar_2r, key):
+    line = cartesian.Line(*LINE_2R)
+    with pytest.raises(InputError, match=key):
+        cartesian.follow(planar_2r, line, duration=1.0, **{key: "yes"})
+
+
+@pytest.mark.parametrize("value", [0.0, -1e-3], ids=["zero", "negative"])
+def test_rotation_tolerance_is_refused_before_any_planning(value):
+    """A position-only arm never uses the rotation tolerance, yet a tolerance ≤ 0 is refused by
+    follow itself, before any inverse kinematics runs."""
+    arm = planar_arm([1.0, 1.0])
+
+    def no_ik(*args, **kwargs):
+        raise AssertionError("follow ran inverse kinematics before checking its arguments")
+
+    arm.ik = no_ik
+    line = cartesian.Line(*LINE_2R)
+    with pytest.raises(InputError, match=r"rotation_tolerance must be > 0 \[rad\]"):
+        cartesian.follow(arm, line, duration=1.0, rotation_tolerance=value)
+
+
+def test_a_3_vector_path_holds_the_seeds_orientation(ur5):
+    """A line of 3-vectors on the UR5: the tool keeps the orientation of q_seed (its FK), which
+    differs from the neutral configuration's, at every sample."""
+    q0 = np.radians([30, -100, 100, -60, -90, 20])
+    start = ur5.fk(q0)
+    assert not np.allclose(ur5.fk(ur5.neutral()).rotation, start.rotation, atol=0.1)
+    plan = cartesian.follow(
+        ur5, cartesian.Line(start.translation, start.translation + [0, 0.05, 0]), duration=0.5,
+        q_seed=q0,
+    )  # fmt: skip
+    assert plan.ok and not plan.position_only
+    for q in plan.q[:: max(1, len(plan.q) // 10)]:
+        np.testing.assert_allclose(ur5.fk(q).rotation, start.rotation, atol=1e-6)
+
+
+def test_the_offered_retime_keeps_the_seeds_branch(planar_2r):
+    """A velocity-limited plan on the elbow-down branch (not the one IK from the neutral seed
+    picks) offers the duration of the retimed plan on that same branch: the one retime=True
+    gives from the same seed."""
+    line = cartesian.Line(*LINE_2R)
+    down = -elbow_up_ik(1.2, -0.3)
+    plan = cartesian.follow(planar_2r, line, duration=0.2, q_seed=down)
+    assert plan.status == "velocity_limit" and np.all(plan.q[:, 1] < 0)
+    retimed = cartesian.follow(planar_2r, line, duration=0.2, q_seed=down, retime=True)
+    assert retimed.ok and retimed.retimed and np.all(retimed.q[:, 1] < 0)
+    other = cartesian.follow(planar_2r, line, duration=0.2, q_seed=-down, retime=True)
+    assert other.ok and np.all(other.q[:, 1] > 0)
+    assert abs(other.duration - retimed.duration) > 1e-3  # the branches differ in time
+    assert plan.retime_duration == pytest.approx(retimed.duration)
+
+
+def test_a_retimed_path_leaving_the_reach_is_the_nominal_plan_from_the_seed(planar_2r):
+    """retime=True on a line that leaves the 2R's reach: the geometric pass fails, and the plan
+    is the nominal one from the same seed (elbow-down), up to the unreachable sample."""
+    line = cartesian.Line([1.2, 0.3, 0.0], [2.1, 0.3, 0.0])
+    down = -elbow_up_ik(1.2, -0.3)
+    nominal = cartesian.follow(planar_2r, line, duration=1.0, q_seed=down)
+    retimed = cartesian.follow(planar_2r, line, duration=1.0, q_seed=down, retime=True)
+    assert nominal.status == retimed.status != "ok" and not retimed.retimed
+    assert len(retimed.q) > 10 and np.all(retimed.q[:, 1] < 0)
+    np.testing.assert_array_equal(retimed.q, nominal.q)
+
+
+def path_acceleration(plan) -> np.ndarray:
+    """s̈ of a plan from its uniformly sampled s(t) (central second differences)."""
+    h = plan.t[1] - plan.t[0]
+    uniform = np.flatnonzero(np.abs(np.diff(plan.t) - h) < 1e-12)
+    k = uniform[(uniform > 0) & np.isin(uniform - 1, uniform)]  # h before and after sample k
+    return (plan.s[k + 1] - 2 * plan.s[k] + plan.s[k - 1]) / h**2
+
+
+def test_retiming_keeps_the_nominal_path_acceleration_unless_joints_limit_it(planar_2r):
+    """The 2R has no joint acceleration limits: the retimed law (slowed by joint speed limits)
+    accelerates along the path no harder than the nominal trapezoid. With (generous) joint
+    acceleration limits, those bound it instead: it accelerates far harder than the nominal law,
+    is faster, and keeps every joint within its limit."""
+    assert not np.isfinite(planar_2r.acceleration_limit).any()
+    line = cartesian.Line(*LINE_2R)
+    kwargs = {"duration": 1.0, "q_seed": [0.3, 1.2], "velocity_scale": 0.15}
+    nominal = cartesian.follow(planar_2r, line, **kwargs)
+    assert nominal.status == "velocity_limit"
+    nominal_sdd = np.abs(path_acceleration(cartesian.follow(planar_2r, line, duration=1.0,
+                                                             q_seed=[0.3, 1.2]))).max()  # fmt: skip
+    retimed = cartesian.follow(planar_2r, line, retime=True, **kwargs)
+    assert retimed.ok and retimed.retimed
+    assert np.abs(path_acceleration(retimed)).max() <= nominal_sdd * (1 + 1e-3)
+    fast = cartesian.follow(planar_2r, line, retime=True, max_acceleration=1e3, **kwargs)
+    assert fast.ok and fast.retimed and fast.duration < retimed.duration
+    assert np.abs(path_acceleration(fast)).max() > 2 * nominal_sdd
+    assert np.all(np.abs(fast.qdd) <= 1e3 * (1 + 1e-6))
+
+
+def test_peak_speed_ratio_of_a_slow_plan_is_its_margin(planar_2r):
+    """A slow plan has margin: its peak speed ratio is below 1, the largest joint speed over
+    its limit (the rates; for a slow smooth motion the mean speeds between samples are below
+    them), so that the same path at that many times the speed just fits."""
+    line = cartesian.Line(*LINE_2R)
+    plan = cartesian.follow(planar_2r, line, duration=4.0, q_seed=[0.3, 1.2])
+    assert plan.ok
+    rates = np.abs(plan.qd) / planar_2r.velocity_limit
+    assert 0.0 < plan.peak_speed_ratio < 1.0
+    assert plan.peak_speed_ratio == pytest.approx(rates.max(), rel=1e-3)
+
+
+def test_collision_event_states_the_check(ur5):
+    """A wall across a UR5 seam: the event's value is the check's signed distance (≤ 0: in
+    contact), its limit the clearance (0), its position the path point of its sample; the
+    message names both bodies, the depth the check measured, where and when; the plan keeps
+    the check, and its repr ends with the message. Without a cell there is no check."""
+    q0 = np.array([0.0, -1.2, 1.5, -1.9, -1.57, 0.0])
+    start = ur5.fk(q0)
+    seam = cartesian.Line(start, pin.SE3(start.rotation, start.translation + [0.0, 0.3, 0.0]))
+    cell = kinplan.WorkCell(ur5)
+    cell.add_box("wall", [0.3, 0.004, 0.4], pin.SE3(np.eye(3), seam.position(np.array([0.5]))[0]))
+    plan = cartesian.follow(ur5, seam, speed=0.2, q_seed=q0, cell=cell)
+    assert plan.status == "collision", plan
+    event, check = plan.events[0], plan.cell_check
+    assert check is not None and check.index == event.index and check.kind == "obstacle"
+    assert event.value == check.distance <= 0.0 and event.limit == 0.0
+    k = event.index
+    np.testing.assert_allclose(event.position, seam.position(np.array([event.s]))[0], atol=1e-12)
+    first, second = check.bodies
+    assert (
+        f"{first} collides with {second} ({1e3 * check.penetration:.1f} mm deep)" in event.message
+    )
+    assert check.penetration == pytest.approx(-check.distance)
+    when = f"between samples {k - 1} and {k}" if check.between else f"at sample {k}"
+    assert when in event.message
+    assert (
+        check.point is not None and f"near {cartesian.events.where(check.point)}" in event.message
+    )
+    assert repr(plan).endswith(f": {event.message})")
+    free = cartesian.follow(ur5, seam, speed=0.2, q_seed=q0)
+    assert free.ok and free.cell_check is None and repr(free).endswith(" m)")
+
+
+def test_a_clearance_violation_states_the_distance_and_the_margin(ur5):
+    """A ball 3 cm off the motion and a 5 cm clearance: the event's value is the distance kept
+    (> 0), its limit the clearance, and the message says how far inside the margin it is."""
+    q0 = np.array([0.0, -1.2, 1.5, -1.9, -1.57, 0.0])
+    start = ur5.fk(q0)
+    seam = cartesian.Line(start, pin.SE3(start.rotation, start.translation + [0.0, 0.3, 0.0]))
+    cell = kinplan.WorkCell(ur5)
+    ball = seam.position(np.array([0.5]))[0] + [0.0, 0.0, 0.25]
+    cell.add_sphere("ball", 0.02, pin.SE3(np.eye(3), ball))
+    free = cartesian.follow(ur5, seam, speed=0.2, q_seed=q0, cell=cell)
+    assert free.ok and free.cell_check is not None and free.cell_check.index is None
+    margin = free.min_clearance + 0.02
+    plan = cartesian.follow(ur5, seam, speed=0.2, q_seed=q0, cell=cell, clearance=margin)
+    assert plan.status == "collision"
+    event, check = plan.events[0], plan.cell_check
+    assert event.limit == margin and 0.0 < event.value == check.distance < margin
+    assert check.penetration == pytest.approx(margin - check.distance)
+    assert f"comes within {1e3 * check.distance:.1f} mm of" in event.message
+    assert f"{1e3 * check.penetration:.1f} mm inside the clearance {1e3 * margin:.1f} mm" in (
+        event.message
+    )
+
+
+def test_a_cell_built_for_another_robot_is_checked_with_the_planned_one(ur5):
+    """A cell made around the stock UR5, used to plan a UR5 whose base is 1 m further along x:
+    the motion is checked with the planned robot's links (a wall across its seam stops it;
+    the stock arm's links are 1 m away from that wall)."""
+    moved = kinplan.load_robot("ur5", base_pose=pin.SE3(np.eye(3), np.array([1.0, 0.0, 0.0])))
+    q0 = np.array([0.0, -1.2, 1.5, -1.9, -1.57, 0.0])
+    start = moved.fk(q0)
+    seam = cartesian.Line(start, pin.SE3(start.rotation, start.translation + [0.0, 0.3, 0.0]))
+    cell = kinplan.WorkCell(ur5)
+    cell.add_box("wall", [0.3, 0.004, 0.4], pin.SE3(np.eye(3), seam.position(np.array([0.5]))[0]))
+    free = cartesian.follow(moved, seam, speed=0.2, q_seed=q0)
+    assert free.ok and cell.check_motion(free.q).index is None  # the stock arm misses the wall
+    plan = cartesian.follow(moved, seam, speed=0.2, q_seed=q0, cell=cell)
+    assert plan.status == "collision" and "wall" in plan.events[0].message, plan
+    assert plan.cell is not cell and plan.cell.robot is moved

@@ -59,6 +59,7 @@ FOLLOW_TESTS = [
     "tests/test_cartesian.py",
     "tests/test_follow_monitoring.py",
     "tests/test_follow_mutants.py",
+    "tests/test_tracker_mutants.py",
     "tests/test_follow_cell.py",
     "tests/test_paths.py",
     "tests/test_validation.py",

@@ -507,3 +507,57 @@ EQUIVALENTS += [
     _follow(_SOLVE_CALL, _SOLVE_CALL.replace("evaluated=evaluation", "evaluated=None"), _REUSED),
     _follow(_SOLVE_CALL + " )", "guess, positions[k], rotations[k], )", _REUSED),
 ]
+
+# ------------------------------------------------------------------ issue 20, third pass
+_SQUARE_AS_TALL = (
+    "a square J taken for a tall one: √det(JᵀJ) = |det J| and (JᵀJ)⁻¹Jᵀb = J⁻¹b, the same "
+    "manipulability and rates in exact arithmetic (only their rounding differs, the Gram matrix "
+    "squaring J's condition number)"
+)
+_ALWAYS_TRUE = (
+    "an assertion of an invariant: both values are set (never None) there, so 'and' and 'or' "
+    "both hold"
+)
+EQUIVALENTS += [
+    _tracker("self._shape = (rows > cols) - (rows < cols)  # −1 wide, 0 square, 1 tall",
+             "self._shape = (rows >= cols) - (rows < cols)  # −1 wide, 0 square, 1 tall",
+             _SQUARE_AS_TALL),
+    _tracker("J_dot = self.robot.jacobian_time_variations(q, qd, jacobians)",
+             "J_dot = self.robot.jacobian_time_variations(q, qd, None)",
+             "without the Jacobians jacobian_time_variations recomputes them from q: the same "
+             "Jacobians, one kinematics pass per sample more"),
+    _tracker("clamp=False, evaluated=evaluated,", "clamp=False, evaluated=None,", _REUSED),
+    _tracker("return dx * dx + dy * dy + dz * dz <= position2 and "
+             "frobenius2 <= frobenius_tolerance2",
+             "return dx * dx + dy * dy + dz * dz < position2 and "
+             "frobenius2 <= frobenius_tolerance2",
+             _NEVER_EQUAL),
+    _tracker("target, q_seed=guess if q_prev is None else q_prev, position_only=only, "
+             "position_tolerance=self.tolerance, rotation_tolerance=self.rotation_tolerance,",
+             "target, q_seed=guess if q_prev is None else q_prev, "
+             "position_tolerance=self.tolerance, rotation_tolerance=self.rotation_tolerance,",
+             "position_only's default False is `only` whenever the target is a pose, and a "
+             "3-vector target (rotation None, only True) is position-only in robot.ik whatever "
+             "position_only says"),
+    _follow("accel_limit = robot.acceleration_limit", "accel_limit = None",
+            "Tracker takes None as the robot's acceleration_limit, and max_acceleration "
+            "replaces the value before it is read"),
+    _follow("evaluation = tracker.evaluate(traced, position_floats[k], rotation_floats[k])",
+            "evaluation = tracker.evaluate(traced, position_floats[k], None)",
+            "only the evaluation's q, Jacobian and tool position are read afterwards (the "
+            "target's rotation changes the pose error alone, never checked for a traced q)"),
+    _follow("assert J is not None and qd is not None  # no event: the sample's Jacobian and rates",
+            "assert J is not None or qd is not None  # no event: the sample's Jacobian and rates",
+            _ALWAYS_TRUE),
+    _follow("assert q_prev is not None and qd_prev is not None  # sample k − 1 was kept",
+            "assert q_prev is not None or qd_prev is not None  # sample k − 1 was kept",
+            _ALWAYS_TRUE),
+    _follow("steps = np.diff(t, prepend=0.0).tolist()  # h_k = t_k − t_(k−1) [s]",
+            "steps = np.diff(t, prepend=1.0).tolist()  # h_k = t_k − t_(k−1) [s]",
+            "the prepended value only changes steps[0], the step of sample 0, which has no "
+            "previous sample: check_sample ignores h there (no jump check without q_prev)"),
+    _follow("if np.isfinite(tracker.acceleration_limit).any() and done:",
+            "if np.isfinite(tracker.acceleration_limit).any() or done:",
+            "with no finite limit every ratio |q̈|/inf is 0 (no event), and with no sample the "
+            "ratios are empty: the block finds nothing in either case"),
+]  # fmt: skip
