@@ -124,6 +124,15 @@ def vector(
         InputError: not numeric (strings, None, ragged lists), not 1-D, the wrong length, NaN
             or (unless allowed) inf.
     """
+    if (
+        type(value) is np.ndarray
+        and value.dtype == np.float64
+        and value.ndim == 1
+        and (size is None or value.shape[0] == size)
+    ):  # the common case, checked in plain floats (numpy's reductions cost more on a few values)
+        values = value.tolist()
+        if all(map(math.isfinite, values)) or (infinite and not any(map(math.isnan, values))):
+            return value.copy()
     unit_text = f" [{unit}]" if unit else ""
     wanted = f"{size} numbers" if size is not None else "a list of numbers"
     array = np.array(floats(value, name, f"{wanted}{unit_text}"))  # a copy

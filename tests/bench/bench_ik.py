@@ -18,6 +18,7 @@ Methods:
 
 Usage:
     python tests/bench/bench_ik.py [--robots ur5 panda] [--n 500] [--seed 0] [--rounds 3]
+        [--mid-seed]
 """
 
 from __future__ import annotations
@@ -335,11 +336,16 @@ def measure(
 
 
 def make_problems(
-    robot: Robot, n: int, rng: np.random.Generator
+    robot: Robot, n: int, rng: np.random.Generator, mid_seed: bool = False
 ) -> tuple[list[pin.SE3], np.ndarray]:
-    """``n`` reachable targets (FK of random in-limit configurations) and ``n`` seeds."""
+    """``n`` reachable targets (FK of random in-limit configurations) and ``n`` seeds: random
+    in-limit configurations, or all at the middle of the limits (``mid_seed``, the cold seed
+    of issue 18: one fixed seed that knows nothing of the target)."""
     targets = [robot.fk(robot.random_configuration(rng)) for _ in range(n)]
     seeds = np.array([robot.random_configuration(rng) for _ in range(n)])
+    if mid_seed:
+        low, high = np.maximum(robot.lower, -np.pi), np.minimum(robot.upper, np.pi)
+        seeds[:] = 0.5 * (low + high)
     return targets, seeds
 
 
@@ -406,6 +412,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--rounds", type=int, default=3, help="passes over the targets (times are pooled)"
     )
+    parser.add_argument(
+        "--mid-seed", action="store_true", help="every seed at the middle of the joint limits"
+    )
     args = parser.parse_args(argv)
 
     print(machine_info())
@@ -418,7 +427,7 @@ def main(argv: list[str] | None = None) -> int:
     for name in args.robots:
         robot = load_robot(name)
         rng = np.random.default_rng(args.seed)
-        targets, seeds = make_problems(robot, args.n, rng)
+        targets, seeds = make_problems(robot, args.n, rng, args.mid_seed)
         methods = [
             kinplan_method(robot),
             dls_method(robot, args.seed),
