@@ -6,6 +6,9 @@ timed path (q̇ = J⁺ẋ, q̈ = dq̇/dt = J⁺(ẍ − J̇q̇) plus, for a redu
 of the derivative of its minimum-norm q̇), and stops at the first sample that is unreachable,
 beyond a joint limit, needs a branch flip ("jump"), is near a singularity or too fast for a
 joint. The plan says where and why (:class:`Event`) and how much of the path was achieved.
+On arms with a vectorised closed form (UR family, planar 2R) a path that raises no flag is
+solved whole instead (:mod:`cartesian.batch_track`: the same samples, exact); every other path,
+and every one that comes near a flag, goes through the per-sample loop.
 :func:`check_reachability` runs the same monitoring on the geometry alone, before any timing.
 """
 
@@ -16,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from cartesian import batch_track
 from cartesian.events import Event, Status, where
 from cartesian.geometry import trace_between, trace_geometry
 from cartesian.paths import Path
@@ -328,6 +332,13 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
     n, nq = len(t), robot.nq
 
     targets = path_targets(path, s, position_only, tracker.rows)
+    xd = targets.rate * sd[:, None]  # task velocity ẋ = x' ṡ
+    xdd = targets.curvature * (sd**2)[:, None] + targets.rate * sdd[:, None]  # x'' ṡ² + x' s̈
+    # a clean path on an arm with a vectorised closed form: every sample at once
+    clean = batch_track.track(tracker, targets, timing, xd, xdd, seed)
+    if clean is not None:
+        return _clean_plan(tracker, path, timing, targets.positions, clean)
+
     positions, position_floats = targets.positions, targets.positions.tolist()
     rotations: Sequence[np.ndarray | None]
     rotation_floats: Sequence[list[float] | None]
@@ -336,8 +347,6 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
     else:
         rotations = list(targets.rotations)
         rotation_floats = targets.rotations.reshape(n, 9).tolist()
-    xd = targets.rate * sd[:, None]  # task velocity ẋ = x' ṡ
-    xdd = targets.curvature * (sd**2)[:, None] + targets.rate * sdd[:, None]  # x'' ṡ² + x' s̈
 
     # per sample: IK, Jacobian, manipulability, q̇ (for the next prediction); q̈ after the loop
     qs: list[np.ndarray] = []
@@ -477,6 +486,47 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
         robot=robot,
         min_clearance=float(min_clearance),
         min_self_clearance=float(min_self_clearance),
+        cell=tracker.cell,
+        cell_check=check,
+    )
+
+
+def _clean_plan(
+    tracker: Tracker,
+    path: Path,
+    timing: PathTiming,
+    positions: np.ndarray,
+    clean: batch_track.BatchTrack,
+) -> CartesianPlan:
+    """The plan of a path :func:`cartesian.batch_track.track` solved whole (status ok).
+
+    Args:
+        positions: The path's tool positions at the samples [m], (N, 3).
+    """
+    check = clean.check
+    deviation = np.linalg.norm(clean.tool_positions - positions, axis=1)
+    return CartesianPlan(
+        t=timing.t.copy(),
+        q=clean.q,
+        qd=clean.qd,
+        qdd=clean.qdd,
+        s=timing.s.copy(),
+        ok=True,
+        status=Status.OK,
+        peak_speed_ratio=clean.peak_speed_ratio,
+        fraction=1.0,
+        events=[],
+        max_deviation=float(deviation.max()),
+        min_manipulability=float(clean.manipulability.min()),
+        duration=float(timing.duration),
+        path=path,
+        position_only=tracker.position_only,
+        singular_threshold=float(tracker.singular_threshold),
+        tool_positions=clean.tool_positions,
+        manipulability=clean.manipulability,
+        robot=tracker.robot,
+        min_clearance=np.inf if check is None else float(check.min_obstacle_clearance),
+        min_self_clearance=np.inf if check is None else float(check.min_self_clearance),
         cell=tracker.cell,
         cell_check=check,
     )

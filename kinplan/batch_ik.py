@@ -125,10 +125,21 @@ class BatchKinematics:
         self.revolute = np.zeros(self.nq, dtype=bool)
         for joint in self._joints:
             self.revolute[joint[5]] = joint[2]
+        # the joints in chain order: revolute or not, and their columns (None: in order)
+        self._chain_revolute = np.array([joint[2] for joint in self._joints], dtype=bool)
+        self._all_revolute = bool(self._chain_revolute.all())
+        columns = [joint[5] for joint in self._joints]
+        self._chain_columns = None if columns == list(range(self.nq)) else np.array(columns)
         tool = model.frames[robot.tip_id].placement
         self._tool_rotation = tool.rotation.copy()
         self._tool_translation = tool.translation.copy()
         self._rows = self._row_operators()
+        #: Per revolute joint, its rotation maps, lever and axis stacked (33, 9) (one product);
+        #: a prismatic joint's entry is unused.
+        self._stacked: list[np.ndarray] = [
+            np.vstack((ops, lever, along)) if len(ops) == 27 else ops
+            for ops, lever, along, _ in self._rows[0]
+        ]
 
     def _row_operators(
         self,
@@ -220,18 +231,23 @@ class BatchKinematics:
         rotation = np.eye(3).reshape(9, 1)
         position = np.zeros((3, 1))
         for k, (ops, lever, along, index) in enumerate(steps):
-            position = position + lever @ rotation
             value = columns[index]
+            if len(ops) == 27:  # revolute: R·R_j·Rot(axis, θ), see _row_operators
+                # one product for the rotation maps, the lever and the axis (same R)
+                mapped = self._stacked[k] @ rotation
+                position = position + mapped[27:30]
+                if with_axes:
+                    axes[k] = mapped[30:]
+                    origins[k] = position
+                rotation = mapped[:9] + sines[index] * mapped[9:18]
+                rotation -= cosines[index] * mapped[18:27]
+                continue
+            position = position + lever @ rotation
             if with_axes:
                 axes[k] = along @ rotation
                 origins[k] = position
-            if len(ops) == 27:  # revolute: R·R_j·Rot(axis, θ), see _row_operators
-                mapped = ops @ rotation
-                rotation = mapped[:9] + sines[index] * mapped[9:18]
-                rotation -= cosines[index] * mapped[18:]
-            else:
-                rotation = ops @ rotation
-                position = position + (along @ rotation) * value
+            rotation = ops @ rotation  # prismatic: R·R_j, the origin moved along the axis
+            position = position + (along @ rotation) * value
         out = tool @ np.broadcast_to(rotation, (9, count))
         return position + out[9:], out[:9], axes, origins
 
@@ -251,20 +267,28 @@ class BatchKinematics:
     def fk_jacobian(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`fk` and the tool Jacobians (N, 6, nq), rows [linear; angular], world-aligned
         at the tool (as :meth:`kinplan.Robot.jacobian`)."""
+        position, rotation, J = self.fk_jacobian_rows(q)
+        return position.T, rotation.T.reshape(-1, 3, 3), J.transpose(2, 0, 1)
+
+    def fk_jacobian_rows(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`fk_jacobian` as rows, one column per configuration: tool positions (3, N) [m],
+        rotations (9, N) (entry (i, j) in row 3i + j) and Jacobians (6, nq, N)."""
         q = np.asarray(q, dtype=float)
         position, rotation, axes, origins = self._pass(q, True)
-        J = np.zeros((6, self.nq, len(q)))
-        for k, joint in enumerate(self._joints):
-            column, axis = joint[5], axes[k]
-            if joint[2]:  # revolute: ω × (p − origin), ω
-                lever = position - origins[k]
-                J[0, column] = axis[1] * lever[2] - axis[2] * lever[1]
-                J[1, column] = axis[2] * lever[0] - axis[0] * lever[2]
-                J[2, column] = axis[0] * lever[1] - axis[1] * lever[0]
-                J[3:, column] = axis
-            else:
-                J[:3, column] = axis
-        return position.T, rotation.T.reshape(-1, 3, 3), J.transpose(2, 0, 1)
+        axis = axes.transpose(1, 0, 2)  # (3, nq, N), chain order
+        lever = position[:, None, :] - origins.transpose(1, 0, 2)
+        J = np.empty((6, self.nq, len(q)))
+        # revolute: ω × (p − origin), ω; prismatic: the axis, 0
+        J[0] = axis[1] * lever[2] - axis[2] * lever[1]
+        J[1] = axis[2] * lever[0] - axis[0] * lever[2]
+        J[2] = axis[0] * lever[1] - axis[1] * lever[0]
+        J[3:] = axis
+        if not self._all_revolute:
+            prismatic = ~self._chain_revolute
+            J[:3, prismatic], J[3:, prismatic] = axis[:, prismatic], 0.0
+        if self._chain_columns is not None:
+            J[:, self._chain_columns] = J.copy()
+        return position, rotation, J
 
 
 def log3(rotations: np.ndarray) -> np.ndarray:

@@ -612,6 +612,106 @@ def _fast_nearest_many(
     return q, np.where(found, branch, -1), mask, left
 
 
+def _fast_branch_many(
+    k: _URFast, positions: np.ndarray, rotations: np.ndarray, branch: np.ndarray | int
+) -> tuple[np.ndarray, np.ndarray]:
+    """One branch of many poses: the formulas of :func:`_fast_nearest_many` for a single
+    (shoulder, wrist, elbow) sign triple per pose, with no nearest-branch choice.
+
+    Args:
+        k: The arm's constants.
+        positions: Tool positions (N, 3) [m]; rotations: tool rotations (N, 3, 3).
+        branch: Branch index ``4·shoulder + 2·wrist + elbow`` (as :class:`URIK`), one for all
+            poses or one per pose (N,).
+
+    Returns:
+        (q (N, 6) [rad], raw angles (any 2π representative), NaN rows where the branch has no
+        solution; edge (N,) bool: the poses :meth:`URIK.nearest` leaves to the batch path near
+        a singularity on this branch, whose q is ill-conditioned).
+    """
+    n = len(positions)
+    branch = np.asarray(branch)
+    sign1 = 1.0 - 2.0 * (branch >> 2)  # +1: θ1 = base + half, −1: base − half
+    sign5 = 1.0 - 2.0 * ((branch >> 1) & 1)
+    sign3 = 1.0 - 2.0 * (branch & 1)
+    values = k.matrix @ rotations.reshape(n, 9).T  # (12, N)
+    along = np.reshape(k.shoulder_axes, (3, 3)) @ positions.T  # (3, N)
+    along_u = values[9] + along[0] - k.p1_along[0]
+    x = values[10] + along[1] - k.p1_along[1]
+    y = values[11] + along[2] - k.p1_along[2]
+    radius = np.maximum(np.sqrt(x * x + y * y), TINY)
+    ratio = k.shoulder_offset / radius
+    size = np.abs(ratio)
+    no_shoulder = size > 1.0 + CLAMP + _FAST_EDGE
+    edge = size > 1.0 - _FAST_EDGE
+    np.copyto(ratio, np.nan, where=no_shoulder)
+    np.clip(ratio, -1.0, 1.0, out=ratio)
+    t1 = np.arctan2(y, x) + sign1 * np.arccos(ratio)
+    cos_base, sin_base = x / radius, y / radius
+    sin_half = sign1 * np.sqrt(np.maximum(1.0 - ratio * ratio, 0.0))
+    c1 = cos_base * ratio - sin_base * sin_half
+    s1 = sin_base * ratio + cos_base * sin_half
+    # wrist: θ5 = δ ± half5
+    b5 = c1 * values[3] + s1 * values[6]
+    b6 = c1 * values[4] + s1 * values[7]
+    b7 = c1 * values[5] + s1 * values[8]
+    sine = np.sqrt(b5 * b5 + b7 * b7)
+    edge |= sine < _FAST_WRIST
+    t5 = k.delta5 + sign5 * np.arctan2(sine, b6)
+    norm = np.maximum(np.sqrt(sine * sine + b6 * b6), TINY)
+    cos_half5, sin_half5 = b6 / norm, sign5 * sine / norm
+    cos_d, sin_d = math.cos(k.delta5), math.sin(k.delta5)
+    c5 = cos_d * cos_half5 - sin_d * sin_half5
+    s5 = sin_d * cos_half5 + cos_d * sin_half5
+    a5, a6, a7 = k.a_wrist
+    g5, g7 = c5 * a5, c5 * a7 - s5 * a6
+    sin6, cos6 = b7 * g5 - b5 * g7, b5 * g5 + b7 * g7
+    t6 = np.arctan2(sin6, cos6)
+    norm = np.maximum(np.sqrt(sin6 * sin6 + cos6 * cos6), TINY)
+    c6, s6 = cos6 / norm, sin6 / norm
+    # the plane of joints 2–4 and the planar target
+    m5 = c1 * values[6] - s1 * values[3]
+    m6 = c1 * values[7] - s1 * values[4]
+    m7 = c1 * values[8] - s1 * values[5]
+    (eu, eb), (fu, fb) = k.e_shoulder, k.f_shoulder
+    ge5, ge6, ge7 = (eu * values[j] + eb * mj for j, mj in enumerate((m5, m6, m7)))
+    gf5, gf6, gf7 = (fu * values[j] + fb * mj for j, mj in enumerate((m5, m6, m7)))
+    turned = c1 * y - s1 * x
+    offset_e = (k.plane_offset[0] + eu * along_u) + eb * turned
+    offset_f = (k.plane_offset[1] + fu * along_u) + fb * turned
+    d5, d6, d7 = k.d_wrist
+    x6, x7 = c5 * d6 + s5 * d7, c5 * d7 - s5 * d6
+    z5, z7 = c6 * d5 - s6 * x7, s6 * d5 + c6 * x7
+    e5, e6, e7 = k.e_wrist
+    y6, y7 = c5 * e6 + s5 * e7, c5 * e7 - s5 * e6
+    v5, v7 = c6 * e5 - s6 * y7, s6 * e5 + c6 * y7
+    target_x = offset_e + z5 * ge5 + x6 * ge6 + z7 * ge7
+    target_y = offset_f + z5 * gf5 + x6 * gf6 + z7 * gf7
+    phi = np.arctan2(v5 * gf5 + y6 * gf6 + v7 * gf7, v5 * ge5 + y6 * ge6 + v7 * ge7)
+    # the elbow: ψ3 = offset ± bend, ψ2 = atan2(v × target, v · target), v = r23 + Rot(ψ3) r34
+    l23, l34 = k.l23, k.l34
+    cosine = (target_x * target_x + target_y * target_y - (l23 * l23 + l34 * l34)) / (
+        2.0 * l23 * l34
+    )
+    size = np.abs(cosine)
+    no_elbow = size > 1.0 + CLAMP + _FAST_EDGE
+    edge |= size > 1.0 - _FAST_EDGE
+    np.copyto(cosine, np.nan, where=no_elbow)
+    np.clip(cosine, -1.0, 1.0, out=cosine)
+    psi3 = k.elbow_offset + sign3 * np.arccos(cosine)
+    sin_bend = sign3 * np.sqrt(np.maximum(1.0 - cosine * cosine, 0.0))
+    (r1x, r1y), (r2x, r2y) = k.r23, k.r34
+    co, so = math.cos(k.elbow_offset), math.sin(k.elbow_offset)
+    ax, ay = co * r2x - so * r2y, so * r2x + co * r2y  # Rot(offset) r34
+    vx, vy = r1x + ax * cosine - ay * sin_bend, r1y + ay * cosine + ax * sin_bend
+    psi2 = np.arctan2(vx * target_y - vy * target_x, vx * target_x + vy * target_y)
+    sign2, sign3_axis, sign4 = k.signs
+    q = np.empty((n, 6))
+    q[:, 0], q[:, 1], q[:, 2] = t1, sign2 * psi2, sign3_axis * psi3
+    q[:, 3], q[:, 4], q[:, 5] = sign4 * (phi - psi2 - psi3), t5, t6
+    return q, edge & ~no_shoulder
+
+
 class URIK(ClosedFormIK):
     """Closed-form IK of a UR-type arm: up to 8 solutions (shoulder × wrist × elbow).
 
@@ -700,6 +800,45 @@ class URIK(ClosedFormIK):
         refs = np.ascontiguousarray(np.asarray(q_ref, dtype=float).T)
         with np.errstate(invalid="ignore", divide="ignore"):  # NaN lanes: no solution
             return _fast_nearest_many(self._fast, joints, positions, rotations, refs)
+
+    @property
+    def branch_many_available(self) -> bool:
+        """Whether :meth:`branch_many` and :meth:`pose_branches` answer (the geometry has the
+        single-pose path: orthonormal axes, weights ≥ 0)."""
+        return self._fast is not None
+
+    def pose_branches(self, position: np.ndarray, rotation: np.ndarray) -> np.ndarray | None:
+        """Every branch of one pose in plain floats (inputs unchecked): (8, 6) [rad], any 2π
+        representative, NaN rows for branches without a solution (row ``branch``, as
+        :meth:`branch_many`); None near a singularity, where the single-pose formulas leave the
+        pose to the batch path."""
+        try:
+            return self._fast_all_branches(position, rotation)
+        except NeedsBatch:
+            return None
+
+    def branch_many(
+        self, positions: np.ndarray, rotations: np.ndarray, branch: np.ndarray | int
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """One branch of many poses in one vectorised pass (inputs unchecked): for followers
+        that keep a branch along a path (:mod:`cartesian.batch_track`).
+
+        Args:
+            positions: Tool positions in the world frame [m], shape (N, 3).
+            rotations: Tool rotations in the world frame, shape (N, 3, 3).
+            branch: Branch index ``4·shoulder + 2·wrist + elbow``, one or one per pose (N,).
+
+        Returns:
+            (q (N, 6) [rad], any 2π representative, NaN rows where the branch has no solution;
+            edge (N,) bool: poses near a singularity of the branch, where q is ill-conditioned
+            — every pose when the geometry has no single-pose path, see
+            :attr:`branch_many_available`).
+        """
+        if self._fast is None:
+            count = len(positions)
+            return np.full((count, 6), np.nan), np.ones(count, dtype=bool)
+        with np.errstate(invalid="ignore", divide="ignore"):  # NaN lanes: no solution
+            return _fast_branch_many(self._fast, positions, rotations, branch)
 
     def _nearest_batch_path(
         self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray

@@ -8,11 +8,14 @@ kinematics against the exact line samples, not only by the method's own flag.
 Methods:
     kinplan: ``cartesian.follow(robot, line, duration=1.0, dt=0.001, q_seed=q0)`` with its
         defaults (tolerance 1e-7 m / 1e-7 rad; singularity, joint-jump and joint-speed
-        monitoring; joint velocities and accelerations).
+        monitoring; joint velocities and accelerations). On arms with a vectorised closed form
+        (UR family, planar 2R) a clean path is solved whole (:mod:`cartesian.batch_track`);
+    kinplan, per-sample loop: the same call with that path switched off (the A/B of it; what
+        every other arm runs).
     plain loop: warm-started damped least squares over Pinocchio written in Python below: from
-        the previous solution, e = [p* − p; log3(R* Rᵀ)], Δq = Jᵀ (J Jᵀ + λ I)⁻¹ e until both
-        errors are below 1e-7 (m, rad) or 20 iterations, clamped into the joint limits; no
-        monitoring, no derivatives.
+        the previous solution, e = [p* − p; log3(R* Rᵀ)] (a planar arm: its in-plane p* − p),
+        Δq = Jᵀ (J Jᵀ + λ I)⁻¹ e until both errors are below 1e-7 (m, rad) or 20 iterations,
+        clamped into the joint limits; no monitoring, no derivatives.
     rtb ctraj + ik_LM: roboticstoolbox-python's ``ctraj(T0, T1, s=s)`` for the same waypoints,
         then its C++ ``ETS.ik_LM(T, q0=previous, tol=5e-9)`` per waypoint, if installed
         (``pip install -e ".[bench]"``). tol bounds ½‖e‖², so 5e-9 lets the tool lag up to
@@ -47,6 +50,7 @@ import numpy as np
 import pinocchio as pin
 
 import cartesian
+from cartesian import batch_track
 from cartesian.timing import time_path
 from kinplan import Robot, load_robot
 
@@ -57,6 +61,7 @@ from bench_ik import load_rtb_ets, machine_info, rtb_base_in_kinplan_base  # noq
 LINES = {
     "ur5": (np.radians([0.0, -100.0, 100.0, -90.0, -90.0, 0.0]), np.array([0.0, 0.3, 0.0])),
     "panda": (np.array([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.78]), np.array([0.0, 0.3, 0.0])),
+    "planar_2r": (np.array([0.3, 1.2]), np.array([0.0, 0.3, 0.0])),  # position only
 }
 DURATION = 1.0  # [s]
 DT = 0.001  # [s], 1 kHz
@@ -114,11 +119,28 @@ def kinplan_method(robot: Robot, line: cartesian.Line, q0: np.ndarray) -> Method
     return Method("kinplan cartesian.follow", run=run)
 
 
+def kinplan_loop_method(robot: Robot, line: cartesian.Line, q0: np.ndarray) -> Method:
+    """``cartesian.follow`` with its vectorised closed-form path switched off: the per-sample
+    loop every arm without a vectorised closed form runs (the A/B of that path)."""
+
+    def run() -> tuple[np.ndarray, np.ndarray, bool]:
+        batch_track.ENABLED = False
+        try:
+            plan = cartesian.follow(robot, line, duration=DURATION, dt=DT, q_seed=q0)
+        finally:
+            batch_track.ENABLED = True
+        return plan.s, plan.q, plan.ok
+
+    return Method("kinplan cartesian.follow, per-sample loop", run=run)
+
+
 def plain_method(robot: Robot, line: cartesian.Line, q0: np.ndarray) -> Method:
     """The textbook warm-started DLS loop over Pinocchio, on the same time law."""
     model, data, fid = robot.model, robot.model.createData(), robot.tip_id
     lower, upper = robot.lower, robot.upper
-    damping = PLAIN_DAMPING * np.eye(6)
+    position_only = robot.default_position_only()
+    rows = robot.task_rows(position_only)  # a planar arm: the in-plane position rows
+    damping = PLAIN_DAMPING * np.eye(len(rows))
 
     def run() -> tuple[np.ndarray, np.ndarray, bool]:
         s = time_path(line.length, duration=DURATION, dt=DT).s
@@ -130,14 +152,18 @@ def plain_method(robot: Robot, line: cartesian.Line, q0: np.ndarray) -> Method:
             for _ in range(PLAIN_ITERATIONS + 1):
                 pin.computeJointJacobians(model, data, q)
                 pose = pin.updateFramePlacement(model, data, fid)
-                e = np.concatenate(
-                    (positions[k] - pose.translation, pin.log3(rotations[k] @ pose.rotation.T))
-                )
-                if np.linalg.norm(e[:3]) < PLAIN_TOLERANCE and np.linalg.norm(e[3:]) < (
-                    PLAIN_TOLERANCE
-                ):
+                if position_only:
+                    e = positions[k] - pose.translation
+                    rotation_error = 0.0
+                else:
+                    e = np.concatenate(
+                        (positions[k] - pose.translation, pin.log3(rotations[k] @ pose.rotation.T))
+                    )
+                    rotation_error = np.linalg.norm(e[3:])
+                if np.linalg.norm(e[:3]) < PLAIN_TOLERANCE and rotation_error < PLAIN_TOLERANCE:
                     break
-                J = pin.getFrameJacobian(model, data, fid, _LWA)
+                J = pin.getFrameJacobian(model, data, fid, _LWA)[rows]
+                e = e[rows]
                 q = np.clip(q + J.T @ np.linalg.solve(J @ J.T + damping, e), lower, upper)
             else:
                 converged = False
@@ -220,10 +246,13 @@ def tool_errors(
     """Largest position [m] and rotation [rad] error of FK(q) against the exact line at s."""
     positions, rotations = line.position(s), line.rotation(s)
     position_error = rotation_error = 0.0
+    position_only = robot.default_position_only()  # a planar arm: the rotation is not a target
     for qk, p, R in zip(q, positions, rotations):
         pose = robot.fk(qk)
         position_error = max(position_error, float(np.linalg.norm(p - pose.translation)))
-        rotation_error = max(rotation_error, float(np.linalg.norm(pin.log3(R @ pose.rotation.T))))
+        if not position_only:
+            error = float(np.linalg.norm(pin.log3(R @ pose.rotation.T)))
+            rotation_error = max(rotation_error, error)
     return position_error, rotation_error
 
 
@@ -335,7 +364,9 @@ def profile_follow(robot: Robot, line: cartesian.Line, q0: np.ndarray, top: int 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--robots", nargs="+", default=["ur5", "panda"], help="robot names")
+    parser.add_argument(
+        "--robots", nargs="+", default=["ur5", "panda", "planar_2r"], help="robot names"
+    )
     parser.add_argument("--repeat", type=int, default=5, help="timed calls per method")
     parser.add_argument(
         "--profile", action="store_true", help="also print a cProfile of kinplan's follow"
@@ -357,8 +388,13 @@ def main(argv: list[str] | None = None) -> int:
         line, q0 = make_line(robot, name)
         methods = [
             kinplan_method(robot, line, q0),
+            kinplan_loop_method(robot, line, q0),
             plain_method(robot, line, q0),
-            *rtb_methods(robot, line, q0, np.random.default_rng([0, 2])),
+            *(
+                [Method("rtb ctraj + ik_LM", unavailable="not compared (a position-only arm)")]
+                if robot.default_position_only()
+                else rtb_methods(robot, line, q0, np.random.default_rng([0, 2]))
+            ),
             pyroboplan_method(),
         ]
         rows = measure(robot, line, methods, args.repeat, expected)
