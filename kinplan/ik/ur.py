@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -459,6 +460,51 @@ def _pair(first: np.ndarray, second: np.ndarray, axis: int) -> np.ndarray:
     return np.stack((first, second), axis=axis)
 
 
+def _planar_targets(
+    k: _URFast,
+    values: np.ndarray,
+    shoulder: tuple[np.ndarray, ...],
+    wrist: tuple[np.ndarray, ...],
+    expand: Callable[[np.ndarray], np.ndarray],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The target of the planar joints 2–4 and the angle φ = ψ2 + ψ3 + ψ4 they must sum to,
+    on arrays (the formulas of :func:`_fast_plane_axes` and :func:`_fast_planar_target`).
+
+    Args:
+        k: The arm's constants.
+        values: The pose's rotation and position terms, (12, N).
+        shoulder: (cos θ1, sin θ1, x, y, along u) of each shoulder solution.
+        wrist: (cos θ5, sin θ5, cos θ6, sin θ6) of each wrist solution.
+        expand: Makes a per-shoulder array broadcast against the wrist arrays (an axis for
+            the wrist branches when both are solved, the identity for one branch).
+
+    Returns:
+        (target x, target y, φ), in the wrist arrays' shape.
+    """
+    c1, s1, x, y, along_u = shoulder
+    c5, s5, c6, s6 = wrist
+    m5 = c1 * values[6] - s1 * values[3]
+    m6 = c1 * values[7] - s1 * values[4]
+    m7 = c1 * values[8] - s1 * values[5]
+    (eu, eb), (fu, fb) = k.e_shoulder, k.f_shoulder
+    ge5, ge6, ge7 = (eu * values[j] + eb * mj for j, mj in enumerate((m5, m6, m7)))
+    gf5, gf6, gf7 = (fu * values[j] + fb * mj for j, mj in enumerate((m5, m6, m7)))
+    turned = c1 * y - s1 * x
+    offset_e = (k.plane_offset[0] + eu * along_u) + eb * turned
+    offset_f = (k.plane_offset[1] + fu * along_u) + fb * turned
+    d5, d6, d7 = k.d_wrist
+    x6, x7 = c5 * d6 + s5 * d7, c5 * d7 - s5 * d6
+    z5, z7 = c6 * d5 - s6 * x7, s6 * d5 + c6 * x7
+    e5, e6, e7 = k.e_wrist
+    y6, y7 = c5 * e6 + s5 * e7, c5 * e7 - s5 * e6
+    v5, v7 = c6 * e5 - s6 * y7, s6 * e5 + c6 * y7
+    ge5, ge6, ge7, gf5, gf6, gf7 = (expand(g) for g in (ge5, ge6, ge7, gf5, gf6, gf7))
+    target_x = expand(offset_e) + z5 * ge5 + x6 * ge6 + z7 * ge7
+    target_y = expand(offset_f) + z5 * gf5 + x6 * gf6 + z7 * gf7
+    phi = np.arctan2(v5 * gf5 + y6 * gf6 + v7 * gf7, v5 * ge5 + y6 * ge6 + v7 * ge7)
+    return target_x, target_y, phi
+
+
 def _fast_nearest_many(
     k: _URFast,
     joints: tuple[tuple[float, float, float], ...],
@@ -529,27 +575,10 @@ def _fast_nearest_many(
     t6 = np.arctan2(sin6, cos6)
     norm = np.maximum(np.sqrt(sin6 * sin6 + cos6 * cos6), TINY)
     c6, s6 = cos6 / norm, sin6 / norm
-    # _fast_plane_axes, per shoulder branch
-    m5 = c1 * values[6] - s1 * values[3]
-    m6 = c1 * values[7] - s1 * values[4]
-    m7 = c1 * values[8] - s1 * values[5]
-    (eu, eb), (fu, fb) = k.e_shoulder, k.f_shoulder
-    ge5, ge6, ge7 = (eu * values[j] + eb * mj for j, mj in enumerate((m5, m6, m7)))
-    gf5, gf6, gf7 = (fu * values[j] + fb * mj for j, mj in enumerate((m5, m6, m7)))
-    turned = c1 * y - s1 * x
-    offset_e = (k.plane_offset[0] + eu * along_u) + eb * turned
-    offset_f = (k.plane_offset[1] + fu * along_u) + fb * turned
-    # _fast_planar_target, per (shoulder, wrist) pair
-    d5, d6, d7 = k.d_wrist
-    x6, x7 = c5 * d6 + s5 * d7, c5 * d7 - s5 * d6
-    z5, z7 = c6 * d5 - s6 * x7, s6 * d5 + c6 * x7
-    e5, e6, e7 = k.e_wrist
-    y6, y7 = c5 * e6 + s5 * e7, c5 * e7 - s5 * e6
-    v5, v7 = c6 * e5 - s6 * y7, s6 * e5 + c6 * y7
-    ge5, ge6, ge7, gf5, gf6, gf7 = (g[:, None] for g in (ge5, ge6, ge7, gf5, gf6, gf7))
-    target_x = offset_e[:, None] + z5 * ge5 + x6 * ge6 + z7 * ge7
-    target_y = offset_f[:, None] + z5 * gf5 + x6 * gf6 + z7 * gf7
-    phi = np.arctan2(v5 * gf5 + y6 * gf6 + v7 * gf7, v5 * ge5 + y6 * ge6 + v7 * ge7)
+    # _fast_plane_axes per shoulder branch, _fast_planar_target per (shoulder, wrist) pair
+    target_x, target_y, phi = _planar_targets(
+        k, values, (c1, s1, x, y, along_u), (c5, s5, c6, s6), lambda a: a[:, None]
+    )
     # _fast_elbow: ψ3 = offset ± bend; ψ2 = atan2(target) − atan2(v), v = r23 + Rot(ψ3) r34,
     # taken as one atan2
     l23, l34 = k.l23, k.l34
@@ -670,24 +699,9 @@ def _fast_branch_many(
     norm = np.maximum(np.sqrt(sin6 * sin6 + cos6 * cos6), TINY)
     c6, s6 = cos6 / norm, sin6 / norm
     # the plane of joints 2–4 and the planar target
-    m5 = c1 * values[6] - s1 * values[3]
-    m6 = c1 * values[7] - s1 * values[4]
-    m7 = c1 * values[8] - s1 * values[5]
-    (eu, eb), (fu, fb) = k.e_shoulder, k.f_shoulder
-    ge5, ge6, ge7 = (eu * values[j] + eb * mj for j, mj in enumerate((m5, m6, m7)))
-    gf5, gf6, gf7 = (fu * values[j] + fb * mj for j, mj in enumerate((m5, m6, m7)))
-    turned = c1 * y - s1 * x
-    offset_e = (k.plane_offset[0] + eu * along_u) + eb * turned
-    offset_f = (k.plane_offset[1] + fu * along_u) + fb * turned
-    d5, d6, d7 = k.d_wrist
-    x6, x7 = c5 * d6 + s5 * d7, c5 * d7 - s5 * d6
-    z5, z7 = c6 * d5 - s6 * x7, s6 * d5 + c6 * x7
-    e5, e6, e7 = k.e_wrist
-    y6, y7 = c5 * e6 + s5 * e7, c5 * e7 - s5 * e6
-    v5, v7 = c6 * e5 - s6 * y7, s6 * e5 + c6 * y7
-    target_x = offset_e + z5 * ge5 + x6 * ge6 + z7 * ge7
-    target_y = offset_f + z5 * gf5 + x6 * gf6 + z7 * gf7
-    phi = np.arctan2(v5 * gf5 + y6 * gf6 + v7 * gf7, v5 * ge5 + y6 * ge6 + v7 * ge7)
+    target_x, target_y, phi = _planar_targets(
+        k, values, (c1, s1, x, y, along_u), (c5, s5, c6, s6), lambda a: a
+    )
     # the elbow: ψ3 = offset ± bend, ψ2 = atan2(v × target, v · target), v = r23 + Rot(ψ3) r34
     l23, l34 = k.l23, k.l34
     cosine = (target_x * target_x + target_y * target_y - (l23 * l23 + l34 * l34)) / (
