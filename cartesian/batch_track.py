@@ -109,7 +109,7 @@ def track(
     q0 = _first_configuration(tracker, targets, seed)
     raw = None if q0 is None else _branch_solutions(solver, positions, rotations, q0)
     q = None if raw is None or q0 is None else _branch_path(raw, q0)
-    if q is None or not _within_limits(tracker, q):
+    if q is None or not within_limits(tracker, q):
         return None
     tool, tool_rotations, jacobians = kinematics.fk_jacobian_rows(q)  # rows: (…, N)
     if not _on_path(tracker, tool, tool_rotations, positions, rotations):
@@ -119,7 +119,7 @@ def track(
     if factors is None:
         return None
     manipulability = np.abs(factors.determinant)
-    if not _regular(tracker, manipulability):
+    if not regular(tracker, manipulability):
         return None
     qd = _solve(factors, np.ascontiguousarray(xd.T)).T
     if not _continuous(tracker, timing.t, q, qd, task[:, :, 0], xdd[0]):
@@ -131,12 +131,12 @@ def track(
     # q̈ = J⁻¹(ẍ − J̇q̇): Tracker.accelerations for a square task of full rank
     drift = _drift(jacobians, np.ascontiguousarray(qd.T))[tracker.rows]
     qdd = _solve(factors, xdd.T - drift).T
-    if not _within_accelerations(tracker, qdd):
+    if not within_accelerations(tracker, qdd):
         return None
     check = None
     if tracker.cell is not None:
         check = tracker.cell.check_motion(q, tracker.clearance)
-        if not _clear(check, tracker.clearance):
+        if not clear(check, tracker.clearance):
             return None
     contiguous = np.ascontiguousarray
     return BatchTrack(q, contiguous(qd), contiguous(qdd), contiguous(tool.T), manipulability,
@@ -229,7 +229,7 @@ def _branch_path(raw: np.ndarray, q0: np.ndarray) -> np.ndarray | None:
     return q
 
 
-def _within_limits(tracker: Tracker, q: np.ndarray) -> bool:
+def within_limits(tracker: Tracker, q: np.ndarray) -> bool:
     """Whether every sample keeps :data:`LIMIT_MARGIN` from the joint limits."""
     robot = tracker.robot
     return bool(np.all(q >= robot.lower + LIMIT_MARGIN) and np.all(q <= robot.upper - LIMIT_MARGIN))
@@ -254,7 +254,7 @@ def _on_path(
     return bool(frobenius2.max() <= frobenius_tolerance(tracker.rotation_tolerance))
 
 
-def _regular(tracker: Tracker, manipulability: np.ndarray) -> bool:
+def regular(tracker: Tracker, manipulability: np.ndarray) -> bool:
     """Whether every sample's manipulability is clear of the singularity threshold and the
     rank floor (:meth:`Tracker.is_singular`) by :data:`RELATIVE_MARGIN`."""
     floor = max(tracker.singular_threshold, tracker.rank_floor) * (1.0 + RELATIVE_MARGIN)
@@ -296,7 +296,7 @@ def _continuous(
     return bool(np.abs(guesses - q[2:]).max(initial=0.0) <= bound)
 
 
-def _within_accelerations(tracker: Tracker, qdd: np.ndarray) -> bool:
+def within_accelerations(tracker: Tracker, qdd: np.ndarray) -> bool:
     """Whether every limited joint acceleration is below its limit by :data:`RELATIVE_MARGIN`."""
     limit = tracker.acceleration_limit
     if not np.isfinite(limit).any() or not len(qdd):
@@ -304,7 +304,7 @@ def _within_accelerations(tracker: Tracker, qdd: np.ndarray) -> bool:
     return bool((np.abs(qdd) / limit).max() < 1.0 - RELATIVE_MARGIN)
 
 
-def _clear(check: MotionCheck, clearance: float) -> bool:
+def clear(check: MotionCheck, clearance: float) -> bool:
     """Whether a cell check passed with :data:`CLEARANCE_MARGIN` to spare at every sample."""
     if check.index is not None:
         return False

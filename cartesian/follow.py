@@ -7,8 +7,9 @@ of the derivative of its minimum-norm q̇), and stops at the first sample that i
 beyond a joint limit, needs a branch flip ("jump"), is near a singularity or too fast for a
 joint. The plan says where and why (:class:`Event`) and how much of the path was achieved.
 On arms with a vectorised closed form (UR family, planar 2R) a path that raises no flag is
-solved whole instead (:mod:`cartesian.batch_track`: the same samples, exact); every other path,
-and every one that comes near a flag, goes through the per-sample loop.
+solved whole instead (:mod:`cartesian.batch_track`: the same samples, exact); on other arms by
+the lean loop (:mod:`cartesian.lean_track`: the loop's IK alone per sample, monitored after it);
+every other path, and every one that comes near a flag, goes through the per-sample loop.
 :func:`check_reachability` runs the same monitoring on the geometry alone, before any timing.
 """
 
@@ -19,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from cartesian import batch_track
+from cartesian import batch_track, lean_track
 from cartesian.events import Event, Status, where
 from cartesian.geometry import trace_between, trace_geometry
 from cartesian.paths import Path
@@ -336,6 +337,8 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
     xdd = targets.curvature * (sd**2)[:, None] + targets.rate * sdd[:, None]  # x'' ṡ² + x' s̈
     # a clean path on an arm with a vectorised closed form: every sample at once
     clean = batch_track.track(tracker, targets, timing, xd, xdd, seed)
+    if clean is None:  # any other arm: the lean loop, monitored after it
+        clean = lean_track.track(tracker, targets, timing, xd, xdd, seed)
     if clean is not None:
         return _clean_plan(tracker, path, timing, targets.positions, clean)
 

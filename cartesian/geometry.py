@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from cartesian import lean_track
 from cartesian.events import Event, Status, where
 from cartesian.paths import Path
 from cartesian.tracker import SINGULAR_FRACTION, Tracker, path_targets, resolve_task
@@ -86,6 +87,10 @@ def trace_geometry(tracker: Tracker, path: Path, s: np.ndarray, seed: np.ndarray
     returns dq/ds = J⁺ dx/ds at every solved point.
     """
     robot = tracker.robot
+    # a path with no event on an arm of full task rank: the lean loop, monitored after it
+    lean = lean_track.trace(tracker, path, s, seed, MAX_JOINT_STEP, MIN_REFINE_DS)
+    if lean is not None:
+        return Geometry(lean[0], lean[1], lean[2], [], lean[3])
     # A stack of (s, position, rotation, dx/ds): the next point to check is at the end.
     pending = _points(tracker, path, s)[::-1]
     solved_s: list[float] = []

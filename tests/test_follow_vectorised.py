@@ -28,7 +28,7 @@ from conftest import cached_robot
 
 import cartesian
 import kinplan
-from cartesian import batch_track
+from cartesian import batch_track, lean_track
 
 LINES_PER_ARM = 1000
 #: Lines per arm of the quick run (`make test`); the full run is marked slow (`make soak`).
@@ -57,6 +57,7 @@ def _plans(robot: kinplan.Robot, path: cartesian.Path, monkeypatch: pytest.Monke
         fast = cartesian.follow(robot, path, **options)
     with monkeypatch.context() as patch:
         patch.setattr(batch_track, "ENABLED", False)
+        patch.setattr(lean_track, "ENABLED", False)  # the full loop, not the lean one
         loop = cartesian.follow(robot, path, **options)
     return fast, loop, bool(answers) and answers[0]
 

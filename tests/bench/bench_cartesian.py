@@ -9,9 +9,11 @@ Methods:
     kinplan: ``cartesian.follow(robot, line, duration=1.0, dt=0.001, q_seed=q0)`` with its
         defaults (tolerance 1e-7 m / 1e-7 rad; singularity, joint-jump and joint-speed
         monitoring; joint velocities and accelerations). On arms with a vectorised closed form
-        (UR family, planar 2R) a clean path is solved whole (:mod:`cartesian.batch_track`);
-    kinplan, per-sample loop: the same call with that path switched off (the A/B of it; what
-        every other arm runs).
+        (UR family, planar 2R) a clean path is solved whole (:mod:`cartesian.batch_track`), on
+        other arms (panda, numerical arms) by the lean loop monitored after it
+        (:mod:`cartesian.lean_track`);
+    kinplan, per-sample loop: the same call with both fast paths switched off (the A/B of
+        them: the loop that plans every flagged or borderline path).
     plain loop: warm-started damped least squares over Pinocchio written in Python below: from
         the previous solution, e = [p* − p; log3(R* Rᵀ)] (a planar arm: its in-plane p* − p),
         Δq = Jᵀ (J Jᵀ + λ I)⁻¹ e until both errors are below 1e-7 (m, rad) or 20 iterations,
@@ -50,7 +52,7 @@ import numpy as np
 import pinocchio as pin
 
 import cartesian
-from cartesian import batch_track
+from cartesian import batch_track, lean_track
 from cartesian.timing import time_path
 from kinplan import Robot, load_robot
 
@@ -120,15 +122,15 @@ def kinplan_method(robot: Robot, line: cartesian.Line, q0: np.ndarray) -> Method
 
 
 def kinplan_loop_method(robot: Robot, line: cartesian.Line, q0: np.ndarray) -> Method:
-    """``cartesian.follow`` with its vectorised closed-form path switched off: the per-sample
-    loop every arm without a vectorised closed form runs (the A/B of that path)."""
+    """``cartesian.follow`` with its fast paths (closed form, lean loop) switched off: the
+    per-sample loop (the A/B of those paths)."""
 
     def run() -> tuple[np.ndarray, np.ndarray, bool]:
-        batch_track.ENABLED = False
+        batch_track.ENABLED = lean_track.ENABLED = False
         try:
             plan = cartesian.follow(robot, line, duration=DURATION, dt=DT, q_seed=q0)
         finally:
-            batch_track.ENABLED = True
+            batch_track.ENABLED = lean_track.ENABLED = True
         return plan.s, plan.q, plan.ok
 
     return Method("kinplan cartesian.follow, per-sample loop", run=run)

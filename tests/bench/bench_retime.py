@@ -4,7 +4,10 @@ For UR5 and panda lines and arcs (about 1,000 samples at dt = 1 ms), the same jo
 limits (the robot's speed limits, 5 rad/s² for every joint), no tool-speed cap:
 
 * **kinplan**: the whole `cartesian.follow(..., retime=True)` call — the geometric IK pass, the
-  time-optimal law and the IK of every output sample with its monitoring;
+  time-optimal law and the IK of every output sample with its monitoring; on the panda the two
+  IK passes run the lean loop (:mod:`cartesian.lean_track`), on UR5 the output samples are
+  solved whole (:mod:`cartesian.batch_track`);
+* **kinplan, full loop**: the same call with those fast paths switched off (their A/B);
 * **toppra**: its parametrisation alone (`TOPPRA(...).compute_parameterization(0, 0)` on a
   spline through 1,000 joint samples of the same path, computed by kinplan's IK to 1e-12 m
   beforehand and not timed), plus its duration from `compute_trajectory`.
@@ -23,6 +26,7 @@ import pinocchio as pin
 
 import cartesian
 import kinplan
+from cartesian import batch_track, lean_track
 from cartesian.geometry import trace_geometry
 from cartesian.tracker import Tracker
 
@@ -54,8 +58,9 @@ def main() -> None:
 
     toppra.setup_logging("WARNING")
     print("| robot | path | kinplan duration [s] | toppra duration [s] | ratio | "
-          "kinplan whole plan [ms] | toppra parametrisation [ms] | speed ratio |")  # fmt: skip
-    print("|---|---|---:|---:|---:|---:|---:|---:|")
+          "kinplan whole plan [ms] | toppra parametrisation [ms] | speed ratio | "
+          "kinplan, full loop [ms] | fast paths' gain |")  # fmt: skip
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
     for name, q0 in STARTS.items():
         robot = kinplan.load_robot(name)
         v = robot.velocity_limit
@@ -80,8 +85,15 @@ def main() -> None:
                     retime=True, max_acceleration=ACCELERATION,
                 )  # fmt: skip
 
-            ours(), reference().compute_parameterization(0, 0)  # warm-up
-            mine, theirs = [], []
+            def full_loop(ours=ours):
+                batch_track.ENABLED = lean_track.ENABLED = False
+                try:
+                    return ours()
+                finally:
+                    batch_track.ENABLED = lean_track.ENABLED = True
+
+            ours(), full_loop(), reference().compute_parameterization(0, 0)  # warm-up
+            mine, theirs, looped = [], [], []
             for _ in range(args.repeat):
                 t0 = time.perf_counter()
                 plan = ours()
@@ -90,13 +102,17 @@ def main() -> None:
                 t0 = time.perf_counter()
                 instance.compute_parameterization(0, 0)
                 theirs.append(time.perf_counter() - t0)
+                t0 = time.perf_counter()
+                full_loop()
+                looped.append(time.perf_counter() - t0)
             duration = reference().compute_trajectory(0, 0).duration
             ours_ms, theirs_ms = 1e3 * np.median(mine), 1e3 * np.median(theirs)
+            loop_ms = 1e3 * np.median(looped)
             status = "" if plan.ok else f" ({plan.status})"
             print(
                 f"| {name} | {label} | {plan.duration:.4f}{status} | {duration:.4f} | "
                 f"{plan.duration / duration:.4f} | {ours_ms:.1f} | {theirs_ms:.1f} | "
-                f"{theirs_ms / ours_ms:.2f}× |"
+                f"{theirs_ms / ours_ms:.2f}× | {loop_ms:.1f} | {loop_ms / ours_ms:.2f}× |"
             )
 
 
