@@ -72,6 +72,7 @@ MODULES: dict[str, list[str]] = {
         "tests/test_scurve.py",
         "tests/test_time_optimal.py",
     ],
+    "kinplan/trajectory/polynomials.py": ["tests/test_trajectory*.py"],
     "kinplan/robot.py": [
         "tests/test_robot.py",
         "tests/test_robot_mutants.py",
@@ -82,16 +83,32 @@ MODULES: dict[str, list[str]] = {
     ],
     "kinplan/ik/numeric.py": [
         "tests/test_ik.py",
+        "tests/test_numeric_ik_mutants.py",
         "tests/test_robot.py",
         "tests/test_urdf*.py",
         "tests/test_validation.py",
         "tests/test_errors.py",
     ],
-    "kinplan/ik/ur.py": ["tests/test_analytic_ik.py"],
+    "kinplan/ik/ur.py": [
+        "tests/test_analytic_ik.py",
+        "tests/test_ik_batch.py",
+        "tests/test_ur_ik_mutants.py",
+    ],
     "kinplan/ik/planar.py": ["tests/test_analytic_ik.py"],
     "kinplan/ik/base.py": ["tests/test_analytic_ik.py", "tests/test_panda_ik.py"],
-    "kinplan/ik/screws.py": ["tests/test_analytic_ik.py", "tests/test_panda_ik.py"],
-    "kinplan/ik/panda.py": ["tests/test_panda_ik.py"],
+    "kinplan/ik/screws.py": [
+        "tests/test_analytic_ik.py",
+        "tests/test_panda_ik.py",
+        "tests/test_ik_batch.py",
+        "tests/test_screws_mutants.py",
+        "tests/test_panda_ik_mutants.py",
+        "tests/test_ur_ik_mutants.py",
+    ],
+    "kinplan/ik/panda.py": [
+        "tests/test_panda_ik.py",
+        "tests/test_ik_batch.py",
+        "tests/test_panda_ik_mutants.py",
+    ],
     "cartesian/follow.py": FOLLOW_TESTS,
     "cartesian/tracker.py": FOLLOW_TESTS,
     "cartesian/geometry.py": FOLLOW_TESTS,
@@ -101,6 +118,8 @@ MODULES: dict[str, list[str]] = {
         "tests/test_follow_monitoring.py",
         "tests/test_validation.py",
     ],
+    "cartesian/blends.py": ["tests/test_blends.py", "tests/test_path_mutants.py"],
+    "cartesian/torch.py": ["tests/test_torch.py", "tests/test_path_mutants.py"],
 }
 KILLED = {"killed", "timeout", "segfault", "caught by type check"}
 TARGET = 0.90

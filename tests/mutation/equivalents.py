@@ -561,3 +561,221 @@ EQUIVALENTS += [
             "with no finite limit every ratio |q̈|/inf is 0 (no event), and with no sample the "
             "ratios are empty: the block finds nothing in either case"),
 ]  # fmt: skip
+
+# ------------------------------------------------------------------ issue 20: batch IK pass
+_panda = _module(("kinplan/ik/panda.py",))
+_LAST_AXIS = (
+    "numpy's default axis is the last one (-1; take_along_axis since numpy 2.3), which is the "
+    "axis named"
+)
+EQUIVALENTS += [
+    _panda("if x * x + y * y + z * z < FREE_TOL**2 or u * u + v * v + w * w < FREE_TOL**2:",
+           "if x * x + y * y + z * z < FREE_TOL**2 or u * u + v * v + w * w <= FREE_TOL**2:",
+           _NEVER_EQUAL),
+    _panda("a_free = px * px + py * py + pz * pz < FREE_TOL**2",
+           "a_free = px * px + py * py + pz * pz <= FREE_TOL**2",
+           _NEVER_EQUAL),
+    _panda("if not any(max(abs(a - b) for a, b in zip(q, other)) <= _SAME_TOL for other in found):",
+           "if not any(max(abs(a - b) for a, b in zip(q, other)) < _SAME_TOL for other in found):",
+           _NEVER_EQUAL),
+    _panda("return np.array(list(map(function, *(np.asarray(a, dtype=float).tolist() "
+           "for a in arrays))))",
+           "return np.array(list(map(function, *(np.asarray(a, dtype=None).tolist() "
+           "for a in arrays))))",
+           "_map is only given float arrays (sums and products of floats, clipped floats): "
+           "the conversion to float is a no-op"),
+    _panda("edge = a + margin if value < a else b - margin",
+           "edge = a + margin if value <= a else b - margin",
+           "value == a lies in the interval [a, b], which the check above returns unchanged "
+           "before any edge is computed"),
+    _panda("projected = np.take_along_axis(edge, best, axis=2)[..., 0]",
+           "projected = np.take_along_axis(edge, best, )[..., 0]", _LAST_AXIS),
+    _panda("order = np.lexsort((ends, starts), axis=1)",
+           "order = np.lexsort((ends, starts), )", _LAST_AXIS),
+    _panda("if prune and cost6 >= bound:", "if prune and cost6 > bound:",
+           "with weights ≥ 0 (Robot passes none; the distance is a sum of weighted squares) "
+           "the shoulder only adds to a wrist part equal to the bound, and the candidate is "
+           "dropped there by `cost2 >= bound`"),
+    _panda("for t2, t1 in self._shoulder_pair.solve(g.axes[2], g3, joints[1][1], joints[0][1]):",
+           "for t2, t1 in self._shoulder_pair.solve(g.axes[2], g3, None, joints[0][1]):",
+           "θ2's free value is used only when ω3 lies on axis 2, which the structure check "
+           "refuses (axes 2 and 3 not parallel)"),
+    _panda("near_free = near_free | (hx * hx + hy * hy + hz * hz < _NEAR_FREE**2)",
+           "near_free = near_free | (hx * hx + hy * hy + hz / hz < _NEAR_FREE**2)",
+           "h = R3(θ3) e with e ⟂ ω3 has unit length across ω3 wherever θ1 and θ2 solve the "
+           "shoulder, so the test never fires; where they do not (g3 on axis 1) the shoulder "
+           "pair's near_free already flags the lane"),
+]  # fmt: skip
+
+_blends = _module(("cartesian/blends.py",))
+_BISECTED = (
+    "after 60 halvings of a bracket of 1/2048 the two ends differ by 4e-22 in s: below the "
+    "rounding of any position"
+)
+_NEWTON_CLIP = (
+    "a guard: the arc length is smooth and increasing across a table cell of 1/1024, and "
+    "Newton from the secant guess stays in the cell (at s = 0 and 1 it starts on the cell's "
+    "end and moves by rounding only)"
+)
+_OUTSIDE_01 = (
+    "Newton's steps clip u into the first (last) table cell, so a target below 0 (beyond the "
+    "length) still ends at u = 0 (u = 1): positions and derivatives of s outside [0, 1] are "
+    "those of the ends either way"
+)
+EQUIVALENTS += [
+    _blends("inside = distance < radius", "inside = distance <= radius", _NEVER_EQUAL),
+    _blends("return lo if at_end else hi", "return lo if (at_end) or True else hi", _BISECTED),
+    _blends("return lo if at_end else hi", "return lo if (at_end) and False else hi",
+            _BISECTED),
+    _blends("if r == 0.0 or turn < _STRAIGHT:", "if r == 0.0 or turn <= _STRAIGHT:",
+            _NEVER_EQUAL),
+    _blends("if turn > np.pi - 1e-6:", "if turn >= np.pi - 1e-6:", _NEVER_EQUAL),
+    _blends("assert r_a is not None and r_b is not None",
+            "assert r_a is not None or r_b is not None", _ALWAYS_TRUE),
+    _blends("return tangent, acceleration - (acceleration @ tangent) * tangent",
+            "return tangent, acceleration + (acceleration @ tangent) * tangent",
+            "paths are parametrised proportionally to arc length (|dp/ds| constant), so "
+            "d²p/ds² is already normal to the tangent: the component removed is 0 (to rounding)"),
+    _blends("speeds = self._speed(nodes).reshape(len(lo), -1)",
+            "speeds = self._speed(nodes).reshape(len(lo), -2)",
+            "numpy's reshape takes any negative size as 'the rest'"),
+    _blends('with np.errstate(divide="ignore"):', "with np.errstate(divide=None):",
+            "the powers are clipped at exponent 0, so no division by zero ever happens: "
+            "numpy's error state changes nothing"),
+    _blends("target = as_fractions(s).clip(0.0, 1.0) * self.length",
+            "target = as_fractions(s).clip(None, 1.0) * self.length", _OUTSIDE_01),
+    _blends("target = as_fractions(s).clip(0.0, 1.0) * self.length",
+            "target = as_fractions(s).clip(0.0, ) * self.length", _OUTSIDE_01),
+    _blends("u = np.clip(u - error / self._speed(u), lo, lo + width)",
+            "u = np.clip(u - error / self._speed(u), None, lo + width)", _NEWTON_CLIP),
+    _blends("u = np.clip(u - error / self._speed(u), lo, lo + width)",
+            "u = np.clip(u - error / self._speed(u), lo, None)", _NEWTON_CLIP),
+]  # fmt: skip
+
+_torch = _module(("cartesian/torch.py",))
+_STRAIGHT_SEAM = (
+    "taken only when every rotation on the grid equals the first to 1e-12: on a straight seam "
+    "they agree to rounding, so either one (or a slerp between two) is the same rotation"
+)
+EQUIVALENTS += [
+    _torch("if np.any(norms < 1e-6):", "if np.any(norms <= 1e-6):", _NEVER_EQUAL),
+    _torch("if np.linalg.norm(n) < 1e-9:", "if np.linalg.norm(n) <= 1e-9:", _NEVER_EQUAL),
+    _torch("n = np.asarray(normal, dtype=float)", "n = np.asarray(normal, dtype=None)",
+           "an integer normal enters only products and differences with the float tangents: "
+           "the same floats"),
+    _torch("n = np.asarray(normal, dtype=float)", "n = np.asarray(normal, )",
+           "an integer normal enters only products and differences with the float tangents: "
+           "the same floats"),
+    _torch("grid = np.linspace(0.0, 1.0, 65)", "grid = np.linspace(0.0, 2.0, 65)",
+           "every path evaluates fractions beyond 1 at its end (clipped), so the extra grid "
+           "points repeat the end's rotation"),
+    _torch("straight = np.max(np.abs(rotations - rotations[0])) < 1e-12",
+           "straight = np.max(np.abs(rotations - rotations[0])) <= 1e-12", _NEVER_EQUAL),
+    _torch("straight = np.max(np.abs(rotations - rotations[0])) < 1e-12",
+           "straight = np.max(np.abs(rotations - rotations[1])) < 1e-12",
+           "all rotations within 1e-12 of the first ⇔ within 1e-12 of the second, to rounding"),
+    _torch("self.slerp = Slerp(rotations[0], rotations[0]) if straight else None",
+           "self.slerp = Slerp(rotations[1], rotations[0]) if straight else None",
+           _STRAIGHT_SEAM),
+    _torch("self.slerp = Slerp(rotations[0], rotations[0]) if straight else None",
+           "self.slerp = Slerp(rotations[0], rotations[1]) if straight else None",
+           _STRAIGHT_SEAM),
+]  # fmt: skip
+
+_ur = _module(("kinplan/ik/ur.py",))
+_MONOTONE_INDEX = (
+    "a relabelling that keeps the order of (shoulder, wrist, elbow): pair and branch indices are "
+    "only sorted and compared for ties, never used as positions"
+)
+EQUIVALENTS += [
+    _ur("free2.reshape(count, -1), axis=1", "free2.reshape(count, -2), axis=1",
+        "numpy's reshape takes any negative size as 'the rest'"),
+    _ur("cross1=skew(u[0]).T,", "cross1=None,",
+        "rotate_about and rotate_about_line compute skew(axis).T themselves when given None: "
+        "the same matrix"),
+    _ur("pair = 2 * shoulder + wrist", "pair = 3 * shoulder + wrist", _MONOTONE_INDEX),
+    _ur("index = 2 * pair + branch", "index = 3 * pair + branch", _MONOTONE_INDEX),
+    _ur("if not math.isfinite(sum(position_list) + sum(values)):",
+        "if not math.isfinite(sum(position_list) - sum(values)):",
+        "a sum or a difference of two float sums is finite exactly when every term is (a "
+        "position and rotation terms of order 1 never overflow)"),
+    _ur("if abs(cosine) > 1.0 + CLAMP + _FAST_EDGE:",
+        "if abs(cosine) > 1.0 - CLAMP + _FAST_EDGE:",
+        "|cos| between 1 + _FAST_EDGE − CLAMP and 1 + _FAST_EDGE + CLAMP (_FAST_EDGE = 1e-8 ≫ "
+        "CLAMP = 1e-10) has no elbow in the batch path either (it clips only up to 1 + CLAMP): "
+        "None instead of NeedsBatch drops the same pair"),
+    _ur("np.clip(cosine, -1.0, 1.0, out=cosine)", "np.clip(cosine, -2.0, 1.0, out=cosine)",
+        "a cosine below −1 is either NaN (beyond 1 + CLAMP + _FAST_EDGE: no elbow) or marks "
+        "its pose as left to nearest() (near_edge), whose outputs are not used"),
+    _ur("refs = np.ascontiguousarray(np.asarray(q_ref, dtype=float).T)",
+        "refs = np.ascontiguousarray(np.asarray(q_ref, ).T)",
+        "integer references enter only differences with float angles and np.clip against "
+        "float limits: the same floats"),
+]  # fmt: skip
+
+_QUICK_MANY = (
+    "the first q only decides which entries are ties: a wrong number of turns puts q more than "
+    "half a turn from the reference, so the entry goes to the exact search (near_angle), which "
+    "finds the same; q is recomputed from the corrected turns afterwards"
+)
+_CALLERS_PASS_CROSS = (
+    "every caller passes the axis' precomputed skew(axis).T (URGeometry.cross1/5/6): the branch "
+    "for None is never taken, and recomputing gives the same matrix"
+)
+_CHOICE_MANY_Q = "q = values + TAU * turns"
+_VALID = "valid = (q >= lower - LIMIT_TOL) & (q <= upper + LIMIT_TOL)"
+_NEAR_QUICK = "if lower - LIMIT_TOL <= candidate <= upper + LIMIT_TOL and ("
+_NEAR_LOOP = "if lower - LIMIT_TOL <= candidate <= upper + LIMIT_TOL:"
+_PITCH = "no_pitch = np.abs(np.sum(linear * angular, axis=1)) < STRUCTURE_TOL"
+_NO_PITCH = (
+    "URDF joints have no pitch: a revolute joint's linear part p × u is orthogonal to u (0 to "
+    "rounding), and a prismatic one fails the unit-axis test; the sum over joints is as small"
+)
+EQUIVALENTS += [
+    _screws('with np.errstate(invalid="ignore"):', "with np.errstate(invalid=None):",
+            "numpy's error state only decides whether a warning is printed for NaN values "
+            "(no solution), which come out as NaN and inf cost either way"),
+    _screws("turns = np.round((clipped - values) / TAU)",
+            "turns = np.round((clipped + values) / TAU)", _QUICK_MANY),
+    _screws(_CHOICE_MANY_Q, _CHOICE_MANY_Q.replace("+ TAU *", "- TAU *"), _QUICK_MANY),
+    _screws(_CHOICE_MANY_Q, _CHOICE_MANY_Q.replace("TAU * turns", "TAU / turns"), _QUICK_MANY),
+    _screws("tie = np.abs(q - clipped) >= HALF_TURN_SAFE",
+            "tie = np.abs(q - clipped) > HALF_TURN_SAFE", _NEVER_EQUAL),
+    _screws("turns -= q > upper + LIMIT_TOL  # value + 2π·turns as near_angle: the same last bit",
+            "turns -= q >= upper + LIMIT_TOL  # value + 2π·turns as near_angle: the same last bit",
+            _NEVER_EQUAL),
+    _screws("turns += q < lower - LIMIT_TOL", "turns += q <= lower - LIMIT_TOL", _NEVER_EQUAL),
+    _screws(_VALID, _VALID.replace("q >= lower", "q > lower"), _NEVER_EQUAL),
+    _screws(_VALID, _VALID.replace("q <= upper", "q < upper"), _NEVER_EQUAL),
+    _screws("np.minimum(np.maximum(q, lower, out=q), upper, out=q)",
+            "np.minimum(np.maximum(q, lower, ), upper, out=q)",
+            "the inner out= only saves an allocation: the outer call writes the same values "
+            "into q"),
+    _screws(_NEAR_QUICK, _NEAR_QUICK.replace("candidate <= upper", "candidate < upper"),
+            _NEVER_EQUAL),
+    _screws(_NEAR_QUICK, _NEAR_QUICK.replace("upper + LIMIT_TOL", "upper - LIMIT_TOL"),
+            "the quick test only decides whether the loop over k − 1, k, k + 1 runs; a "
+            "candidate it refuses within LIMIT_TOL of the upper limit is found by the loop"),
+    _screws(_NEAR_LOOP, _NEAR_LOOP.replace("LIMIT_TOL <= candidate", "LIMIT_TOL < candidate"),
+            _NEVER_EQUAL),
+    _screws(_NEAR_LOOP, _NEAR_LOOP.replace("candidate <= upper", "candidate < upper"),
+            _NEVER_EQUAL),
+    _screws("inside = (candidates >= lower[:, None] - LIMIT_TOL) & (candidates <= upper[:, None] "
+            "+ LIMIT_TOL)",
+            "inside = (candidates >= lower[:, None] - LIMIT_TOL) & (candidates < upper[:, None] "
+            "+ LIMIT_TOL)", _NEVER_EQUAL),
+    _screws("chosen = np.take_along_axis(candidates, best, axis=-1)[..., 0]",
+            "chosen = np.take_along_axis(candidates, best, )[..., 0]", _LAST_AXIS),
+    _screws("found = np.isfinite(np.take_along_axis(distance, best, axis=-1)[..., 0])",
+            "found = np.isfinite(np.take_along_axis(distance, best, )[..., 0])", _LAST_AXIS),
+    _screws("unit = np.abs(np.linalg.norm(angular, axis=1) - 1.0) < STRUCTURE_TOL",
+            "unit = np.abs(np.linalg.norm(angular, axis=1) - 1.0) <= STRUCTURE_TOL",
+            _NEVER_EQUAL),
+    _screws(_PITCH, _PITCH.replace("axis=1", "axis=None"), _NO_PITCH),
+    _screws(_PITCH, _PITCH.replace(", axis=1)", ", )"), _NO_PITCH),
+    _screws(_ROTATE, _ROTATE.replace("cross_t is None", "(cross_t is None) and False"),
+            _CALLERS_PASS_CROSS),
+    _screws(_ROTATE, _ROTATE.replace("skew(axis)", "skew(None)"), _CALLERS_PASS_CROSS),
+    _screws(_ROTATE, _ROTATE.replace("cross_t is None", "cross_t is not None"),
+            _CALLERS_PASS_CROSS),
+]  # fmt: skip
