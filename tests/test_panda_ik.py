@@ -259,3 +259,27 @@ def test_robot_ik_uses_the_panda_solver(panda):
         res = panda.ik(target, q_seed=panda.random_configuration(rng))
         assert res.success and res.method == "analytic", res
         assert_reaches(panda, res.q, target, tol=1e-6)
+
+
+def test_a_panda_with_a_continuous_joint_is_solved_numerically(tmp_path):
+    """A panda-type arm whose joint 7 is continuous (unbounded) is not given the closed form,
+    whose θ7 search needs finite limits: its IK is the numerical one, and it solves (before,
+    `ik` raised on a NaN mid-range reference)."""
+    stock = kinplan.load_robot("panda")
+    text = stock.urdf_path.read_text()
+    start = text.index('<joint name="panda_joint7"')
+    end = text.index("</joint>", start)
+    text = (
+        text[:start] + text[start:end].replace('type="revolute"', 'type="continuous"') + text[end:]
+    )
+    path = tmp_path / "panda_continuous_j7.urdf"
+    path.write_text(text)
+    robot = kinplan.load_robot(path, tip="panda_hand_tcp")
+    assert np.isinf(robot.upper[6]) and robot.closed_form_ik is None
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        q = robot.random_configuration(rng)
+        target = robot.fk(q)
+        result = robot.ik(target, q_seed=robot.random_configuration(rng))
+        assert result.success and result.method == "numerical"
+        assert np.linalg.norm(robot.fk(result.q).translation - target.translation) < 1e-6

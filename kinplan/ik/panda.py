@@ -1088,7 +1088,8 @@ class PandaIK:
 
 # ---------------------------------------------------------------------------- factory
 def panda_solver_for(robot: Robot, weights: np.ndarray | None = None) -> PandaIK | None:
-    """The semi-analytic IK of a panda-type ``robot``, or None for any other arm.
+    """The semi-analytic IK of a panda-type ``robot``, or None for any other arm (and for a
+    panda-type arm with an unbounded, continuous joint: its numerical IK serves it).
 
     The structure is read from the Pinocchio model (:func:`panda_geometry`) and the solver is
     checked against Pinocchio's forward kinematics on random configurations.
@@ -1099,6 +1100,11 @@ def panda_solver_for(robot: Robot, weights: np.ndarray | None = None) -> PandaIK
     """
     geometry = panda_geometry(robot)
     if geometry is None:
+        return None
+    unbounded = ~(np.isfinite(robot.lower) & np.isfinite(robot.upper))
+    if unbounded.any():  # the θ7 search and the mid-range references need finite limits
+        names = ", ".join(n for n, u in zip(robot.joint_names, unbounded) if u)
+        logger.debug("panda-type IK of %s not used: unbounded joints %s", robot.name, names)
         return None
     solver = PandaIK(geometry, robot.lower, robot.upper, weights)
     check = lambda pose, q: solver.solutions_q7(pose.translation, pose.rotation, q[6])  # noqa: E731
