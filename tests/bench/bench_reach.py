@@ -223,8 +223,8 @@ def main() -> None:
     print(
         f"\n**Extrapolated**: a 1 cm UR5 map with 32 orientations solves ~{voxels / 1e6:.1f} M "
         f"voxels × 32 = {targets / 1e6:.0f} M targets: {targets / rate / 3600:.1f} core-hours "
-        f"at this run's in-process rate, ~{targets / rate / 100 / 60:.1f} min on 100 workers "
-        f"(+ start-up; {math.ceil(targets / 16384):,} work items of 16,384 targets)."
+        f"at this run's in-process rate, ~{targets / rate / 100:.0f} s of work on each of 100 "
+        f"workers (+ start-up; {math.ceil(targets / 16384):,} work items of 16,384 targets)."
     )
 
 
