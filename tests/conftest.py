@@ -3,10 +3,15 @@
 from __future__ import annotations
 
 import functools
+from pathlib import Path
 
 import pytest
 
 import kinplan
+
+#: The tests' folder (fixtures such as ``urdf/``) and the repository (``examples/``, ...).
+TESTS = Path(__file__).resolve().parent
+REPOSITORY = TESTS.parent
 
 
 @functools.cache

@@ -53,73 +53,76 @@ sys.path.insert(0, str(ROOT / "tests" / "mutation"))
 from equivalents import EQUIVALENTS  # noqa: E402
 
 #: The Cartesian following modules' tests: the random-line property tests
-#: (tests/test_follow_properties.py, 5-15 s each) are left out, or one surviving mutant would
-#: cost a minute and a module an hour on 2 cores.
+#: (tests/cartesian/test_follow_properties.py, 5-15 s each) are left out, or one surviving
+#: mutant would cost a minute and a module an hour on 2 cores.
 FOLLOW_TESTS = [
-    "tests/test_cartesian.py",
-    "tests/test_follow_monitoring.py",
-    "tests/test_follow_mutants.py",
-    "tests/test_tracker_mutants.py",
-    "tests/test_follow_cell.py",
-    "tests/test_paths.py",
+    "tests/cartesian/test_cartesian.py",
+    "tests/cartesian/test_follow_monitoring.py",
+    "tests/cartesian/test_follow_mutants.py",
+    "tests/cartesian/test_tracker_mutants.py",
+    "tests/cartesian/test_follow_cell.py",
+    "tests/cartesian/test_paths.py",
     "tests/test_validation.py",
 ]
 #: The core modules and the tests that exercise each (globs, relative to the repository); a
 #: module missing from the checkout is left out.
 MODULES: dict[str, list[str]] = {
     "kinplan/_profiles.py": [
-        "tests/test_trajectory*.py",
-        "tests/test_scurve.py",
-        "tests/test_time_optimal.py",
+        "tests/trajectory/test_trajectory*.py",
+        "tests/trajectory/test_scurve.py",
+        "tests/trajectory/test_time_optimal.py",
     ],
-    "kinplan/trajectory/polynomials.py": ["tests/test_trajectory*.py"],
+    "kinplan/trajectory/polynomials.py": ["tests/trajectory/test_trajectory*.py"],
     "kinplan/robot.py": [
-        "tests/test_robot.py",
-        "tests/test_robot_mutants.py",
-        "tests/test_ik.py",
-        "tests/test_urdf*.py",
+        "tests/robots/test_robot.py",
+        "tests/robots/test_robot_mutants.py",
+        "tests/ik/test_ik.py",
+        "tests/robots/test_urdf*.py",
         "tests/test_validation.py",
         "tests/test_errors.py",
     ],
     "kinplan/ik/numeric.py": [
-        "tests/test_ik.py",
-        "tests/test_numeric_ik_mutants.py",
-        "tests/test_robot.py",
-        "tests/test_urdf*.py",
+        "tests/ik/test_ik.py",
+        "tests/ik/test_numeric_ik_mutants.py",
+        "tests/robots/test_robot.py",
+        "tests/robots/test_urdf*.py",
         "tests/test_validation.py",
         "tests/test_errors.py",
     ],
     "kinplan/ik/ur.py": [
-        "tests/test_analytic_ik.py",
-        "tests/test_ik_batch.py",
-        "tests/test_ur_ik_mutants.py",
+        "tests/ik/test_analytic_ik.py",
+        "tests/ik/test_ik_batch.py",
+        "tests/ik/test_ur_ik_mutants.py",
     ],
-    "kinplan/ik/planar.py": ["tests/test_analytic_ik.py"],
-    "kinplan/ik/base.py": ["tests/test_analytic_ik.py", "tests/test_panda_ik.py"],
+    "kinplan/ik/planar.py": ["tests/ik/test_analytic_ik.py"],
+    "kinplan/ik/base.py": ["tests/ik/test_analytic_ik.py", "tests/ik/test_panda_ik.py"],
     "kinplan/ik/screws.py": [
-        "tests/test_analytic_ik.py",
-        "tests/test_panda_ik.py",
-        "tests/test_ik_batch.py",
-        "tests/test_screws_mutants.py",
-        "tests/test_panda_ik_mutants.py",
-        "tests/test_ur_ik_mutants.py",
+        "tests/ik/test_analytic_ik.py",
+        "tests/ik/test_panda_ik.py",
+        "tests/ik/test_ik_batch.py",
+        "tests/ik/test_screws_mutants.py",
+        "tests/ik/test_panda_ik_mutants.py",
+        "tests/ik/test_ur_ik_mutants.py",
     ],
     "kinplan/ik/panda.py": [
-        "tests/test_panda_ik.py",
-        "tests/test_ik_batch.py",
-        "tests/test_panda_ik_mutants.py",
+        "tests/ik/test_panda_ik.py",
+        "tests/ik/test_ik_batch.py",
+        "tests/ik/test_panda_ik_mutants.py",
     ],
     "cartesian/follow.py": FOLLOW_TESTS,
     "cartesian/tracker.py": FOLLOW_TESTS,
     "cartesian/geometry.py": FOLLOW_TESTS,
     "cartesian/paths.py": [
-        "tests/test_paths.py",
-        "tests/test_cartesian.py",
-        "tests/test_follow_monitoring.py",
+        "tests/cartesian/test_paths.py",
+        "tests/cartesian/test_cartesian.py",
+        "tests/cartesian/test_follow_monitoring.py",
         "tests/test_validation.py",
     ],
-    "cartesian/blends.py": ["tests/test_blends.py", "tests/test_path_mutants.py"],
-    "cartesian/torch.py": ["tests/test_torch.py", "tests/test_path_mutants.py"],
+    "cartesian/blends.py": [
+        "tests/cartesian/test_blends.py",
+        "tests/cartesian/test_path_mutants.py",
+    ],
+    "cartesian/torch.py": ["tests/cartesian/test_torch.py", "tests/cartesian/test_path_mutants.py"],
 }
 KILLED = {"killed", "timeout", "segfault", "caught by type check"}
 TARGET = 0.90

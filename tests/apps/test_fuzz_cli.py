@@ -24,6 +24,7 @@ from pathlib import Path
 
 import pytest
 import yaml
+from conftest import REPOSITORY
 
 hypothesis = pytest.importorskip("hypothesis")
 from hypothesis import HealthCheck, given, settings  # noqa: E402
@@ -33,7 +34,7 @@ from kinplan.cli import main  # noqa: E402
 from kinplan.errors import KinplanError  # noqa: E402
 from kinplan.program import load_program, run_program  # noqa: E402
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "programs"
+EXAMPLES = REPOSITORY / "examples" / "programs"
 SEEDS = {path.name: path.read_text(encoding="utf-8") for path in sorted(EXAMPLES.glob("*.yaml"))}
 #: Sampling period of the fuzzed plans [s]: coarse, so that a plan takes milliseconds.
 FUZZ_DT = 0.1

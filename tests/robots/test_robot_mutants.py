@@ -6,19 +6,17 @@ Jacobian, and the arguments an error message must name."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import cached_robot
+from conftest import TESTS, cached_robot
 from scipy.optimize import minimize
 
 import kinplan
 from kinplan.errors import InputError
 from kinplan.robot import manipulability_of, planar_arm
 
-URDF = Path(__file__).parent / "urdf"
+URDF = TESTS / "urdf"
 #: Arms without a planar annulus: UR5 (shoulder above the base), panda (7 joints), a gantry
 #: whose first two joints are prismatic.
 SPATIAL = ["ur5", "panda", str(URDF / "prismatic_gantry.urdf")]

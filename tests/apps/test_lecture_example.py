@@ -13,8 +13,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import REPOSITORY
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "lecture_2r.py"
+EXAMPLE = REPOSITORY / "examples" / "lecture_2r.py"
 PI = np.pi
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import REPOSITORY
 
 import cartesian
 from kinplan import plot
@@ -23,7 +24,7 @@ from kinplan.program import (
 )
 from kinplan.trajectory import Trajectory
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "programs"
+EXAMPLES = REPOSITORY / "examples" / "programs"
 
 API_EXAMPLE = """\
 robot: ur5                 # a load_robot source; a URDF path is relative to this file

@@ -4,15 +4,15 @@ from __future__ import annotations
 
 import csv
 import importlib.util
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import REPOSITORY
 
 from kinplan import demos
 from kinplan.cli import main
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = REPOSITORY / "examples"
 
 
 def test_lecture_demo(tmp_path):

@@ -10,6 +10,7 @@ import json
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import REPOSITORY, TESTS
 
 import kinplan
 from kinplan.errors import KinplanError
@@ -101,9 +102,8 @@ def test_torch_down_cone_map_in_front_of_the_ur5():
 
 
 def test_numerical_arm_map_uses_the_batch_solver(tmp_path):
-    from pathlib import Path
 
-    robot = kinplan.load_robot(Path(__file__).parent / "urdf" / "skewed_axes.urdf")
+    robot = kinplan.load_robot(TESTS / "urdf" / "skewed_axes.urdf")
     reach_map = capability_map(robot, resolution=0.3, orientations=2)
     assert reach_map.info["method"] == "levenberg-marquardt"
     assert reach_map.reachable.any()
@@ -190,9 +190,8 @@ def test_bad_arguments():
 
 def test_the_example_runs(tmp_path):
     import importlib.util
-    from pathlib import Path
 
-    path = Path(__file__).parent.parent / "examples" / "reach_map.py"
+    path = REPOSITORY / "examples" / "reach_map.py"
     spec = importlib.util.spec_from_file_location("reach_map_example", path)
     example = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(example)

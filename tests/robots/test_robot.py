@@ -11,10 +11,10 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import yourdfpy
+from conftest import cached_robot
 
 import kinplan
 from kinplan.robot import jacobian_time_variation, manipulability_of
-from tests.conftest import cached_robot
 
 ARMS = ["planar_2r", "ur3", "ur5", "ur10", "panda"]
 

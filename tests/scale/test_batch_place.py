@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 import pytest
 import yaml
+from conftest import REPOSITORY
 
 import kinplan
 from kinplan.batch import plan_many
@@ -16,7 +16,7 @@ from kinplan.cli import main
 from kinplan.placement import heat_map, place, with_base_pose
 from kinplan.program import load_program, parse_program, run_program
 
-EXAMPLES = Path(__file__).parent.parent / "examples" / "programs"
+EXAMPLES = REPOSITORY / "examples" / "programs"
 
 
 def test_plan_many_agrees_with_run_program(tmp_path):

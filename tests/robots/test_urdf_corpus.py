@@ -31,6 +31,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import yourdfpy
+from conftest import TESTS
 
 import cartesian
 import kinplan
@@ -40,7 +41,7 @@ from kinplan.sources import example_robot_data_dir
 
 SHARE = example_robot_data_dir()
 ROBOTS = SHARE / "example-robot-data" / "robots" if SHARE is not None else Path("missing")
-HERE = Path(__file__).resolve().parent / "urdf"
+HERE = TESTS / "urdf"
 
 FK_TOLERANCE = 1e-9  # m, and entries of the rotation matrix
 JACOBIAN_TOLERANCE = 1e-6  # m/rad or rad/rad, against central differences of step 1e-6

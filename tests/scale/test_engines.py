@@ -15,6 +15,7 @@ import time
 from pathlib import Path
 
 import pytest
+from conftest import REPOSITORY, TESTS
 
 import kinplan
 from kinplan.batch import plan_many
@@ -26,8 +27,8 @@ distributed = pytest.importorskip("distributed", reason="the Dask engine needs k
 # two clusters in one session: the second's HTTP server moves to another port, and says so
 pytestmark = pytest.mark.filterwarnings("ignore:Port .* is already in use")
 
-EXAMPLES = Path(__file__).parent.parent / "examples" / "programs"
-URDF = Path(__file__).parent / "urdf"
+EXAMPLES = REPOSITORY / "examples" / "programs"
+URDF = TESTS / "urdf"
 KINPLAN = [sys.executable, "-m", "kinplan.cli"]
 
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import TESTS
 
 import cartesian
 import kinplan
@@ -264,9 +265,8 @@ def test_acceleration_event_names_the_joint_furthest_over_its_limit(planar_2r):
 def test_joint_accelerations_of_an_arm_with_a_mimic_joint():
     """An arm whose joint_3 drives a coupled joint (a mimic: its J̇ comes from Pinocchio, sample
     by sample, at the samples' configurations): q̈ is still the time derivative of q̇."""
-    from pathlib import Path
 
-    arm = kinplan.load_robot(Path(__file__).parent / "urdf" / "mimic_arm.urdf")
+    arm = kinplan.load_robot(TESTS / "urdf" / "mimic_arm.urdf")
     assert arm.mimic_joints
     q0 = arm.neutral() + 0.3
     p0 = arm.fk(q0).translation

@@ -10,12 +10,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import REPOSITORY
 
 from kinplan.cli import main
 from kinplan.planar import planar_arm_urdf
 from kinplan.program import load_program, plan_program
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "programs"
+EXAMPLES = REPOSITORY / "examples" / "programs"
 
 
 def run(capsys, *argv: str) -> tuple[int, str, str]:

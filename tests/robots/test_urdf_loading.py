@@ -16,6 +16,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import yourdfpy
+from conftest import TESTS
 
 import cartesian
 import kinplan
@@ -23,7 +24,7 @@ from kinplan.errors import FrameError, InputError, URDFError
 from kinplan.sources import example_robot_data_dir
 
 ROBOTS = example_robot_data_dir() / "example-robot-data" / "robots"
-HERE = Path(__file__).resolve().parent / "urdf"
+HERE = TESTS / "urdf"
 TIAGO = ROBOTS / "tiago_description/robots/tiago.urdf"
 PENDULUM = ROBOTS / "double_pendulum_description/urdf/double_pendulum.urdf"
 SO100 = ROBOTS / "so_arm_description/urdf/so100.urdf"

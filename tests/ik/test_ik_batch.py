@@ -9,17 +9,16 @@ versions.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import TESTS
 
 import kinplan
 from kinplan.batch_ik import BLAS_COLUMNS, BatchKinematics, _rotation_defects, log3
 from kinplan.ik.screws import TAU, joint_choice, joint_choice_many
 
-URDF = Path(__file__).parent / "urdf"
+URDF = TESTS / "urdf"
 
 
 def _targets(robot, rng, reachable: int, random: int):

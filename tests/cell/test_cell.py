@@ -16,6 +16,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import trimesh
+from conftest import TESTS
 
 import kinplan
 from kinplan.cell import TOLERANCE, Body, CellError, WorkCell, xyz_rpy
@@ -442,7 +443,7 @@ def test_motion_bounds_hold_for_prismatic_and_mimic_joints(source):
     """The lever bounds take prismatic travel and mimic multipliers into account: dense
     sampling finds nothing before a reported failure (these URDFs have visuals only, which then
     serve as collision geometry)."""
-    robot = kinplan.load_robot(Path(__file__).parent / "urdf" / source)
+    robot = kinplan.load_robot(TESTS / "urdf" / source)
     cell = WorkCell(robot)
     assert cell.geometry_source == "visual"
     rng = np.random.default_rng(0)

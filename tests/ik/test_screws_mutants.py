@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import cached_robot
+from conftest import TESTS, cached_robot
 
 import kinplan
 from kinplan.ik.screws import (
@@ -22,7 +22,7 @@ from kinplan.ik.screws import (
     wrap_near,
 )
 
-URDF = __import__("pathlib").Path(__file__).parent / "urdf"
+URDF = TESTS / "urdf"
 
 
 def _cases(rng: np.random.Generator, count: int, lower: float, upper: float):

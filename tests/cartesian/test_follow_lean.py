@@ -17,12 +17,11 @@ a plan with an event.
 from __future__ import annotations
 
 from collections import Counter
-from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import cached_robot
+from conftest import TESTS, cached_robot
 from test_follow_vectorised import _assert_same
 
 import cartesian
@@ -32,7 +31,7 @@ from cartesian import batch_track, lean_track
 LINES_PER_ARM = 1000
 #: Lines per arm of the quick run (`make test`); the full run is marked slow (`make soak`).
 QUICK_LINES = 150
-URDF = Path(__file__).parent / "urdf"
+URDF = TESTS / "urdf"
 
 
 def _robot(name: str) -> kinplan.Robot:

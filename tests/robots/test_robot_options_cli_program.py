@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import io
 import sys
-from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import REPOSITORY, TESTS
 
 import kinplan
 from kinplan.cli import main
@@ -17,9 +17,9 @@ from kinplan.program import ProgramError, load_program, parse_program, plan_prog
 from kinplan.sources import example_robot_data_dir
 
 ROBOTS = example_robot_data_dir() / "example-robot-data" / "robots"
-HERE = Path(__file__).resolve().parent / "urdf"
+HERE = TESTS / "urdf"
 TIAGO = str(ROBOTS / "tiago_description/robots/tiago.urdf")
-EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "programs" / "panda_on_table.yaml"
+EXAMPLE = REPOSITORY / "examples" / "programs" / "panda_on_table.yaml"
 
 
 def run(capsys, *argv: str) -> tuple[int, str, str]:

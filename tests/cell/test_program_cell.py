@@ -107,8 +107,9 @@ def test_an_srdf_naming_unknown_links_is_one_line_naming_the_robot_key(tmp_path,
     """The SRDF found next to the program's URDF names a link the URDF does not have: the
     program's ``robot`` key is blamed, with the SRDF, the link and the URDF's links, in one
     line of `kinplan run`."""
+    from test_cell import PROBE_URDF
+
     from kinplan.cli import main
-    from tests.test_cell import PROBE_URDF
 
     (tmp_path / "probe.urdf").write_text(PROBE_URDF)
     (tmp_path / "probe.srdf").write_text(
@@ -230,8 +231,9 @@ def test_clearance_margin_turns_a_near_miss_into_a_collision():
 
 
 def test_the_page_of_a_plan_in_a_cell_draws_its_obstacles_and_the_collision(tmp_path):
+    from pages import objects, page_parts
+
     from kinplan import viewer
-    from tests.test_viewer import objects, page_parts
 
     free = plan_program(parse_program(HEAD + POINTS))
     ptp = free.moves[0]

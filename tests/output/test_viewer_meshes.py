@@ -20,7 +20,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import trimesh
-from test_viewer import animation, cubic_stand_in, objects, page_parts, transforms
+from pages import animation, objects, page_parts, transforms
+from test_viewer import cubic_stand_in
 
 import kinplan
 from kinplan import mesh_files, viewer

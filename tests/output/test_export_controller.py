@@ -15,6 +15,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 import yaml
+from conftest import REPOSITORY
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -26,7 +27,7 @@ from kinplan.motion import sampled
 from kinplan.planar import planar_arm_urdf
 from kinplan.program import load_program, plan_program
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "programs"
+EXAMPLES = REPOSITORY / "examples" / "programs"
 UR_PROGRAM = EXAMPLES / "ur5_pick_place.yaml"
 PLANAR_PROGRAM = EXAMPLES / "lecture_2r.yaml"
 FAILING_PLANAR = (  # move 2 runs into the unreachable hole of a short-forearm arm
