@@ -217,13 +217,13 @@ def _interrupt_a_map(folder: Path, extra: list[str], wait: float) -> None:
     out = folder / "out"
     out.mkdir()
     process = subprocess.Popen(
-        KINPLAN + ["reach", "ur5", "-o", str(out / "map.npz"), "--resolution", "0.04", *extra],
+        KINPLAN + ["reach", "ur5", "-o", str(out / "map.npz"), "--resolution", "0.02", *extra],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
         start_new_session=True,
     )
-    time.sleep(wait)  # past the imports, into the map (about 20 s of work)
+    time.sleep(wait)  # past the imports, into the map (about 30 s of work at 2 cm)
     os.killpg(process.pid, signal.SIGINT)
     _, stderr = process.communicate(timeout=60)
     assert process.returncode == 130, stderr
