@@ -45,6 +45,11 @@ LIMIT_MARGIN = 1e-4
 #: Relative margin kept above the singularity threshold and the rank floor, and below the
 #: joint speed and acceleration limits.
 RELATIVE_MARGIN = 1e-3
+#: Manipulability, as a multiple of the rank floor (10⁻⁶ of the arm's reference), under which a
+#: path is left to the loop whatever the threshold: that close to a singularity the loop's IK
+#: tolerance (its q within 1e-7 m of the exact one) moves the manipulability by far more than
+#: RELATIVE_MARGIN, so only the loop can say what the loop would report.
+NEAR_SINGULAR = 1e3
 #: Share of the jump tolerance that the unexplained joint step and the error of the loop's
 #: prediction may reach.
 JUMP_SHARE = 0.5
@@ -255,9 +260,12 @@ def _on_path(
 
 
 def regular(tracker: Tracker, manipulability: np.ndarray) -> bool:
-    """Whether every sample's manipulability is clear of the singularity threshold and the
-    rank floor (:meth:`Tracker.is_singular`) by :data:`RELATIVE_MARGIN`."""
-    floor = max(tracker.singular_threshold, tracker.rank_floor) * (1.0 + RELATIVE_MARGIN)
+    """Whether every sample's manipulability is clear of the singularity threshold by
+    :data:`RELATIVE_MARGIN` and of the rank floor by :data:`NEAR_SINGULAR`
+    (:meth:`Tracker.is_singular`)."""
+    floor = max(
+        tracker.singular_threshold * (1.0 + RELATIVE_MARGIN), tracker.rank_floor * NEAR_SINGULAR
+    )
     return bool(manipulability.min() > floor)
 
 

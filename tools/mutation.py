@@ -61,6 +61,7 @@ FOLLOW_TESTS = [
     "tests/cartesian/test_follow_mutants.py",
     "tests/cartesian/test_tracker_mutants.py",
     "tests/cartesian/test_follow_cell.py",
+    "tests/cartesian/test_follow_loop_mutants.py",
     "tests/cartesian/test_paths.py",
     "tests/test_validation.py",
 ]
@@ -112,6 +113,16 @@ MODULES: dict[str, list[str]] = {
     "cartesian/follow.py": FOLLOW_TESTS,
     "cartesian/tracker.py": FOLLOW_TESTS,
     "cartesian/geometry.py": FOLLOW_TESTS,
+    "cartesian/batch_track.py": [
+        *FOLLOW_TESTS,
+        "tests/cartesian/test_follow_vectorised.py",
+        "tests/cartesian/test_batch_track_mutants.py",
+    ],
+    "cartesian/lean_track.py": [
+        *FOLLOW_TESTS,
+        "tests/cartesian/test_follow_lean.py",
+        "tests/cartesian/test_lean_track_mutants.py",
+    ],
     "cartesian/paths.py": [
         "tests/cartesian/test_paths.py",
         "tests/cartesian/test_cartesian.py",

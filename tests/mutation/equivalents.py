@@ -779,3 +779,101 @@ EQUIVALENTS += [
     _screws(_ROTATE, _ROTATE.replace("cross_t is None", "cross_t is not None"),
             _CALLERS_PASS_CROSS),
 ]  # fmt: skip
+
+# ---------------------------------------------------------------------------- issue 20: fast paths
+# cartesian/batch_track.py (vectorised closed-form follower) and cartesian/lean_track.py (lean loop)
+_batch = _module(("cartesian/batch_track.py",))
+_lean = _module(("cartesian/lean_track.py",))
+_RECHECKED = (
+    "the first sample's rotation is checked again by _on_path (q[0] is q0) against both "
+    "tolerances, and a q0 off the target is no closed-form branch (_branch_of): None either way"
+)
+_EMPTY_SUM = "for i = n − 1 the row slice lu[i, i + 1:] is empty: the einsum subtracts 0"
+_BT_CONTINUOUS = "if not np.abs(guess - q[1]).max() <= bound:"
+EQUIVALENTS += [
+    _batch("if not distance[order[0]] <= SAME_BRANCH or distance[order[1]] <= OTHER_BRANCH:",
+           "if not distance[order[0]] < SAME_BRANCH or distance[order[1]] <= OTHER_BRANCH:",
+           _NEVER_EQUAL),
+    _batch(_BT_CONTINUOUS, _BT_CONTINUOUS.replace("<=", "<"), _NEVER_EQUAL),
+    _batch("return bool(frobenius2.max() <= frobenius_tolerance(tracker.rotation_tolerance))",
+           "return bool(frobenius2.max() < frobenius_tolerance(tracker.rotation_tolerance))",
+           _NEVER_EQUAL),
+    _batch("if not peak < 1.0 - RELATIVE_MARGIN:", "if not peak <= 1.0 - RELATIVE_MARGIN:",
+           _NEVER_EQUAL),
+    _batch("v_qd = jacobians[:3] * qd  # (3, nq, N)", "v_qd = jacobians[:4] * qd  # (3, nq, N)",
+           "the extra (angular) row of v_qd and σ is never read: _summed_cross reads rows 0–2"),
+    _batch("if not np.abs(multipliers).max(initial=0.0) <= MAX_MULTIPLIER:",
+           "if not np.abs(multipliers).max(initial=1.0) <= MAX_MULTIPLIER:",
+           "max(|m|, 1) ≤ 8 exactly when |m| ≤ 8 (and 1 ≤ 8 when there is no multiplier)"),
+    _batch("if i < n - 1:", "if i <= n - 1:", _EMPTY_SUM),
+    _batch("if i < n - 1:", "if i < n + 1:", _EMPTY_SUM),
+    _batch("floats = None if rotation is None else rotation.reshape(9).tolist()",
+           "floats = None if (rotation is None) or True else rotation.reshape(9).tolist()",
+           _RECHECKED),
+    _batch("evaluation = tracker.evaluate(q0, position.tolist(), floats)",
+           "evaluation = tracker.evaluate(q0, position.tolist(), None)", _RECHECKED),
+    _batch("task = jacobians if len(tracker.rows) == 6 else jacobians[tracker.rows]  # (nq, nq, N)",
+           "task = jacobians if (len(tracker.rows) == 6) and False else jacobians[tracker.rows]  "
+           "# (nq, nq, N)",
+           "the rows of a 6-row task are 0…5: indexing them copies the same matrices"),
+    _batch("if solver is None or kinematics is None:",
+           "if solver is None and kinematics is None:",
+           "kinematics is None whenever the solver is (the line before), and every arm with a "
+           "vectorised closed form (UR family, planar 2R: serial chains of 1-dof joints) has "
+           "batch kinematics"),
+]  # fmt: skip
+_NEGATIVE_RESHAPE = "numpy's reshape takes any negative size as 'the rest'"
+_LEAN_STACKS = "q_out, dq_out = np.array(qs).reshape(-1, nq), np.array(dqs).reshape(-1, nq)"
+EQUIVALENTS += [
+    _lean("if not ok or abs(q - q_prev).max() > max_step:",
+          "if not ok or abs(q - q_prev).max() >= max_step:", _NEVER_EQUAL),
+    _lean("if not unexplained.max(initial=0.0) <= JUMP_SHARE * tracker.jump_tolerance:",
+          "if not unexplained.max(initial=0.0) < JUMP_SHARE * tracker.jump_tolerance:",
+          _NEVER_EQUAL),
+    _lean(_LEAN_STACKS, _LEAN_STACKS.replace("array(qs).reshape(-1", "array(qs).reshape(-2"),
+          _NEGATIVE_RESHAPE),
+    _lean(_LEAN_STACKS, _LEAN_STACKS.replace("array(dqs).reshape(-1", "array(dqs).reshape(-2"),
+          _NEGATIVE_RESHAPE),
+    _lean("stack = np.array(jacobians).reshape(-1, 6, nq)",
+          "stack = np.array(jacobians).reshape(-2, 6, nq)", _NEGATIVE_RESHAPE),
+]  # fmt: skip
+EQUIVALENTS += [
+    _follow("guess = q_prev + qd_prev * steps[k] + (0.5 * steps[k] ** 2) * qdd_first",
+            "guess = q_prev + qd_prev / steps[k] + (0.5 * steps[k] ** 2) * qdd_first",
+            "qd_prev is the first sample's q̇, zero: every time law follow samples (the "
+            "profiles, the retimed law) starts at rest"),
+    _follow("corrections = 1", "corrections = 2",
+            "corrections is only tested for truth (check_sample's `if corrections:`)"),
+]  # fmt: skip
+EQUIVALENTS += [
+    _lean("task = jacobians if len(tracker.rows) == 6 else jacobians[:, tracker.rows]",
+          "task = jacobians if len(tracker.rows) == 7 else jacobians[:, tracker.rows]",
+          "the rows of a 6-row task are 0…5: indexing them copies the same matrices"),
+    _lean("if rows < cols:", "if rows <= cols:",
+          "_stacked_rates returns for square task Jacobians (rows == cols) before this test"),
+]  # fmt: skip
+_STEPS = "steps = np.diff(t, prepend=0.0).tolist()  # h_k = t_k − t_(k−1) [s]"
+EQUIVALENTS += [
+    _lean("if not unexplained.max() <= JUMP_SHARE * tracker.jump_tolerance:",
+          "if not unexplained.max() < JUMP_SHARE * tracker.jump_tolerance:", _NEVER_EQUAL),
+    _lean(_STEPS, _STEPS.replace("prepend=0.0", "prepend=1.0"),
+          "steps[0] is never read: the first sample is the start's IK, not a prediction"),
+    _lean("scales = np.zeros((n, 2))", "scales = np.zeros((n, 3))",
+          "the third column of the scales is zero and its rates are never read"),
+]  # fmt: skip
+_LEAN_SOLVE = "guess, positions[k], rotations[k], evaluated=evaluation )"
+EQUIVALENTS += [
+    _lean(_LEAN_SOLVE, "guess, positions[k], rotations[k], )", _REUSED),
+    _lean("guess = q_prev + qd_first * steps[1] + (0.5 * steps[1] ** 2) * qdd_first",
+          "guess = q_prev - qd_first * steps[1] + (0.5 * steps[1] ** 2) * qdd_first",
+          "qd_first is the first sample's q̇, zero: every time law follow samples (the "
+          "profiles, the retimed law) starts at rest"),
+    _lean("every = len(rows) == 6", "every = None",
+          "the rows of a 6-row task are 0…5: indexing them gives the same matrix"),
+    _lean("wide = len(rows) < tracker.robot.nq", "wide = len(rows) <= tracker.robot.nq",
+          "for a square J of full rank the minimum-norm solution Jᵀ(JJᵀ)⁻¹B is J⁻¹B"),
+]  # fmt: skip
+EQUIVALENTS.append(
+    _lean("square = len(rows) == tracker.robot.nq", "square = None",
+          "for a square J of full rank the least-squares solution (JᵀJ)⁻¹JᵀB is J⁻¹B"),
+)  # fmt: skip
