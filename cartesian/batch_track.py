@@ -129,20 +129,17 @@ def track(
     qd = _solve(factors, np.ascontiguousarray(xd.T)).T
     if not _continuous(tracker, timing.t, q, qd, task[:, :, 0], xdd[0]):
         return None
-    ratios = joint_speeds(q, qd, timing.t) / tracker.speed_limit
-    peak = float(ratios.max(initial=0.0))
-    if not peak < 1.0 - RELATIVE_MARGIN:
+    peak = speed_peak(tracker, timing.t, q, qd)
+    if peak is None:
         return None
     # q̈ = J⁻¹(ẍ − J̇q̇): Tracker.accelerations for a square task of full rank
     drift = _drift(jacobians, np.ascontiguousarray(qd.T))[tracker.rows]
     qdd = _solve(factors, xdd.T - drift).T
     if not within_accelerations(tracker, qdd):
         return None
-    check = None
-    if tracker.cell is not None:
-        check = tracker.cell.check_motion(q, tracker.clearance)
-        if not clear(check, tracker.clearance):
-            return None
+    free, check = cell_check(tracker, q)
+    if not free:
+        return None
     contiguous = np.ascontiguousarray
     return BatchTrack(q, contiguous(qd), contiguous(qdd), contiguous(tool.T), manipulability,
                       peak, check)  # fmt: skip
@@ -310,6 +307,23 @@ def within_accelerations(tracker: Tracker, qdd: np.ndarray) -> bool:
     if not np.isfinite(limit).any() or not len(qdd):
         return True
     return bool((np.abs(qdd) / limit).max() < 1.0 - RELATIVE_MARGIN)
+
+
+def speed_peak(tracker: Tracker, t: np.ndarray, q: np.ndarray, qd: np.ndarray) -> float | None:
+    """The largest joint speed over its scaled limit (the rates and the mean speeds between
+    samples, :func:`kinplan.sampling.joint_speeds`), or None when it is not below the limits
+    by :data:`RELATIVE_MARGIN`."""
+    peak = float((joint_speeds(q, qd, t) / tracker.speed_limit).max(initial=0.0))
+    return peak if peak < 1.0 - RELATIVE_MARGIN else None
+
+
+def cell_check(tracker: Tracker, q: np.ndarray) -> tuple[bool, MotionCheck | None]:
+    """(whether the motion is clear of the cell by :data:`CLEARANCE_MARGIN`, its work-cell
+    check); (True, None) without a cell."""
+    if tracker.cell is None:
+        return True, None
+    check = tracker.cell.check_motion(q, tracker.clearance)
+    return clear(check, tracker.clearance), check
 
 
 def clear(check: MotionCheck, clearance: float) -> bool:

@@ -25,17 +25,24 @@ import numpy as np
 
 from cartesian.batch_track import (
     JUMP_SHARE,
-    RELATIVE_MARGIN,
     BatchTrack,
-    clear,
+    cell_check,
     regular,
+    speed_peak,
     within_accelerations,
     within_limits,
 )
 from cartesian.paths import Path
 from cartesian.timing import PathTiming
-from cartesian.tracker import Targets, Tracker, adams_bashforth_weights, matvec, path_targets
-from kinplan.sampling import joint_speeds
+from cartesian.tracker import (
+    Targets,
+    Tracker,
+    adams_bashforth_weights,
+    matvec,
+    path_targets,
+    pseudo_inverses,
+)
+from kinplan.robot import manipulability_of
 
 #: Private switch for tests and benchmarks: False makes :func:`track` decline every path, so
 #: the full per-sample loop plans it.
@@ -104,7 +111,7 @@ def _solve_path(
     scales[1 : n - 1, 0] = weights[2:, 0]
     scales[: n - 2, 1] = weights[2:, 1]
     columns = list(xd[:, :, None] * scales[:, None, :])  # (r, 2) each
-    rates = _scaled_rates(tracker)
+    rates = _rates(tracker)
     evaluate, within, solve = tracker.evaluate, tracker.within, tracker.solve
     qs: list[np.ndarray] = []
     jacobians: list[np.ndarray] = []
@@ -148,28 +155,6 @@ def _solve_path(
     )
 
 
-def _scaled_rates(tracker: Tracker):
-    """rates(J, B) -> (2, nq): (J⁺ B)ᵀ for a tool Jacobian J (6, nq) and a task right-hand
-    side B (r, 2) — the solution (square task), least squares (tall) or minimum norm (wide),
-    from one LU factorisation (of J or of its smaller Gram matrix, as
-    :meth:`~cartesian.tracker.Tracker.factor`)."""
-    rows = tracker.rows
-    every = len(rows) == 6
-    wide = len(rows) < tracker.robot.nq
-    square = len(rows) == tracker.robot.nq
-    lu = eigenpy.PartialPivLU
-
-    def rates(J: np.ndarray, B: np.ndarray) -> np.ndarray:
-        task = J if every else J[rows]
-        if wide:
-            return lu(task.dot(task.T)).solve(B).T.dot(task)
-        if square:
-            return lu(task).solve(B).T
-        return lu(task.T.dot(task)).solve(task.T.dot(B)).T
-
-    return rates
-
-
 def _monitor(
     tracker: Tracker,
     t: np.ndarray,
@@ -184,27 +169,24 @@ def _monitor(
     if not within_limits(tracker, q):
         return None
     task = jacobians if len(tracker.rows) == 6 else jacobians[:, tracker.rows]
-    manipulability = _manipulability(task)
+    manipulability = np.asarray(manipulability_of(task, tracker.rank))
     if not regular(tracker, manipulability):  # before the rates: a singular J has none
         return None
-    qd = _stacked_rates(task, xd)
+    qd = matvec(pseudo_inverses(task, tracker.rank), xd)
     if len(t) > 1:  # the loop's jump test (at every sample, not only the corrected ones)
         h = np.diff(t)[:, None]
         unexplained = np.abs(np.diff(q, axis=0) - 0.5 * h * (qd[1:] + qd[:-1]))
         if not unexplained.max() <= JUMP_SHARE * tracker.jump_tolerance:
             return None
-    ratios = joint_speeds(q, qd, t) / tracker.speed_limit
-    peak = float(ratios.max(initial=0.0))
-    if not peak < 1.0 - RELATIVE_MARGIN:
+    peak = speed_peak(tracker, t, q, qd)
+    if peak is None:
         return None
     qdd = tracker.accelerations(q, jacobians, qd, xdd)
     if not within_accelerations(tracker, qdd):
         return None
-    check = None
-    if tracker.cell is not None:
-        check = tracker.cell.check_motion(q, tracker.clearance)
-        if not clear(check, tracker.clearance):
-            return None
+    free, check = cell_check(tracker, q)
+    if not free:
+        return None
     return BatchTrack(q, qd, qdd, tool, manipulability, peak, check)
 
 
@@ -277,7 +259,7 @@ def trace(
     if not within_limits(tracker, q_out):
         return None
     task = stack if len(tracker.rows) == 6 else stack[:, tracker.rows]
-    if not regular(tracker, _manipulability(task)):
+    if not regular(tracker, np.asarray(manipulability_of(task, tracker.rank))):
         return None
     h = np.diff(fractions)[:, None]
     unexplained = np.abs(np.diff(q_out, axis=0) - 0.5 * h * (dq_out[1:] + dq_out[:-1]))
@@ -300,7 +282,9 @@ def _points(tracker: Tracker, path: Path, s: np.ndarray) -> list[tuple]:
 
 
 def _rates(tracker: Tracker):
-    """rate(J, b) -> J⁺ b for a tool Jacobian J (6, nq) and a task vector b (r,): the
+    """rate(J, b) -> J⁺ b for a tool Jacobian J (6, nq) and a task vector b (r,), or (J⁺ B)ᵀ
+    (k, nq) for k task vectors B (r, k): the solution (square task), least squares (tall) or
+    minimum norm (wide), from one LU factorisation of J or of its smaller Gram matrix — the
     arithmetic of :meth:`~cartesian.tracker.Tracker.factor` and
     :meth:`~cartesian.tracker.Tracker.rates` without the manipulability."""
     rows = tracker.rows
@@ -312,32 +296,12 @@ def _rates(tracker: Tracker):
     def rate(J: np.ndarray, b: np.ndarray) -> np.ndarray:
         task = J if every else J[rows]
         if wide:
-            return lu(task.dot(task.T)).solve(b).dot(task)
+            y = lu(task.dot(task.T)).solve(b)
+            return (y if b.ndim == 1 else y.T).dot(task)
         if square:
-            return lu(task).solve(b)
-        return lu(task.T.dot(task)).solve(b.dot(task))
+            x = lu(task).solve(b)
+        else:
+            x = lu(task.T.dot(task)).solve(b.dot(task) if b.ndim == 1 else task.T.dot(b))
+        return x if b.ndim == 1 else x.T
 
     return rate
-
-
-def _manipulability(task: np.ndarray) -> np.ndarray:
-    """Manipulability (N,) of task Jacobians (N, r, nq) of full rank, stacked (as
-    :meth:`~cartesian.tracker.Tracker.factor`)."""
-    rows, cols = task.shape[1:]
-    if rows == cols:
-        return np.abs(np.linalg.det(task))
-    transposed = task.transpose(0, 2, 1)
-    gram = task @ transposed if rows < cols else transposed @ task
-    return np.sqrt(np.maximum(np.linalg.det(gram), 0.0))
-
-
-def _stacked_rates(task: np.ndarray, xd: np.ndarray) -> np.ndarray:
-    """Rates q̇ = J⁺ẋ (N, nq) of regular task Jacobians (N, r, nq) of full rank, stacked: the
-    solution (square), minimum norm (wide) or least squares (tall)."""
-    rows, cols = task.shape[1:]
-    if rows == cols:
-        return np.linalg.solve(task, xd[:, :, None])[:, :, 0]
-    transposed = task.transpose(0, 2, 1)
-    if rows < cols:
-        return matvec(transposed, np.linalg.solve(task @ transposed, xd[:, :, None])[:, :, 0])
-    return np.linalg.solve(transposed @ task, matvec(transposed, xd)[:, :, None])[:, :, 0]

@@ -652,8 +652,8 @@ class Robot:
 def manipulability_of(J: np.ndarray, rank: int) -> float | np.ndarray:
     """Product of the ``rank`` largest singular values of ``J`` (0 when rank is 0).
 
-    When ``rank`` is the smaller dimension of J this is sqrt(det(J Jᵀ)) (wide or square J) or
-    sqrt(det(Jᵀ J)) (tall J), computed from the smaller Gram matrix.
+    When ``rank`` is the smaller dimension of J this is |det J| (square J), sqrt(det(J Jᵀ))
+    (wide J) or sqrt(det(Jᵀ J)) (tall J), computed from the smaller Gram matrix.
 
     Args:
         J: A Jacobian (r, c), or a stack of them (N, r, c).
@@ -665,6 +665,8 @@ def manipulability_of(J: np.ndarray, rank: int) -> float | np.ndarray:
     rows, cols = J.shape[-2:]
     if rank == 0:
         value = np.zeros(J.shape[:-2])
+    elif rank == rows == cols:  # |det J|, as the follower's factorisation gives it
+        value = np.abs(np.linalg.det(J))
     elif rank == min(rows, cols):
         J_t = np.swapaxes(J, -1, -2)
         gram = J @ J_t if rows <= cols else J_t @ J

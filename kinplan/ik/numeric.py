@@ -138,7 +138,7 @@ def _angle_of(frobenius2: float) -> float:
 
 def frobenius_tolerance(rotation_tolerance: float) -> float:
     """‖R* − R‖_F² of a rotation error of ``rotation_tolerance`` [rad]: 8 sin²(θ/2), the rotation
-    test of :meth:`IKSolver.accepts` in plain floats.
+    test of :meth:`Evaluation.within` in plain floats.
 
     Raises:
         InputError: ``rotation_tolerance`` not a finite number ≥ 0.
@@ -259,29 +259,6 @@ class IKSolver:
             jacobian = jacobian.reshape(6, 1)
         tool = (rows[0][3], rows[1][3], rows[2][3])
         return Evaluation(q, tool, _pose_differences(rows, position, rotation), jacobian, rows)
-
-    def accepts(
-        self,
-        q: np.ndarray,
-        position: list[float],
-        rotation: list[float] | None,
-        position_tolerance2: float,
-        frobenius_tolerance2: float,
-    ) -> Evaluation | None:
-        """The evaluation at ``q`` when the tool there meets the tolerances of a target, else
-        None: one kinematics pass, the test in plain floats that :meth:`descend` makes at every
-        iterate, for a caller that has a good guess (the next sample of a path).
-
-        Args:
-            q: Configuration.
-            position: Target tool position [m], 3 floats.
-            rotation: Target tool rotation, 9 floats (row-major), or None (position only).
-            position_tolerance2: Square of the position tolerance [m²].
-            frobenius_tolerance2: ‖R* − R‖_F² of the rotation tolerance
-                (:func:`frobenius_tolerance`).
-        """
-        evaluation = self.evaluate(q, position, rotation)
-        return evaluation if evaluation.within(position_tolerance2, frobenius_tolerance2) else None
 
     def descend(
         self,

@@ -460,6 +460,22 @@ def _pair(first: np.ndarray, second: np.ndarray, axis: int) -> np.ndarray:
     return np.stack((first, second), axis=axis)
 
 
+def _shoulder_terms(
+    k: _URFast, positions: np.ndarray, rotations: np.ndarray
+) -> tuple[np.ndarray, ...]:
+    """The terms of many poses that θ1 comes from: the rotation and position terms (12, N),
+    the wrist centre along the shoulder axis and across it (x, y), its distance from the axis
+    (radius) and the shoulder offset over it (ratio, |ratio| > 1: no θ1); each (N,)."""
+    n = len(positions)
+    values = k.matrix @ rotations.reshape(n, 9).T  # (12, N)
+    along = np.reshape(k.shoulder_axes, (3, 3)) @ positions.T  # (3, N)
+    along_u = values[9] + along[0] - k.p1_along[0]
+    x = values[10] + along[1] - k.p1_along[1]
+    y = values[11] + along[2] - k.p1_along[2]
+    radius = np.maximum(np.sqrt(x * x + y * y), TINY)
+    return values, along_u, x, y, radius, k.shoulder_offset / radius
+
+
 def _planar_targets(
     k: _URFast,
     values: np.ndarray,
@@ -532,13 +548,7 @@ def _fast_nearest_many(
         outputs are meaningless).
     """
     n = len(positions)
-    values = k.matrix @ rotations.reshape(n, 9).T  # (12, N)
-    along = np.reshape(k.shoulder_axes, (3, 3)) @ positions.T  # (3, N)
-    along_u = values[9] + along[0] - k.p1_along[0]
-    x = values[10] + along[1] - k.p1_along[1]
-    y = values[11] + along[2] - k.p1_along[2]
-    radius = np.maximum(np.sqrt(x * x + y * y), TINY)
-    ratio = k.shoulder_offset / radius
+    values, along_u, x, y, radius, ratio = _shoulder_terms(k, positions, rotations)
     size = np.abs(ratio)
     no_shoulder = size > 1.0 + CLAMP + _FAST_EDGE
     left = (size > 1.0 - _FAST_EDGE) & ~no_shoulder
@@ -663,13 +673,7 @@ def _fast_branch_many(
     sign1 = 1.0 - 2.0 * (branch >> 2)  # +1: θ1 = base + half, −1: base − half
     sign5 = 1.0 - 2.0 * ((branch >> 1) & 1)
     sign3 = 1.0 - 2.0 * (branch & 1)
-    values = k.matrix @ rotations.reshape(n, 9).T  # (12, N)
-    along = np.reshape(k.shoulder_axes, (3, 3)) @ positions.T  # (3, N)
-    along_u = values[9] + along[0] - k.p1_along[0]
-    x = values[10] + along[1] - k.p1_along[1]
-    y = values[11] + along[2] - k.p1_along[2]
-    radius = np.maximum(np.sqrt(x * x + y * y), TINY)
-    ratio = k.shoulder_offset / radius
+    values, along_u, x, y, radius, ratio = _shoulder_terms(k, positions, rotations)
     size = np.abs(ratio)
     no_shoulder = size > 1.0 + CLAMP + _FAST_EDGE
     edge = size > 1.0 - _FAST_EDGE

@@ -27,7 +27,8 @@ import kinplan
 from cartesian import batch_track, lean_track
 from cartesian.batch_track import CLEARANCE_MARGIN, JUMP_SHARE, LIMIT_MARGIN, RELATIVE_MARGIN
 from cartesian.geometry import MAX_JOINT_STEP, MIN_REFINE_DS
-from cartesian.tracker import SINGULAR_FRACTION, Tracker
+from cartesian.tracker import SINGULAR_FRACTION, Tracker, matvec, pseudo_inverses
+from kinplan.robot import manipulability_of
 
 PANDA_START = np.array([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.78])
 
@@ -99,11 +100,12 @@ def test_stacked_manipulability_and_rates_against_the_pseudo_inverse(shape):
     task = rng.normal(size=(5, *shape))
     singular_values = np.linalg.svd(task, compute_uv=False)
     np.testing.assert_allclose(
-        lean_track._manipulability(task), np.prod(singular_values, axis=1), rtol=1e-10
+        manipulability_of(task, min(shape)), np.prod(singular_values, axis=1), rtol=1e-10
     )
     xd = rng.normal(size=(5, shape[0]))
     expected = np.einsum("nij,nj->ni", np.linalg.pinv(task), xd)
-    np.testing.assert_allclose(lean_track._stacked_rates(task, xd), expected, atol=1e-10)
+    rates = matvec(pseudo_inverses(task, min(shape)), xd)
+    np.testing.assert_allclose(rates, expected, atol=1e-10)
 
 
 def fake_tracker(rows, nq):
@@ -124,7 +126,7 @@ def test_rate_closures_against_the_pseudo_inverse(rows, nq):
     B = rng.normal(size=(len(rows), 2))
     pinv = np.linalg.pinv(task)
     np.testing.assert_allclose(lean_track._rates(tracker)(J, b), pinv @ b, atol=1e-10)
-    np.testing.assert_allclose(lean_track._scaled_rates(tracker)(J, B), (pinv @ B).T, atol=1e-10)
+    np.testing.assert_allclose(lean_track._rates(tracker)(J, B), (pinv @ B).T, atol=1e-10)
 
 
 # ---------------------------------------------------------------------------- clean paths
@@ -366,7 +368,7 @@ def test_the_lean_trace_declines_near_flags(monkeypatch):
     traced = lean_track.trace(tracker, path, s, PANDA_START, MAX_JOINT_STEP, MIN_REFINE_DS)
     assert traced is not None
     fractions, q, dq, jacobians = traced
-    least = lean_track._manipulability(jacobians).min()
+    least = manipulability_of(jacobians, 6).min()
     for factor, declined in ((1 + 0.5 * RELATIVE_MARGIN, True), (1 + 2 * RELATIVE_MARGIN, False)):
         tracker = panda_tracker(panda, threshold=least / factor)
         result = lean_track.trace(tracker, path, s, PANDA_START, MAX_JOINT_STEP, MIN_REFINE_DS)
