@@ -51,14 +51,15 @@ def number(
             the required range.
     """
     unit_text = f" [{unit}]" if unit else ""
-    if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "fiu":
-        value = value.item()  # a numeric 0-d array: its Python number
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise InputError(f"{name} must be a number{unit_text}, got {describe(value)}")
-    try:
-        value = float(value)
-    except OverflowError:  # an int beyond the float range
-        value = math.inf
+    if type(value) is not float:  # a Python float needs no conversion (the common case)
+        if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "fiu":
+            value = value.item()  # a numeric 0-d array: its Python number
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):
+            raise InputError(f"{name} must be a number{unit_text}, got {describe(value)}")
+        try:
+            value = float(value)
+        except OverflowError:  # an int beyond the float range
+            value = math.inf
     if not math.isfinite(value):
         raise InputError(f"{name} must be a finite number{unit_text}, got {value!r}")
     if positive and not value > 0:
@@ -91,7 +92,9 @@ def count(value: object, name: str, *, minimum: int = 1) -> int:
     Raises:
         InputError: not an integer, or below the minimum.
     """
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+    if type(value) is not int and (
+        isinstance(value, bool) or not isinstance(value, numbers.Integral)
+    ):
         raise InputError(f"{name} must be an integer ≥ {minimum}, got {describe(value)}")
     if value < minimum:
         raise InputError(f"{name} must be an integer ≥ {minimum}, got {value}")

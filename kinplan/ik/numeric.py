@@ -403,6 +403,31 @@ class IKSolver:
         )
         max_iterations = checks.count(max_iterations, "max_iterations", minimum=1)
         max_restarts = checks.count(max_restarts, "max_restarts", minimum=0)
+        return self.solve_checked(
+            position,
+            rotation,
+            q_seed,
+            position_tolerance,
+            rotation_tolerance,
+            max_iterations,
+            max_restarts,
+            closed_form,
+        )
+
+    def solve_checked(
+        self,
+        position: np.ndarray,
+        rotation: np.ndarray | None,
+        q_seed: np.ndarray,
+        position_tolerance: float,
+        rotation_tolerance: float,
+        max_iterations: int,
+        max_restarts: int,
+        closed_form: AnalyticIK | None = None,
+    ) -> IKResult:
+        """:meth:`solve` for arguments already checked (float arrays of the right shapes, finite;
+        tolerances finite floats > 0; counts ints in range): what :meth:`kinplan.Robot.ik`
+        calls after its own checks, so a single IK does not pay for them twice."""
         best: tuple[float, np.ndarray, float, float] | None = None
         total = 0
         if closed_form is not None:

@@ -583,8 +583,9 @@ class PandaIK:
         base = joints[6][4] * (q7 - joints[6][0]) ** 2
         bound = math.inf
         out: list[tuple[list[float], float]] = []
-        # the wrist part of every branch first: (distance so far, θ4, θ5, θ6, R4(−θ4) ω3 and e)
+        # the wrist part of every branch first: (distance so far, θ4, θ5, θ6, cos and sin of −θ4)
         wrists = []
+        free5, free6 = -joints[4][1], -joints[5][1]
         for raw4 in self._elbow(_dot(v, v)):
             c4 = joint_choice(raw4, joints[3])
             if c4 is None:
@@ -592,22 +593,26 @@ class PandaIK:
             q4, cost4 = c4[0], base + c4[1]
             cos4, sin4 = math.cos(q4), -math.sin(q4)  # rotations by −θ4
             u = _sub(_rotate_cs(self._s4, a4, cos4, sin4), self._w4)  # exp(−S4 θ4) s − w
-            turned = (_rotate_cs(g.axes[2], a4, cos4, sin4), _rotate_cs(self._e3, a4, cos4, sin4))
-            for t5, t6 in self._wrist_pair.solve(u, v, -joints[4][1], -joints[5][1]):
-                c5, c6 = joint_choice(-t5, joints[4]), joint_choice(-t6, joints[5])
-                if c5 is not None and c6 is not None:
-                    wrists.append((cost4 + c5[1] + c6[1], q4, c5[0], c6[0], turned))
+            for t5, t6 in self._wrist_pair.solve(u, v, free5, free6):
+                c5 = joint_choice(-t5, joints[4])
+                if c5 is None:
+                    continue
+                c6 = joint_choice(-t6, joints[5])
+                if c6 is not None:
+                    wrists.append((cost4 + c5[1] + c6[1], q4, c5[0], c6[0], cos4, sin4))
         if prune:  # nearest first: its bound then cuts the most
             wrists.sort(key=itemgetter(0))
-        for cost6, q4, q5, q6, (g3, ge) in wrists:
+        for cost6, q4, q5, q6, cos4, sin4 in wrists:
             if prune and cost6 >= bound:
                 break
             if rotation_p is None:
                 rotation_p = _matmul(rotation_tm, _rotation_matrix(a7, -q7))
             # G = R_P R6(−θ6) R5(−θ5) R4(−θ4) = R1 R2 R3, applied to ω3 and e
             cos5, sin5, cos6, sin6 = math.cos(q5), -math.sin(q5), math.cos(q6), -math.sin(q6)
-            g3 = _matvec(rotation_p, _rotate_cs(_rotate_cs(g3, a5, cos5, sin5), a6, cos6, sin6))
-            ge = _matvec(rotation_p, _rotate_cs(_rotate_cs(ge, a5, cos5, sin5), a6, cos6, sin6))
+            g3 = _rotate_cs(_rotate_cs(g.axes[2], a4, cos4, sin4), a5, cos5, sin5)
+            ge = _rotate_cs(_rotate_cs(self._e3, a4, cos4, sin4), a5, cos5, sin5)
+            g3 = _matvec(rotation_p, _rotate_cs(g3, a6, cos6, sin6))
+            ge = _matvec(rotation_p, _rotate_cs(ge, a6, cos6, sin6))
             for t2, t1 in self._shoulder_pair.solve(g.axes[2], g3, joints[1][1], joints[0][1]):
                 c1, c2 = joint_choice(t1, joints[0]), joint_choice(t2, joints[1])
                 if c1 is None or c2 is None:
