@@ -76,8 +76,7 @@ def track(
     solved = _solve_path(tracker, targets, timing.t, xd, xdd, seed)
     if solved is None:
         return None
-    q, jacobians, tool = solved
-    return _monitor(tracker, timing.t, q, jacobians, tool, xd, xdd)
+    return _monitor(tracker, timing.t, *solved, xd, xdd)
 
 
 def _full_rank(tracker: Tracker) -> bool:
@@ -93,10 +92,13 @@ def _solve_path(
     xd: np.ndarray,
     xdd: np.ndarray,
     seed: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, list[int]]] | None:
     """The loop's IK of every sample: (q (N, nq), tool Jacobians (N, 6, nq), tool positions
-    (N, 3)); None as soon as a Newton pass fails (the loop's longer search and its events are
-    the loop's to make)."""
+    (N, 3), (task pseudo-inverses J⁺ (N, nq, r) of the compiled loop's samples, the samples
+    solved in Python, whose rows are left to fill)); None as soon as a Newton pass fails (the
+    loop's longer search and its events are the loop's to make). Runs of samples whose
+    predictions meet the tolerances go to the compiled loop (:mod:`cartesian.lean_kernel`)
+    when the arm has one."""
     n, nq = len(t), tracker.robot.nq
     positions, position_floats = targets.positions, targets.positions.tolist()
     rotations = [None] * n if targets.rotations is None else list(targets.rotations)
@@ -110,22 +112,35 @@ def _solve_path(
     scales = np.zeros((n, 2))
     scales[1 : n - 1, 0] = weights[2:, 0]
     scales[: n - 2, 1] = weights[2:, 1]
-    columns = list(xd[:, :, None] * scales[:, None, :])  # (r, 2) each
+    columns = np.ascontiguousarray(xd[:, :, None] * scales[:, None, :])  # (n, r, 2)
     rates = _rates(tracker)
     evaluate, within, solve = tracker.evaluate, tracker.within, tracker.solve
-    qs: list[np.ndarray] = []
-    jacobians: list[np.ndarray] = []
-    tools: list[tuple[float, float, float]] = []
-    ahead: list[np.ndarray] = []  # a_(j+1) q̇_j
-    behind: list[np.ndarray] = []  # b_(j+2) q̇_j
-    q_prev = qd_first = qdd_first = np.zeros(nq)
-    for k in range(n):
+    q = np.empty((n, nq))
+    jacobians = np.empty((n, 6, nq))
+    tools = np.empty((n, 3))
+    pinvs = np.empty((n, nq, len(tracker.rows)))  # the compiled loop's; the others' after
+    solved_here: list[int] = []  # the samples solved in Python
+    ahead = np.zeros((n, nq))  # a_(j+1) q̇_j
+    behind = np.zeros((n, nq))  # b_(j+2) q̇_j
+    from cartesian import lean_kernel  # numba loads on first use, not with the package
+
+    kernel = lean_kernel.kernel_for(tracker.robot, tracker.rows) if n > 2 else None
+    qd_first = qdd_first = np.zeros(nq)
+    k = 0
+    while k < n:
+        if kernel is not None and k >= 2:  # the samples whose predictions meet the tolerances
+            k = lean_kernel.advance(
+                kernel, k, q, ahead, behind, columns, positions, targets.rotations,
+                tracker.tolerances2, jacobians, tools, pinvs,
+            )  # fmt: skip
+            if k == n:
+                break
         if k == 0:
             guess = tracker.start(positions[0], rotations[0], seed)
         elif k == 1:  # Taylor, with q̈ = J⁺ẍ when starting at rest (as the loop)
-            guess = q_prev + qd_first * steps[1] + (0.5 * steps[1] ** 2) * qdd_first
+            guess = q[0] + qd_first * steps[1] + (0.5 * steps[1] ** 2) * qdd_first
         else:
-            guess = q_prev + ahead[k - 1] + behind[k - 2]
+            guess = q[k - 1] + ahead[k - 1] + behind[k - 2]
         evaluation = evaluate(guess, position_floats[k], rotation_floats[k])
         if not within(evaluation):
             _, ok, _, _, _, evaluation = solve(
@@ -133,26 +148,20 @@ def _solve_path(
             )
             if not ok:
                 return None
-        q_prev, J = evaluation.q, evaluation.jacobian
-        qs.append(q_prev)
-        jacobians.append(J)
-        tools.append(evaluation.tool_position)
+        J = evaluation.jacobian
+        q[k], jacobians[k], tools[k] = evaluation.q, J, evaluation.tool_position
+        solved_here.append(k)
         if k == 0:  # the loop's own rates at the first sample (its test for rest is exact)
             tracker.factor(J)
             qd_first = tracker.rates(xd[0])
             if not qd_first.any():
                 qdd_first = tracker.rates(xdd[0])
-            ahead.append(qd_first)  # unused: sample 1 is predicted by Taylor
-            behind.append(qd_first * scales[0, 1])
+            ahead[0] = qd_first  # unused: sample 1 is predicted by Taylor
+            behind[0] = qd_first * scales[0, 1]
         else:
-            scaled = rates(J, columns[k])
-            ahead.append(scaled[0])
-            behind.append(scaled[1])
-    return (
-        np.array(qs).reshape(n, nq),
-        np.array(jacobians).reshape(n, 6, nq),
-        np.array(tools).reshape(n, 3),
-    )
+            ahead[k], behind[k] = rates(J, columns[k])
+        k += 1
+    return q, jacobians, tools, (pinvs, solved_here)
 
 
 def _monitor(
@@ -161,18 +170,25 @@ def _monitor(
     q: np.ndarray,
     jacobians: np.ndarray,
     tool: np.ndarray,
+    pseudo: tuple[np.ndarray, list[int]],
     xd: np.ndarray,
     xdd: np.ndarray,
 ) -> BatchTrack | None:
     """The loop's checks of every sample at once, each with its safety margin: the samples
-    as a :class:`~cartesian.batch_track.BatchTrack`, or None when any is flagged or near it."""
+    as a :class:`~cartesian.batch_track.BatchTrack`, or None when any is flagged or near it.
+    ``pseudo``: the task pseudo-inverses (N, nq, r) the compiled loop computed, and the
+    samples solved in Python (their rows are computed here, once the manipulability shows
+    every sample regular)."""
     if not within_limits(tracker, q):
         return None
     task = jacobians if len(tracker.rows) == 6 else jacobians[:, tracker.rows]
     manipulability = np.asarray(manipulability_of(task, tracker.rank))
     if not regular(tracker, manipulability):  # before the rates: a singular J has none
         return None
-    qd = matvec(pseudo_inverses(task, tracker.rank), xd)
+    pinvs, solved_here = pseudo
+    if solved_here:
+        pinvs[solved_here] = pseudo_inverses(task[solved_here], tracker.rank)
+    qd = matvec(pinvs, xd)
     if len(t) > 1:  # the loop's jump test (at every sample, not only the corrected ones)
         h = np.diff(t)[:, None]
         unexplained = np.abs(np.diff(q, axis=0) - 0.5 * h * (qd[1:] + qd[:-1]))
@@ -181,7 +197,7 @@ def _monitor(
     peak = speed_peak(tracker, t, q, qd)
     if peak is None:
         return None
-    qdd = tracker.accelerations(q, jacobians, qd, xdd)
+    qdd = tracker.accelerations(q, jacobians, qd, xdd, pinvs)
     if not within_accelerations(tracker, qdd):
         return None
     free, check = cell_check(tracker, q)

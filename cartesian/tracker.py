@@ -69,7 +69,8 @@ class Tracker:
         self._shape = (rows > cols) - (rows < cols)  # −1 wide, 0 square, 1 tall
         self._full_rank = self.rank == min(rows, cols)
         self.tolerance, self.rotation_tolerance = tolerance, rotation_tolerance
-        self._tolerances2 = (tolerance * tolerance, frobenius_tolerance(rotation_tolerance))
+        #: (squared position tolerance [m²], tolerance on ‖R* − R‖_F²) of :meth:`within`
+        self.tolerances2 = (tolerance * tolerance, frobenius_tolerance(rotation_tolerance))
         self.singular_threshold = singular_threshold
         self.velocity_scale = velocity_scale
         self.speed_limit = robot.velocity_limit * velocity_scale
@@ -101,7 +102,7 @@ class Tracker:
     def within(self, evaluation: Evaluation) -> bool:
         """Whether an evaluation meets the follower's position and rotation tolerances."""
         dx, dy, dz, frobenius2 = evaluation.differences
-        position2, frobenius_tolerance2 = self._tolerances2
+        position2, frobenius_tolerance2 = self.tolerances2
         return dx * dx + dy * dy + dz * dz <= position2 and frobenius2 <= frobenius_tolerance2
 
     def beyond_limit(self, q: np.ndarray) -> int | None:
@@ -157,7 +158,12 @@ class Tracker:
         return lu.solve(b).dot(J) if shape < 0 else lu.solve(b.dot(J))
 
     def accelerations(
-        self, q: np.ndarray, jacobians: np.ndarray, qd: np.ndarray, xdd: np.ndarray
+        self,
+        q: np.ndarray,
+        jacobians: np.ndarray,
+        qd: np.ndarray,
+        xdd: np.ndarray,
+        pinv: np.ndarray | None = None,
     ) -> np.ndarray:
         """q̈ = dq̇/dt [rad/s²] of the rates q̇ = J⁺ẋ, at many samples at once.
 
@@ -174,12 +180,15 @@ class Tracker:
             qd: Joint velocities (N, nq) [rad/s] there.
             xdd: Task accelerations (N, r): the tool origin's classical acceleration [m/s²] and
                 the angular acceleration [rad/s²], in the task rows.
+            pinv: The task rows' pseudo-inverses (N, nq, r) (:func:`pseudo_inverses`), when
+                the caller has them at hand.
         """
         J_dot = self.robot.jacobian_time_variations(q, qd, jacobians)
         J = jacobians
         if not self._all_rows:
             J_dot, J = J_dot[:, self.rows], J[:, self.rows]
-        pinv = pseudo_inverses(J, self.rank)
+        if pinv is None:
+            pinv = pseudo_inverses(J, self.rank)
         b = xdd - matvec(J_dot, qd)
         if self.rank == J.shape[2]:  # full column rank: no null space
             return matvec(pinv, b)

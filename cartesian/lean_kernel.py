@@ -1,0 +1,349 @@
+"""The lean loop's per-sample work compiled (numba), for serial arms of revolute joints.
+
+:func:`cartesian.lean_track.track` predicts each sample's configuration from the two before
+(Adams–Bashforth on q̇), checks the tool there against the target and, when it is within the
+tolerances, only needs the joint rates of the sample for the next predictions. In Python that
+is a kinematics pass through Pinocchio and a small solve per sample, about 12 µs on a 7-joint
+arm: the loop, not the arithmetic, is the cost, and no numpy formulation removes it (each
+sample depends on the one before). :func:`advance` runs those samples in compiled code, with
+the kinematics written as a product of exponentials of the joint screws at q = 0
+(:func:`kinplan.ik.screws.screws_at_zero`, checked here against Pinocchio's forward kinematics
+before use), and stops at the first sample whose prediction misses the tolerances: its Newton
+steps are the Python loop's (:meth:`cartesian.tracker.Tracker.solve`), and :func:`advance`
+resumes after it.
+
+The compiled kinematics and rates are the Python loop's equations in another rounding (the
+tool pose and its LOCAL_WORLD_ALIGNED Jacobian from screws instead of Pinocchio's joint
+placements, the rates from an LU with partial pivoting of the same Gram matrix); the samples
+agree with the Python loop's within its IK tolerance (``tests/cartesian/test_lean_kernel.py``).
+
+numba is imported on first use; without it (or with :data:`ENABLED` False, or the environment
+variable ``KINPLAN_JIT=0``) :func:`kernel_for` returns None and the Python loop runs every
+sample. Compiled functions are cached on disk (numba's ``cache=True``: next to this module, or
+in the user's cache directory when the package folder is read-only).
+"""
+
+from __future__ import annotations
+
+import os
+import weakref
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from kinplan.ik.screws import screws_at_zero
+
+try:
+    import numba
+except ImportError:  # pragma: no cover - numba is a dependency; the Python loop is the fallback
+    numba = None  # type: ignore[assignment]
+
+if TYPE_CHECKING:
+    from kinplan.robot import Robot
+
+#: Private switch for tests and benchmarks: False makes :func:`kernel_for` return None (the
+#: Python loop runs every sample).
+ENABLED = os.environ.get("KINPLAN_JIT", "1") != "0"
+
+#: Largest difference [m] between the screw kinematics and Pinocchio's tool position on the
+#: check configurations for the kernel to be used (both are exact up to rounding: ~1e-15 m).
+AGREEMENT = 1e-12
+
+#: The rotations passed for a position-only task (never read).
+_NO_ROTATIONS = np.zeros((1, 3, 3))
+
+#: Task shapes: wide (fewer task rows than joints: minimum-norm rates), square, tall.
+WIDE, SQUARE, TALL = -1, 0, 1
+
+
+#: The checked screws of each robot seen (or None), kept while the robot lives.
+_SCREWS: weakref.WeakKeyDictionary[Robot, tuple[np.ndarray, np.ndarray, np.ndarray] | None] = (
+    weakref.WeakKeyDictionary()
+)
+
+
+@dataclass(frozen=True)
+class Kernel:
+    """The compiled loop of one arm and task.
+
+    Attributes:
+        advance: The compiled :func:`_advance` (see :func:`advance`).
+        directions: Unit joint axes at q = 0 (nq, 3), world frame.
+        points: A point of each axis at q = 0 (nq, 3) [m].
+        tool: Tool pose at q = 0 (4, 4).
+        rows: The task rows of the 6-D tool twist (r,).
+        shape: :data:`WIDE`, :data:`SQUARE` or :data:`TALL`.
+    """
+
+    advance: Callable[..., int]
+    directions: np.ndarray
+    points: np.ndarray
+    tool: np.ndarray
+    rows: np.ndarray
+    shape: int
+
+
+def kernel_for(robot: Robot, rows: np.ndarray) -> Kernel | None:
+    """The compiled loop for ``robot`` and the task ``rows`` of the tool twist (a tracker's
+    ``rows``), or None (numba missing or switched off, an arm that is not a serial chain of
+    revolute joints, or screws that disagree with Pinocchio)."""
+    if not ENABLED:
+        return None
+    if robot not in _SCREWS:
+        _SCREWS[robot] = checked_screws(robot)
+    cached = _SCREWS[robot]
+    if cached is None:
+        return None
+    rows = np.asarray(rows, dtype=np.int64)
+    shape = (len(rows) > robot.nq) - (len(rows) < robot.nq)
+    return Kernel(_advance, *cached, rows, shape)
+
+
+def checked_screws(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """(directions (nq, 3), points (nq, 3) [m], tool pose at q = 0 (4, 4)) of the arm's joint
+    screws in the world frame, when :func:`kinematics` with them matches Pinocchio's tool pose
+    and Jacobian within :data:`AGREEMENT` on three seeded random configurations; else None
+    (not a serial chain of revolute joints, or numba missing)."""
+    screws = screws_at_zero(robot)
+    if screws is None:
+        return None
+    directions = np.ascontiguousarray(screws.directions, dtype=float)
+    points = np.ascontiguousarray(screws.points, dtype=float)
+    tool = np.ascontiguousarray(screws.tool.homogeneous, dtype=float)
+    if numba is None:
+        return None
+    rng = np.random.default_rng(0)
+    low = np.where(np.isfinite(robot.lower), robot.lower, -np.pi)
+    high = np.where(np.isfinite(robot.upper), robot.upper, np.pi)
+    for q in rng.uniform(low, high, size=(3, robot.nq)):
+        pose, jacobian = np.empty((4, 4)), np.empty((6, robot.nq))
+        kinematics(q, directions, points, tool, pose, jacobian)
+        if not (
+            np.abs(pose - robot.fk(q).homogeneous).max() <= AGREEMENT
+            and np.abs(jacobian - robot.jacobian(q)).max() <= AGREEMENT
+        ):
+            return None
+    return directions, points, tool
+
+
+def advance(
+    kernel: Kernel,
+    k: int,
+    q: np.ndarray,
+    ahead: np.ndarray,
+    behind: np.ndarray,
+    columns: np.ndarray,
+    positions: np.ndarray,
+    rotations: np.ndarray | None,
+    tolerances2: tuple[float, float],
+    jacobians: np.ndarray,
+    tools: np.ndarray,
+    pinvs: np.ndarray,
+) -> int:
+    """Samples k, k + 1, … of the lean loop while their predictions meet the tolerances.
+
+    Sample j's guess is ``q[j−1] + ahead[j−1] + behind[j−2]``; when the tool there is within
+    the tolerances, q[j], its tool Jacobian, tool position and task pseudo-inverse J⁺ are
+    written, and its scaled rates ``ahead[j], behind[j] = (J⁺ columns[j])ᵀ``. Needs k ≥ 2.
+
+    Args:
+        kernel: :func:`kernel_for` of the tracker.
+        k: The first sample to advance.
+        q: Configurations (N, nq) [rad]; rows before k filled; row j written when j is solved
+            and, for the sample returned, set to its guess.
+        ahead, behind: The scaled rates (N, nq) [rad] (rows before k filled).
+        columns: The two scaled task velocities of each sample (N, r, 2).
+        positions: Target tool positions (N, 3) [m].
+        rotations: Target tool rotations (N, 3, 3), or None (position only).
+        tolerances2: (squared position tolerance [m²], ‖R* − R‖_F² tolerance).
+        jacobians: Tool Jacobians (N, 6, nq), written.
+        tools: Tool positions (N, 3) [m], written.
+        pinvs: Pseudo-inverses J⁺ (N, nq, r) of the task rows, written.
+
+    Returns:
+        N when every sample from k on is solved, else the first sample whose guess missed the
+        tolerances (its Newton steps are the caller's).
+    """
+    target_rotations = _NO_ROTATIONS if rotations is None else np.ascontiguousarray(rotations)
+    return int(
+        kernel.advance(
+            k, q, ahead, behind, columns, np.ascontiguousarray(positions), target_rotations,
+            rotations is not None, tolerances2[0], tolerances2[1], kernel.directions,
+            kernel.points, kernel.tool, kernel.rows, kernel.shape, jacobians, tools, pinvs,
+        )
+    )  # fmt: skip
+
+
+# ---------------------------------------------------------------------------- compiled code
+def _jit(function):
+    """``function`` compiled by numba on first call (cached on disk), or as it is without
+    numba (then :func:`kernel_for` never hands it out)."""
+    return function if numba is None else numba.njit(cache=True)(function)
+
+
+@_jit
+def kinematics(q, directions, points, tool, pose, jacobian) -> None:
+    """Tool pose (4, 4) and LOCAL_WORLD_ALIGNED Jacobian (6, nq) at ``q`` by the product of
+    exponentials T(q) = exp(S1 q1) ⋯ exp(Sn qn) M, written into ``pose`` and ``jacobian``.
+
+    Joint i's axis at q is ωᵢ = R uᵢ through xᵢ = R pᵢ + t, where (R, t) is the product of the
+    exponentials before it; its Jacobian column is (ωᵢ × (p_tool − xᵢ), ωᵢ). Explicit loops
+    over 3-vectors (numba's matrix products would need SciPy's BLAS).
+    """
+    nq = q.shape[0]
+    rotation = np.eye(3)
+    translation = np.zeros(3)
+    origins = np.empty((nq, 3))
+    step = np.empty((3, 3))
+    product = np.empty((3, 3))
+    for i in range(nq):
+        ux, uy, uz = directions[i, 0], directions[i, 1], directions[i, 2]
+        px, py, pz = points[i, 0], points[i, 1], points[i, 2]
+        for a in range(3):
+            jacobian[3 + a, i] = rotation[a, 0] * ux + rotation[a, 1] * uy + rotation[a, 2] * uz
+            origins[i, a] = (
+                rotation[a, 0] * px + rotation[a, 1] * py + rotation[a, 2] * pz + translation[a]
+            )
+        # exp(Sᵢ qᵢ): Rodrigues about u, then translation (I − step) p
+        c, s = np.cos(q[i]), np.sin(q[i])
+        t = 1.0 - c
+        step[0, 0] = c + ux * ux * t
+        step[0, 1] = ux * uy * t - uz * s
+        step[0, 2] = ux * uz * t + uy * s
+        step[1, 0] = uy * ux * t + uz * s
+        step[1, 1] = c + uy * uy * t
+        step[1, 2] = uy * uz * t - ux * s
+        step[2, 0] = uz * ux * t - uy * s
+        step[2, 1] = uz * uy * t + ux * s
+        step[2, 2] = c + uz * uz * t
+        # t += R (p − step p), with the rotation before this joint
+        sx = px - (step[0, 0] * px + step[0, 1] * py + step[0, 2] * pz)
+        sy = py - (step[1, 0] * px + step[1, 1] * py + step[1, 2] * pz)
+        sz = pz - (step[2, 0] * px + step[2, 1] * py + step[2, 2] * pz)
+        for a in range(3):
+            translation[a] += rotation[a, 0] * sx + rotation[a, 1] * sy + rotation[a, 2] * sz
+        for a in range(3):
+            for b in range(3):
+                product[a, b] = (
+                    rotation[a, 0] * step[0, b]
+                    + rotation[a, 1] * step[1, b]
+                    + rotation[a, 2] * step[2, b]
+                )
+        rotation[:, :] = product
+    for a in range(3):
+        for b in range(3):
+            pose[a, b] = (
+                rotation[a, 0] * tool[0, b]
+                + rotation[a, 1] * tool[1, b]
+                + rotation[a, 2] * tool[2, b]
+            )
+        pose[a, 3] = (
+            rotation[a, 0] * tool[0, 3]
+            + rotation[a, 1] * tool[1, 3]
+            + rotation[a, 2] * tool[2, 3]
+            + translation[a]
+        )
+    pose[3, 0] = pose[3, 1] = pose[3, 2] = 0.0
+    pose[3, 3] = 1.0
+    for i in range(nq):
+        wx, wy, wz = jacobian[3, i], jacobian[4, i], jacobian[5, i]
+        rx = pose[0, 3] - origins[i, 0]
+        ry = pose[1, 3] - origins[i, 1]
+        rz = pose[2, 3] - origins[i, 2]
+        jacobian[0, i] = wy * rz - wz * ry
+        jacobian[1, i] = wz * rx - wx * rz
+        jacobian[2, i] = wx * ry - wy * rx
+
+
+@_jit
+def lu_solve(a, b):
+    """x with a x = b for a square ``a`` (m, m) and ``b`` (m, k), by Gaussian elimination with
+    partial pivoting (copies; a singular pivot gives inf/NaN, caught by the caller's checks)."""
+    m = a.shape[0]
+    a = a.copy()
+    b = b.copy()
+    for col in range(m):
+        pivot = col
+        for row in range(col + 1, m):
+            if abs(a[row, col]) > abs(a[pivot, col]):
+                pivot = row
+        if pivot != col:
+            for j in range(m):
+                a[col, j], a[pivot, j] = a[pivot, j], a[col, j]
+            for j in range(b.shape[1]):
+                b[col, j], b[pivot, j] = b[pivot, j], b[col, j]
+        for row in range(col + 1, m):
+            factor = a[row, col] / a[col, col]
+            for j in range(col, m):
+                a[row, j] -= factor * a[col, j]
+            for j in range(b.shape[1]):
+                b[row, j] -= factor * b[col, j]
+    for col in range(m - 1, -1, -1):
+        for j in range(b.shape[1]):
+            total = b[col, j]
+            for i in range(col + 1, m):
+                total -= a[col, i] * b[i, j]
+            b[col, j] = total / a[col, col]
+    return b
+
+
+@_jit
+def _product(a, b):
+    """a b for small matrices (loops: numba's matrix product would need SciPy's BLAS)."""
+    out = np.zeros((a.shape[0], b.shape[1]))
+    for i in range(a.shape[0]):
+        for m in range(a.shape[1]):
+            factor = a[i, m]
+            for j in range(b.shape[1]):
+                out[i, j] += factor * b[m, j]
+    return out
+
+
+@_jit
+def _advance(
+    k, q, ahead, behind, columns, positions, rotations, with_rotation, position2,
+    frobenius2, directions, points, tool, rows, shape, jacobians, tools, pinvs,
+):  # fmt: skip
+    """:func:`advance`'s loop (compiled)."""
+    n, nq = q.shape
+    r = rows.shape[0]
+    pose = np.empty((4, 4))
+    jacobian = np.empty((6, nq))
+    task = np.empty((r, nq))
+    identity = np.eye(r)
+    while k < n:
+        guess = q[k - 1] + ahead[k - 1] + behind[k - 2]
+        q[k] = guess
+        kinematics(guess, directions, points, tool, pose, jacobian)
+        jacobians[k] = jacobian
+        tools[k] = pose[:3, 3]
+        dx = positions[k, 0] - pose[0, 3]
+        dy = positions[k, 1] - pose[1, 3]
+        dz = positions[k, 2] - pose[2, 3]
+        missed = dx * dx + dy * dy + dz * dz
+        if not missed <= position2:
+            return k
+        if with_rotation:
+            squares = 0.0
+            for i in range(3):
+                for j in range(3):
+                    d = rotations[k, i, j] - pose[i, j]
+                    squares += d * d
+            if not squares <= frobenius2:
+                return k
+        for i in range(r):
+            task[i] = jacobian[rows[i]]
+        if shape < 0:  # minimum norm: J⁺ = Jᵀ (J Jᵀ)⁻¹
+            pinv = _product(task.T, lu_solve(_product(task, task.T), identity))
+        elif shape == 0:
+            pinv = lu_solve(task, identity)
+        else:  # least squares: J⁺ = (JᵀJ)⁻¹ Jᵀ
+            pinv = lu_solve(_product(task.T, task), task.T)
+        pinvs[k] = pinv
+        x = _product(pinv, columns[k])
+        ahead[k] = x[:, 0]
+        behind[k] = x[:, 1]
+        k += 1
+    return n
