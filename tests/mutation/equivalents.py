@@ -877,3 +877,21 @@ EQUIVALENTS.append(
     _lean("square = len(rows) == tracker.robot.nq", "square = None",
           "for a square J of full rank the least-squares solution (JᵀJ)⁻¹JᵀB is J⁻¹B"),
 )  # fmt: skip
+
+# ---------------------------------------------------------------------------- issue 20: polynomials
+_polynomials = _module(("kinplan/trajectory/polynomials.py",))
+_SPLINE_TOO_SHORT = "if requested is not None and requested < minimum * (1.0 - 1e-12):"
+EQUIVALENTS += [
+    _polynomials("points = points[np.concatenate(([True], steps > 1e-12))]",
+                 "points = points[np.concatenate(([True], steps >= 1e-12))]",
+                 "differs only for two consecutive points exactly 1e-12 rad apart (the norm of "
+                 "their difference equal to the threshold bit for bit)"),
+    _polynomials(_SPLINE_TOO_SHORT, _SPLINE_TOO_SHORT.replace(" < ", " <= "),
+                 "differs only for a requested duration equal bit for bit to the computed "
+                 "minimum · (1 − 1e-12)"),
+    _polynomials('what = "velocity" if by_speed[j] >= by_acceleration[j] else "acceleration"',
+                 'what = "velocity" if by_speed[j] > by_acceleration[j] else "acceleration"',
+                 "differs only when the joint's velocity and acceleration limits give the same "
+                 "minimum time bit for bit; the joint then would exceed both limits, so the "
+                 "message is true with either name"),
+]  # fmt: skip

@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numpy.polynomial import polynomial as P
 
-from kinplan import InfeasibleError, InputError, KinplanError, trajectory
+from kinplan import InfeasibleError, InputError, KinplanError, _profiles, trajectory
 from kinplan.trajectory import Segment, Trajectory, time_grid
 
 KNOT_TOL = 1e-9
@@ -265,6 +265,72 @@ def test_scalar_profiles_are_exact_at_the_end():
         assert q[-1, 0] == length and q[0, 0] == 0.0 and qd[0, 0] == 0.0 and qd[-1, 0] == 0.0
 
 
+def test_every_constructor_ends_exactly_in_its_target_state():
+    """sample(duration) and every later time return the requested end state bit for bit (q, and
+    the q̇ / q̈ each constructor was given), while the raw polynomial of the last segment reaches
+    it to rounding only: 7 joints of seeded random values at an odd duration, for cubic, quintic,
+    cubic_via (spline and heuristic, from t0 ≠ 0), 4-3-4 and spline."""
+    rng = np.random.default_rng(20)
+    n, T = 7, 1.37
+    q0, qf, v0, vf, a0, af = rng.uniform(-2.0, 2.0, (6, n))
+    points = rng.uniform(-2.0, 2.0, (5, n))
+    times = 0.3 + np.cumsum(rng.uniform(0.2, 1.0, 5))
+    rest = np.zeros(n)
+    cases = {  # trajectory, end q, end q̇, end q̈ (None: not given, the polynomial's)
+        "cubic": (trajectory.cubic(q0, qf, T, v0, vf), qf, vf, None),
+        "quintic": (trajectory.quintic(q0, qf, T, v0, vf, a0, af), qf, vf, af),
+        "cubic_via": (trajectory.cubic_via(points, times, v0, vf), points[-1], vf, None),
+        "heuristic": (
+            trajectory.cubic_via(points, times, v0, vf, via_velocities="heuristic"),
+            points[-1],
+            vf,
+            None,
+        ),
+        "four_three_four": (
+            trajectory.four_three_four(*points[:4], [0.3, 1.1, 0.7]),
+            points[3],
+            rest,
+            rest,
+        ),
+        "spline": (trajectory.spline(points, 1.3, 2.9), points[-1], rest, None),
+    }
+    for name, (traj, q_end, qd_end, qdd_end) in cases.items():
+        last = traj.segments[-1]
+        raw = [derivative_at(last, last.duration, order) for order in range(3)]
+        scale = 1.0 + np.abs(raw[0]) + np.abs(raw[1]) + np.abs(raw[2])
+        np.testing.assert_allclose(raw[0], q_end, atol=KNOT_TOL * scale.max(), err_msg=name)
+        np.testing.assert_allclose(raw[1], qd_end, atol=KNOT_TOL * scale.max(), err_msg=name)
+        np.testing.assert_array_equal(traj.end, q_end, err_msg=name)
+        q, qd, qdd = traj.sample(np.array([traj.duration]))
+        np.testing.assert_array_equal(q[0], q_end, err_msg=f"{name}: q at the end")
+        np.testing.assert_array_equal(qd[0], qd_end, err_msg=f"{name}: q̇ at the end")
+        if qdd_end is not None:
+            np.testing.assert_allclose(raw[2], qdd_end, atol=KNOT_TOL * scale.max(), err_msg=name)
+            np.testing.assert_array_equal(qdd[0], qdd_end, err_msg=f"{name}: q̈ at the end")
+        q, qd, qdd = traj.sample(traj.duration + 0.5)
+        np.testing.assert_array_equal(q, q_end, err_msg=f"{name}: held after the end")
+        assert not qd.any() and not qdd.any()
+
+
+def test_quintic_defaults_are_the_minimum_jerk_profile():
+    """With the default end rates (rest) the quintic is q0 + Δ(10s³ − 15s⁴ + 6s⁵), s = t/T (the
+    minimum-jerk point-to-point motion), at a duration other than 1 or 2 s."""
+    q0, qf, T = np.array([0.4, -1.2, 2.0]), np.array([-0.7, 0.3, 2.5]), 1.37
+    traj = trajectory.quintic(q0, qf, T)
+    t = np.linspace(0.0, T, 9)
+    s = (t / T)[:, None]
+    delta = qf - q0
+    expected = (
+        q0 + delta * (10 * s**3 - 15 * s**4 + 6 * s**5),
+        delta * (30 * s**2 - 60 * s**3 + 30 * s**4) / T,
+        delta * (60 * s - 180 * s**2 + 120 * s**3) / T**2,
+    )
+    segment = traj.segments[0]
+    for order, values in enumerate(expected):
+        raw = np.array([derivative_at(segment, tau, order) for tau in t])
+        np.testing.assert_allclose(raw, values, atol=1e-12, err_msg=f"order {order}")
+
+
 # ----------------------------------------------------------------------------------------------
 # Cubic through via points
 # ----------------------------------------------------------------------------------------------
@@ -300,6 +366,7 @@ def test_cubic_via_passes_points_with_continuous_acceleration():
     assert_continuous(traj, 2)
     assert_finite_differences(traj)
     np.testing.assert_allclose(traj.waypoints.positions, points)
+    np.testing.assert_allclose(traj.waypoints.times, times - 2.0, atol=1e-15)  # from time 0
 
 
 def test_cubic_via_single_joint_from_1d_points():
@@ -607,6 +674,95 @@ def test_four_three_four_at_rest_and_continuous():
     assert_state(traj, 3.2, qf, 0.0, 0.0)
     assert_continuous(traj, 2)
     assert_finite_differences(traj)
+    # The four points are the waypoints, at the knots.
+    np.testing.assert_allclose(traj.waypoints.times, [0.0, 0.5, 2.5, 3.2], atol=1e-15)
+    np.testing.assert_array_equal(traj.waypoints.positions, [q0, lift, setdown, qf])
+
+
+def test_four_three_four_turns_a_singular_solve_into_an_input_error(monkeypatch):
+    """Should the 14 × 14 solve find its matrix singular (no durations in the supported range
+    were found to do it: it is the guard for rounding to an exact zero pivot), the caller gets
+    an InputError stating the durations, chained to numpy's LinAlgError."""
+
+    def singular(points, durations):
+        raise np.linalg.LinAlgError("Singular matrix")
+
+    monkeypatch.setattr(_profiles, "four_three_four_coefficients", singular)
+    with pytest.raises(
+        InputError, match=r"durations \[0.5, 2.0, 0.7\] s are too far apart for the 4-3-4 solve"
+    ) as info:
+        trajectory.four_three_four(0.0, 0.2, 1.0, 1.1, [0.5, 2.0, 0.7])
+    assert isinstance(info.value.__cause__, np.linalg.LinAlgError)
+
+
+# ----------------------------------------------------------------------------------------------
+# Spline through points timed by the limits
+# ----------------------------------------------------------------------------------------------
+
+#: Two points per joint (Δ, velocity limit, acceleration limit) and the limit that sets the time:
+#: the rest-to-rest cubic q0 + Δ(3s² − 2s³) peaks at 1.5|Δ|/T in speed and 6|Δ|/T² in
+#: acceleration, so T = max over joints of 1.5|Δ|/v and sqrt(6|Δ|/a).
+SPLINE_BINDS = {
+    "velocity of joint 2": ([0.1, -0.5, 2.0], [1.0, 1.0, 1.0], [100.0, 80.0, 50.0], 2, "velocity"),
+    "acceleration of joint 1": ([0.1, -2.0, 0.3], [10.0, 10.0, 10.0], [1.0, 1.0, 2.0], 1,
+                                "acceleration"),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("name", sorted(SPLINE_BINDS))
+def test_spline_between_two_points_takes_the_analytic_minimum_time(name):
+    """Between two points the spline is the rest-to-rest cubic in the analytic minimum time;
+    that time (computed here) is accepted as a duration, a shorter one is refused by a message
+    naming the joint and the limit that set it and stating the minimum."""
+    delta, max_velocity, max_acceleration, joint, limit = SPLINE_BINDS[name]
+    delta, v, a = np.array(delta), np.array(max_velocity), np.array(max_acceleration)
+    q0 = np.array([0.5, -0.2, 1.0])
+    by_speed, by_acceleration = 1.5 * np.abs(delta) / v, np.sqrt(6.0 * np.abs(delta) / a)
+    minimum = max(by_speed.max(), by_acceleration.max())
+    binding = by_speed if limit == "velocity" else by_acceleration
+    assert np.argmax(np.maximum(by_speed, by_acceleration)) == joint
+    assert binding[joint] == minimum
+    traj = trajectory.spline([q0, q0 + delta], v, a)
+    assert traj.duration == pytest.approx(minimum, rel=1e-11)
+    s = np.linspace(0.0, 1.0, 7)
+    q, _, _ = traj.sample(s * traj.duration)
+    shape = q0 + delta * (3 * s**2 - 2 * s**3)[:, None]
+    np.testing.assert_allclose(q, shape, atol=1e-12)
+    exact = trajectory.spline([q0, q0 + delta], v, a, minimum)  # the minimum itself fits
+    assert exact.duration == minimum
+    peaks = np.abs(exact.sample(np.linspace(0.0, minimum, 2001))[1 if limit == "velocity" else 2])
+    assert peaks.max(axis=0)[joint] == pytest.approx((v if limit == "velocity" else a)[joint])
+    pattern = rf"joint {joint} would exceed its {limit} limit; the minimum is ([0-9.e+-]+) s"
+    with pytest.raises(InfeasibleError, match=pattern) as info:
+        trajectory.spline([q0, q0 + delta], v, a, minimum * (1.0 - 1e-9))
+    stated = float(re.search(pattern, str(info.value)).group(1))
+    assert stated == pytest.approx(minimum, rel=1e-6)
+
+
+def test_spline_drops_repeated_points_and_stands_still_on_one():
+    """Consecutive points within 1e-12 rad of each other count once (the same motion as without
+    the repeats); when all points are one, the motion stays there: zero duration, or at rest for
+    the duration asked."""
+    a, b, c = [0.0, 1.0], [0.5, 0.2], [1.5, -0.4]
+    b_again = [0.5 + 1e-13, 0.2]
+    plain = trajectory.spline([a, b, c], 1.0, 2.0)
+    repeated = trajectory.spline([a, a, b, b_again, c, c], 1.0, 2.0)
+    assert len(repeated.segments) == 2 and repeated.duration == plain.duration
+    for mine, theirs in zip(repeated.segments, plain.segments, strict=True):
+        np.testing.assert_array_equal(mine.coefficients, theirs.coefficients)
+    np.testing.assert_array_equal(repeated.waypoints.positions, [a, b, c])
+    point = np.array([0.3, -0.7])
+    still = trajectory.spline([point, point, point + 1e-13], 1.0, 2.0)
+    assert still.duration == 0.0 and still.n == 2
+    for t in (0.0, 1.0):
+        q, qd, qdd = still.sample(t)
+        np.testing.assert_array_equal(q, point)
+        assert not qd.any() and not qdd.any()
+    waiting = trajectory.spline([point, point], 1.0, 2.0, duration=1.5)
+    assert waiting.duration == 1.5
+    q, qd, qdd = waiting.sample(np.linspace(0.0, 2.0, 9))
+    np.testing.assert_array_equal(q, np.broadcast_to(point, q.shape))
+    assert not qd.any() and not qdd.any()
 
 
 # ----------------------------------------------------------------------------------------------
@@ -780,6 +936,24 @@ MORE_BAD_CALLS = {
         r"durations \[.*\] s are too far apart",
     ),
     "434 None point": (lambda: trajectory.four_three_four(0, None, 1, 2, [1, 1, 1]), r"q_lift"),
+    "quintic zero duration": (lambda: trajectory.quintic(0, 1, 0.0), r"duration must be > 0 s"),
+    "spline zero duration": (
+        lambda: trajectory.spline([0, 1], 1.0, 1.0, 0.0),
+        r"duration must be > 0 s",
+    ),
+    "spline points text": (lambda: trajectory.spline("abc", 1.0, 1.0), r"points must be"),
+    "spline velocity limits length": (
+        lambda: trajectory.spline([[0, 0], [1, 1]], [1, 1, 1], 1.0),
+        r"max_velocity has 3 \(the points have 2 joints\)",
+    ),
+    "spline acceleration limits length": (
+        lambda: trajectory.spline([[0, 0], [1, 1]], 1.0, [1, 1, 1]),
+        r"max_acceleration has 3 \(the points have 2 joints\)",
+    ),
+    "434 durations count": (
+        lambda: trajectory.four_three_four(0, 1, 2, 3, [1, 1]),
+        r"durations must be a list of 3 durations",
+    ),
     "sample text": (lambda: trajectory.cubic(0, 1, 1.0).sample("0.5"), r"t must be a number"),
     "sample None": (lambda: trajectory.cubic(0, 1, 1.0).sample(None), r"t must hold numbers"),
     "sample ragged": (lambda: trajectory.cubic(0, 1, 1.0).sample([[0], [1, 2]]), r"t must be"),
