@@ -212,8 +212,8 @@ def spline(
 
     Args:
         points: Joint-space points, shape (m, n), or (m,) for one joint, m ≥ 2 [rad].
-            Consecutive duplicates (within 1e-12 rad of each other) are dropped; when every point is the
-            same, the motion has zero duration (or stands still for ``duration``).
+            Consecutive duplicates (within 1e-12 rad of each other) are dropped; when every
+            point is the same, the motion has zero duration (or stands still for ``duration``).
         max_velocity: Velocity limit, scalar or per joint, > 0 [rad/s].
         max_acceleration: Acceleration limit, scalar or per joint, > 0 [rad/s²].
         duration: Motion time [s]; default the minimum within the limits.
