@@ -25,6 +25,7 @@ in the user's cache directory when the package folder is read-only).
 
 from __future__ import annotations
 
+import math
 import os
 import weakref
 from collections.abc import Callable
@@ -33,6 +34,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from kinplan.ik.numeric import (
+    DAMPING_FLOOR,
+    DAMPING_GAIN,
+    MAX_STEP,
+    STALL_ITERATIONS,
+    frobenius_tolerance,
+)
 from kinplan.ik.screws import screws_at_zero
 
 try:
@@ -53,6 +61,10 @@ AGREEMENT = 1e-12
 
 #: The rotations passed for a position-only task (never read).
 _NO_ROTATIONS = np.zeros((1, 3, 3))
+
+#: Newton steps of :meth:`cartesian.tracker.Tracker.solve` (IKSolver.descend's constants and
+#: the tracker's 12 iterations): damping gain, damping floor, step cap, iterations, patience.
+_NEWTON = np.array([DAMPING_GAIN, DAMPING_FLOOR, MAX_STEP, 12.0, float(STALL_ITERATIONS)])
 
 #: Task shapes: wide (fewer task rows than joints: minimum-norm rates), square, tall.
 WIDE, SQUARE, TALL = -1, 0, 1
@@ -128,50 +140,94 @@ def checked_screws(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray] | 
     return directions, points, tool
 
 
-def advance(
-    kernel: Kernel,
-    k: int,
-    q: np.ndarray,
-    ahead: np.ndarray,
-    behind: np.ndarray,
-    columns: np.ndarray,
-    positions: np.ndarray,
-    rotations: np.ndarray | None,
-    tolerances2: tuple[float, float],
-    jacobians: np.ndarray,
-    tools: np.ndarray,
-    pinvs: np.ndarray,
-) -> int:
-    """Samples k, k + 1, … of the lean loop while their predictions meet the tolerances.
+@dataclass
+class Run:
+    """The arrays one run of the compiled loop reads and writes, N points along a path.
 
-    Sample j's guess is ``q[j−1] + ahead[j−1] + behind[j−2]``; when the tool there is within
-    the tolerances, q[j], its tool Jacobian, tool position and task pseudo-inverse J⁺ are
-    written, and its scaled rates ``ahead[j], behind[j] = (J⁺ columns[j])ᵀ``. Needs k ≥ 2.
-
-    Args:
-        kernel: :func:`kernel_for` of the tracker.
-        k: The first sample to advance.
-        q: Configurations (N, nq) [rad]; rows before k filled; row j written when j is solved
-            and, for the sample returned, set to its guess.
-        ahead, behind: The scaled rates (N, nq) [rad] (rows before k filled).
-        columns: The two scaled task velocities of each sample (N, r, 2).
+    Attributes:
+        grid: The points' times [s] or path fractions (N,).
+        velocities: Task velocities per unit of the grid (N, r).
         positions: Target tool positions (N, 3) [m].
         rotations: Target tool rotations (N, 3, 3), or None (position only).
-        tolerances2: (squared position tolerance [m²], ‖R* − R‖_F² tolerance).
-        jacobians: Tool Jacobians (N, 6, nq), written.
-        tools: Tool positions (N, 3) [m], written.
-        pinvs: Pseudo-inverses J⁺ (N, nq, r) of the task rows, written.
+        q: Configurations (N, nq) [rad].
+        rates: Joint rates J⁺ v per unit of the grid (N, nq).
+        jacobians: Tool Jacobians (N, 6, nq).
+        tools: Tool positions (N, 3) [m].
+        pinvs: Pseudo-inverses J⁺ (N, nq, r) of the task rows.
+    """
+
+    grid: np.ndarray
+    velocities: np.ndarray
+    positions: np.ndarray
+    rotations: np.ndarray | None
+    q: np.ndarray
+    rates: np.ndarray
+    jacobians: np.ndarray
+    tools: np.ndarray
+    pinvs: np.ndarray
+
+    @classmethod
+    def empty(
+        cls,
+        grid: np.ndarray,
+        velocities: np.ndarray,
+        positions: np.ndarray,
+        rotations: np.ndarray | None,
+        nq: int,
+    ) -> Run:
+        """A run over the given points with its outputs allocated (rows not yet solved)."""
+        n, r = velocities.shape
+        return cls(
+            np.ascontiguousarray(grid, dtype=float),
+            np.ascontiguousarray(velocities, dtype=float),
+            np.ascontiguousarray(positions, dtype=float),
+            None if rotations is None else np.ascontiguousarray(rotations, dtype=float),
+            np.empty((n, nq)), np.empty((n, nq)), np.empty((n, 6, nq)), np.empty((n, 3)),
+            np.empty((n, nq, r)),
+        )  # fmt: skip
+
+
+def advance(
+    kernel: Kernel,
+    run: Run,
+    k: int,
+    tolerances: tuple[float, float],
+    max_step: float = math.inf,
+) -> int:
+    """Points k, k + 1, … of the lean loop, compiled, while each is solved cleanly.
+
+    Point j's guess is the two-step Adams–Bashforth prediction
+    ``q[j−1] + h (1 + ρ) rates[j−1] − h ρ rates[j−2]`` (h = grid[j] − grid[j−1],
+    ρ = h / (2 (grid[j−1] − grid[j−2]))); when the tool there misses the tolerances, the
+    Newton steps of :meth:`cartesian.tracker.Tracker.solve` follow (those of
+    :meth:`kinplan.ik.IKSolver.descend` without limits: damped least squares, the same gain,
+    floor, step cap, stall test and iteration count). A solved point gets its q, tool
+    Jacobian, tool position, task pseudo-inverse and rates. Needs k ≥ 2 (two points before
+    it solved).
+
+    Args:
+        kernel: :func:`kernel_for` of the arm and task.
+        run: The points (rows before k solved); rows from k on are written.
+        k: The first point to solve.
+        tolerances: (position [m], rotation [rad]) tolerances of the tracker.
+        max_step: Largest joint step [rad] from the point before (a geometric trace's
+            bisection threshold); the default: none.
 
     Returns:
-        N when every sample from k on is solved, else the first sample whose guess missed the
-        tolerances (its Newton steps are the caller's).
+        N when every point from k on is solved, else the first point the caller must solve
+        itself: its Newton steps failed, its joint step exceeds ``max_step``, its guess is not
+        finite, or its rotation error is beyond a quarter turn (left to Pinocchio's log). Its
+        row of ``q`` holds the guess.
     """
-    target_rotations = _NO_ROTATIONS if rotations is None else np.ascontiguousarray(rotations)
+    position_tolerance, rotation_tolerance = tolerances
     return int(
         kernel.advance(
-            k, q, ahead, behind, columns, np.ascontiguousarray(positions), target_rotations,
-            rotations is not None, tolerances2[0], tolerances2[1], kernel.directions,
-            kernel.points, kernel.tool, kernel.rows, kernel.shape, jacobians, tools, pinvs,
+            k, run.grid, run.velocities, run.positions,
+            _NO_ROTATIONS if run.rotations is None else run.rotations, run.rotations is not None,
+            run.q, run.rates, run.jacobians, run.tools, run.pinvs,
+            position_tolerance**2, frobenius_tolerance(rotation_tolerance), max_step,
+            kernel.directions, kernel.points, kernel.tool, kernel.rows, kernel.shape,
+            _NEWTON,
         )
     )  # fmt: skip
 
@@ -302,48 +358,127 @@ def _product(a, b):
 
 
 @_jit
+def _rotation_error(target, pose, error) -> bool:
+    """log(R* Rᵀ) (the rotation vector [rad] taking the tool's rotation R to the target's,
+    world frame, as ``pin.log3``) into ``error[3:]``; False when the angle exceeds a quarter
+    turn (then the caller leaves the point to Pinocchio)."""
+    m = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            m[i, j] = (
+                target[i, 0] * pose[j, 0] + target[i, 1] * pose[j, 1] + target[i, 2] * pose[j, 2]
+            )
+    vx = 0.5 * (m[2, 1] - m[1, 2])
+    vy = 0.5 * (m[0, 2] - m[2, 0])
+    vz = 0.5 * (m[1, 0] - m[0, 1])
+    cosine = 0.5 * (m[0, 0] + m[1, 1] + m[2, 2] - 1.0)
+    if not cosine > 0.0:
+        return False
+    sine = np.sqrt(vx * vx + vy * vy + vz * vz)
+    angle = np.arctan2(sine, cosine)
+    factor = angle / sine if sine > 1e-8 else 1.0 + angle * angle / 6.0  # θ / sin θ
+    error[3] = factor * vx
+    error[4] = factor * vy
+    error[5] = factor * vz
+    return True
+
+
+@_jit
+def _pseudo_inverse(task, shape, identity):
+    """J⁺ of the task rows: Jᵀ (J Jᵀ)⁻¹ (wide), J⁻¹ (square) or (JᵀJ)⁻¹ Jᵀ (tall)."""
+    if shape < 0:
+        return _product(task.T, lu_solve(_product(task, task.T), identity))
+    if shape == 0:
+        return lu_solve(task, identity)
+    return lu_solve(_product(task.T, task), task.T)
+
+
+@_jit
 def _advance(
-    k, q, ahead, behind, columns, positions, rotations, with_rotation, position2,
-    frobenius2, directions, points, tool, rows, shape, jacobians, tools, pinvs,
+    k, grid, velocities, positions, rotations, with_rotation, q, rates, jacobians, tools,
+    pinvs, position2, frobenius2, max_step, directions, points, tool, rows, shape, newton,
 ):  # fmt: skip
-    """:func:`advance`'s loop (compiled)."""
+    """:func:`advance`'s loop (compiled). ``newton``: (damping gain, damping floor, step cap
+    [rad], iterations, stall iterations) of the Newton steps."""
     n, nq = q.shape
     r = rows.shape[0]
+    gain, floor, step_cap = newton[0], newton[1], newton[2]
+    iterations, patience = int(newton[3]), int(newton[4])
+    error_rows = 6 if with_rotation else 3
     pose = np.empty((4, 4))
     jacobian = np.empty((6, nq))
     task = np.empty((r, nq))
     identity = np.eye(r)
+    error = np.zeros(6)
+    normal = np.empty((nq, nq))
+    gradient = np.empty((nq, 1))
     while k < n:
-        guess = q[k - 1] + ahead[k - 1] + behind[k - 2]
-        q[k] = guess
-        kinematics(guess, directions, points, tool, pose, jacobian)
+        h = grid[k] - grid[k - 1]
+        ratio = 0.5 * h / (grid[k - 1] - grid[k - 2])
+        current = q[k - 1] + (h * (1.0 + ratio)) * rates[k - 1] - (h * ratio) * rates[k - 2]
+        q[k] = current
+        if not np.isfinite(current).all():
+            return k
+        best_cost = np.inf
+        stalled = 0
+        for iteration in range(iterations + 1):
+            kinematics(current, directions, points, tool, pose, jacobian)
+            error[0] = positions[k, 0] - pose[0, 3]
+            error[1] = positions[k, 1] - pose[1, 3]
+            error[2] = positions[k, 2] - pose[2, 3]
+            position_error2 = error[0] ** 2 + error[1] ** 2 + error[2] ** 2
+            squares = 0.0
+            if with_rotation:
+                for i in range(3):
+                    for j in range(3):
+                        squares += (rotations[k, i, j] - pose[i, j]) ** 2
+            if position_error2 <= position2 and squares <= frobenius2:
+                break
+            if iteration == iterations:
+                return k
+            rotation_error2 = 0.0
+            if with_rotation:
+                if not _rotation_error(rotations[k], pose, error):
+                    return k
+                rotation_error2 = error[3] ** 2 + error[4] ** 2 + error[5] ** 2
+            cost = 0.5 * (position_error2 + rotation_error2)
+            if cost < 0.999 * best_cost:
+                best_cost = cost
+                stalled = 0
+            else:
+                stalled += 1
+                if stalled >= patience:
+                    return k
+            damping = gain * cost + floor
+            for a in range(nq):  # JᵀJ + λI and Jᵀe over the error rows
+                for b in range(nq):
+                    total = 0.0
+                    for m in range(error_rows):
+                        total += jacobian[m, a] * jacobian[m, b]
+                    normal[a, b] = total
+                normal[a, a] += damping
+                total = 0.0
+                for m in range(error_rows):
+                    total += jacobian[m, a] * error[m]
+                gradient[a, 0] = total
+            step = lu_solve(normal, gradient)[:, 0]
+            largest = np.abs(step).max()
+            if largest > step_cap:
+                step = step * (step_cap / largest)
+            current = current + step
+        q[k] = current
+        if np.abs(current - q[k - 1]).max() > max_step:
+            return k
         jacobians[k] = jacobian
         tools[k] = pose[:3, 3]
-        dx = positions[k, 0] - pose[0, 3]
-        dy = positions[k, 1] - pose[1, 3]
-        dz = positions[k, 2] - pose[2, 3]
-        missed = dx * dx + dy * dy + dz * dz
-        if not missed <= position2:
-            return k
-        if with_rotation:
-            squares = 0.0
-            for i in range(3):
-                for j in range(3):
-                    d = rotations[k, i, j] - pose[i, j]
-                    squares += d * d
-            if not squares <= frobenius2:
-                return k
         for i in range(r):
             task[i] = jacobian[rows[i]]
-        if shape < 0:  # minimum norm: J⁺ = Jᵀ (J Jᵀ)⁻¹
-            pinv = _product(task.T, lu_solve(_product(task, task.T), identity))
-        elif shape == 0:
-            pinv = lu_solve(task, identity)
-        else:  # least squares: J⁺ = (JᵀJ)⁻¹ Jᵀ
-            pinv = lu_solve(_product(task.T, task), task.T)
+        pinv = _pseudo_inverse(task, shape, identity)
         pinvs[k] = pinv
-        x = _product(pinv, columns[k])
-        ahead[k] = x[:, 0]
-        behind[k] = x[:, 1]
+        for a in range(nq):
+            total = 0.0
+            for m in range(r):
+                total += pinv[a, m] * velocities[k, m]
+            rates[k, a] = total
         k += 1
     return n

@@ -20,6 +20,8 @@ predictions, up to the rounding of the rates).
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import eigenpy
 import numpy as np
 
@@ -38,11 +40,13 @@ from cartesian.tracker import (
     Targets,
     Tracker,
     adams_bashforth_weights,
-    matvec,
     path_targets,
     pseudo_inverses,
 )
 from kinplan.robot import manipulability_of
+
+if TYPE_CHECKING:
+    from cartesian.lean_kernel import Run
 
 #: Private switch for tests and benchmarks: False makes :func:`track` decline every path, so
 #: the full per-sample loop plans it.
@@ -76,7 +80,7 @@ def track(
     solved = _solve_path(tracker, targets, timing.t, xd, xdd, seed)
     if solved is None:
         return None
-    return _monitor(tracker, timing.t, *solved, xd, xdd)
+    return _monitor(tracker, *solved, xd, xdd)
 
 
 def _full_rank(tracker: Tracker) -> bool:
@@ -92,103 +96,89 @@ def _solve_path(
     xd: np.ndarray,
     xdd: np.ndarray,
     seed: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, list[int]]] | None:
-    """The loop's IK of every sample: (q (N, nq), tool Jacobians (N, 6, nq), tool positions
-    (N, 3), (task pseudo-inverses J⁺ (N, nq, r) of the compiled loop's samples, the samples
-    solved in Python, whose rows are left to fill)); None as soon as a Newton pass fails (the
-    loop's longer search and its events are the loop's to make). Runs of samples whose
-    predictions meet the tolerances go to the compiled loop (:mod:`cartesian.lean_kernel`)
-    when the arm has one."""
+) -> tuple[Run, list[int]] | None:
+    """The loop's IK of every sample, as a :class:`~cartesian.lean_kernel.Run` (q, rates
+    q̇ = J⁺ẋ, tool Jacobians and positions; the task pseudo-inverses of the samples the
+    compiled loop solved) and the samples solved here in Python; None as soon as a Newton
+    pass fails (the loop's longer search and its events are the loop's to make).
+
+    Runs of samples go to the compiled loop (:mod:`cartesian.lean_kernel`) when the arm has
+    one; the first two samples (the start and the Taylor step), and any sample the compiled
+    loop leaves, are solved here.
+    """
+    from cartesian import lean_kernel  # numba loads on first use, not with the package
+
     n, nq = len(t), tracker.robot.nq
-    positions, position_floats = targets.positions, targets.positions.tolist()
+    run = lean_kernel.Run.empty(t, xd, targets.positions, targets.rotations, nq)
+    position_floats = targets.positions.tolist()
     rotations = [None] * n if targets.rotations is None else list(targets.rotations)
     rotation_floats = (
         [None] * n if targets.rotations is None else targets.rotations.reshape(n, 9).tolist()
     )
     steps = np.diff(t, prepend=0.0).tolist()  # h_k = t_k − t_(k−1) [s]
-    # sample j's rates serve two predictions: a_(j+1) q̇_j at sample j + 1 and b_(j+2) q̇_j at
-    # sample j + 2 (Adams–Bashforth weights): one solve with both scaled ẋ_j as columns
-    weights = np.array(adams_bashforth_weights(np.diff(t))).reshape(-1, 2)
-    scales = np.zeros((n, 2))
-    scales[1 : n - 1, 0] = weights[2:, 0]
-    scales[: n - 2, 1] = weights[2:, 1]
-    columns = np.ascontiguousarray(xd[:, :, None] * scales[:, None, :])  # (n, r, 2)
-    rates = _rates(tracker)
+    weights = adams_bashforth_weights(np.diff(t))
+    rate = _rates(tracker)
     evaluate, within, solve = tracker.evaluate, tracker.within, tracker.solve
-    q = np.empty((n, nq))
-    jacobians = np.empty((n, 6, nq))
-    tools = np.empty((n, 3))
-    pinvs = np.empty((n, nq, len(tracker.rows)))  # the compiled loop's; the others' after
-    solved_here: list[int] = []  # the samples solved in Python
-    ahead = np.zeros((n, nq))  # a_(j+1) q̇_j
-    behind = np.zeros((n, nq))  # b_(j+2) q̇_j
-    from cartesian import lean_kernel  # numba loads on first use, not with the package
-
     kernel = lean_kernel.kernel_for(tracker.robot, tracker.rows) if n > 2 else None
-    qd_first = qdd_first = np.zeros(nq)
+    tolerances = (tracker.tolerance, tracker.rotation_tolerance)
+    q, rates = run.q, run.rates
+    qdd_first = np.zeros(nq)
+    solved_here: list[int] = []
     k = 0
     while k < n:
-        if kernel is not None and k >= 2:  # the samples whose predictions meet the tolerances
-            k = lean_kernel.advance(
-                kernel, k, q, ahead, behind, columns, positions, targets.rotations,
-                tracker.tolerances2, jacobians, tools, pinvs,
-            )  # fmt: skip
+        if kernel is not None and k >= 2:
+            k = lean_kernel.advance(kernel, run, k, tolerances)
             if k == n:
                 break
         if k == 0:
-            guess = tracker.start(positions[0], rotations[0], seed)
+            guess = tracker.start(targets.positions[0], rotations[0], seed)
         elif k == 1:  # Taylor, with q̈ = J⁺ẍ when starting at rest (as the loop)
-            guess = q[0] + qd_first * steps[1] + (0.5 * steps[1] ** 2) * qdd_first
-        else:
-            guess = q[k - 1] + ahead[k - 1] + behind[k - 2]
+            guess = q[0] + rates[0] * steps[1] + (0.5 * steps[1] ** 2) * qdd_first
+        else:  # two-step Adams–Bashforth on q̇ (as the loop)
+            a, b = weights[k]
+            guess = q[k - 1] + rates[k - 1] * a + rates[k - 2] * b
         evaluation = evaluate(guess, position_floats[k], rotation_floats[k])
         if not within(evaluation):
             _, ok, _, _, _, evaluation = solve(
-                guess, positions[k], rotations[k], evaluated=evaluation
+                guess, targets.positions[k], rotations[k], evaluated=evaluation
             )
             if not ok:
                 return None
         J = evaluation.jacobian
-        q[k], jacobians[k], tools[k] = evaluation.q, J, evaluation.tool_position
-        solved_here.append(k)
+        q[k], run.jacobians[k], run.tools[k] = evaluation.q, J, evaluation.tool_position
         if k == 0:  # the loop's own rates at the first sample (its test for rest is exact)
             tracker.factor(J)
-            qd_first = tracker.rates(xd[0])
-            if not qd_first.any():
+            rates[0] = tracker.rates(xd[0])
+            if not rates[0].any():
                 qdd_first = tracker.rates(xdd[0])
-            ahead[0] = qd_first  # unused: sample 1 is predicted by Taylor
-            behind[0] = qd_first * scales[0, 1]
         else:
-            ahead[k], behind[k] = rates(J, columns[k])
+            rates[k] = rate(J, xd[k])
+        solved_here.append(k)
         k += 1
-    return q, jacobians, tools, (pinvs, solved_here)
+    return run, solved_here
 
 
 def _monitor(
     tracker: Tracker,
-    t: np.ndarray,
-    q: np.ndarray,
-    jacobians: np.ndarray,
-    tool: np.ndarray,
-    pseudo: tuple[np.ndarray, list[int]],
+    run: Run,
+    solved_here: list[int],
     xd: np.ndarray,
     xdd: np.ndarray,
 ) -> BatchTrack | None:
     """The loop's checks of every sample at once, each with its safety margin: the samples
     as a :class:`~cartesian.batch_track.BatchTrack`, or None when any is flagged or near it.
-    ``pseudo``: the task pseudo-inverses (N, nq, r) the compiled loop computed, and the
-    samples solved in Python (their rows are computed here, once the manipulability shows
-    every sample regular)."""
+    The task pseudo-inverses of the samples ``solved_here`` (in Python) are computed here,
+    once the manipulability shows every sample regular."""
+    t, q, qd, jacobians = run.grid, run.q, run.rates, run.jacobians
     if not within_limits(tracker, q):
         return None
     task = jacobians if len(tracker.rows) == 6 else jacobians[:, tracker.rows]
     manipulability = np.asarray(manipulability_of(task, tracker.rank))
-    if not regular(tracker, manipulability):  # before the rates: a singular J has none
+    if not regular(tracker, manipulability):  # before the pseudo-inverses: a singular J has none
         return None
-    pinvs, solved_here = pseudo
+    pinvs = run.pinvs
     if solved_here:
         pinvs[solved_here] = pseudo_inverses(task[solved_here], tracker.rank)
-    qd = matvec(pinvs, xd)
     if len(t) > 1:  # the loop's jump test (at every sample, not only the corrected ones)
         h = np.diff(t)[:, None]
         unexplained = np.abs(np.diff(q, axis=0) - 0.5 * h * (qd[1:] + qd[:-1]))
@@ -203,7 +193,7 @@ def _monitor(
     free, check = cell_check(tracker, q)
     if not free:
         return None
-    return BatchTrack(q, qd, qdd, tool, manipulability, peak, check)
+    return BatchTrack(q, qd, qdd, run.tools, manipulability, peak, check)
 
 
 # ---------------------------------------------------------------------------- geometric trace
@@ -231,6 +221,9 @@ def trace(
     """
     if not ENABLED or not _full_rank(tracker):
         return None
+    from cartesian import lean_kernel  # numba loads on first use, not with the package
+
+    kernel = lean_kernel.kernel_for(tracker.robot, tracker.rows)
     rate = _rates(tracker)
     evaluate, within, solve = tracker.evaluate, tracker.within, tracker.solve
     pending = _points(tracker, path, s)[::-1]  # the next point to solve at the end
@@ -239,7 +232,26 @@ def trace(
     dqs: list[np.ndarray] = []
     jacobians: list[np.ndarray] = []
     q_prev: np.ndarray | None = None
+    stuck_at = -1  # the compiled loop could not solve the next point with this many solved
     while pending:
+        if kernel is not None and len(qs) >= 2 and len(qs) != stuck_at:
+            # the pending points, compiled, while each is clean (a point it leaves, and the
+            # bisections there, are solved here before it is tried again)
+            run = _pending_run(tracker, pending, solved_s, qs, dqs)
+            done = lean_kernel.advance(
+                kernel, run, 2, (tracker.tolerance, tracker.rotation_tolerance), max_step
+            )
+            if done == 2:
+                stuck_at = len(qs)
+            for j in range(2, done):
+                pending.pop()
+                solved_s.append(float(run.grid[j]))
+                qs.append(run.q[j])
+                dqs.append(run.rates[j])
+                jacobians.append(run.jacobians[j])
+            if not pending:
+                break
+            q_prev = qs[-1]
         sk, position, rotation, dx, floats = pending[-1]
         if q_prev is None:
             guess = tracker.start(position, rotation, seed)
@@ -282,6 +294,37 @@ def trace(
     if not unexplained.max(initial=0.0) <= JUMP_SHARE * tracker.jump_tolerance:
         return None
     return fractions, q_out, dq_out, stack
+
+
+def _pending_run(
+    tracker: Tracker,
+    pending: list[tuple],
+    solved_s: list[float],
+    qs: list[np.ndarray],
+    dqs: list[np.ndarray],
+) -> Run:
+    """The pending points of a trace (in order), after its last two solved ones, as a
+    :class:`~cartesian.lean_kernel.Run` for the compiled loop (rows 0 and 1: those two)."""
+    from cartesian.lean_kernel import Run
+
+    points = pending[::-1]
+    nq = tracker.robot.nq
+    grid = np.array([solved_s[-2], solved_s[-1], *(point[0] for point in points)])
+    positions = np.array([point[1] for point in points]).reshape(-1, 3)
+    velocities = np.array([point[3] for point in points]).reshape(len(points), -1)
+    rotations = None
+    if points[0][2] is not None:
+        rotations = np.concatenate([np.zeros((2, 3, 3)), [point[2] for point in points]])
+    run = Run.empty(
+        grid,
+        np.concatenate([np.zeros((2, velocities.shape[1])), velocities]),
+        np.concatenate([np.zeros((2, 3)), positions]),
+        rotations,
+        nq,
+    )
+    run.q[:2] = qs[-2:]
+    run.rates[:2] = dqs[-2:]
+    return run
 
 
 def _points(tracker: Tracker, path: Path, s: np.ndarray) -> list[tuple]:

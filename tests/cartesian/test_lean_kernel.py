@@ -82,12 +82,12 @@ def test_lu_solve_equals_numpy():
 
 
 def _kernel_and_python_plans(robot, path, monkeypatch, **options):
-    """(plan with the kernel, plan with the Python lean loop, samples the kernel advanced)."""
+    """(plan with the kernel, plan with the Python lean loop, points the kernel solved)."""
     advanced: list[int] = []
     advance = lean_kernel.advance
 
-    def spy(kernel, k, *args, **kwargs):
-        end = advance(kernel, k, *args, **kwargs)
+    def spy(kernel, run, k, *args, **kwargs):
+        end = advance(kernel, run, k, *args, **kwargs)
         advanced.append(end - k)
         return end
 
@@ -134,18 +134,27 @@ def test_compiled_and_python_lean_loops_make_the_same_plans(name, options, monke
     assert advanced >= 0.5 * samples, (advanced, samples)
 
 
-def test_the_benchmark_line_resumes_after_newton_steps(panda, monkeypatch):
-    """The panda benchmark line: the kernel stops at samples whose prediction misses the
-    tolerances (Newton steps in Python) and resumes after them; the plan equals the Python
-    loop's to 1e-12 rad."""
+def _benchmark_line(panda):
     q0 = np.array([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.78])
     start = panda.fk(q0)
-    line = cartesian.Line(start, pin.SE3(start.rotation, start.translation + [0, 0.3, 0]))
+    return cartesian.Line(start, pin.SE3(start.rotation, start.translation + [0, 0.3, 0])), q0
+
+
+@pytest.mark.parametrize("newton", [True, False], ids=["newton compiled", "newton in python"])
+def test_the_benchmark_line_equals_the_python_loop(panda, newton, monkeypatch):
+    """The panda benchmark line (1,001 samples): with the Newton steps compiled the kernel
+    solves every sample after the first two in one run; with them off (no iterations) it
+    stops at each sample whose prediction misses the tolerances, the Python loop corrects it
+    and the kernel resumes after it. Either way the plan equals the Python loop's (q to
+    1e-12 rad, q̇ and q̈ to rounding)."""
+    line, q0 = _benchmark_line(panda)
+    if not newton:
+        monkeypatch.setattr(lean_kernel, "_NEWTON", lean_kernel._NEWTON * [1, 1, 1, 0, 1])
     stops: list[int] = []
     advance = lean_kernel.advance
 
-    def spy(kernel, k, *args, **kwargs):
-        end = advance(kernel, k, *args, **kwargs)
+    def spy(kernel, run, k, *args, **kwargs):
+        end = advance(kernel, run, k, *args, **kwargs)
         stops.append(end)
         return end
 
@@ -153,9 +162,32 @@ def test_the_benchmark_line_resumes_after_newton_steps(panda, monkeypatch):
     compiled = cartesian.follow(panda, line, duration=1.0, dt=0.001, q_seed=q0)
     monkeypatch.setattr(lean_kernel, "ENABLED", False)
     python = cartesian.follow(panda, line, duration=1.0, dt=0.001, q_seed=q0)
-    assert compiled.ok and len(stops) > 2 and stops[-1] == 1001
-    assert all(2 <= stop < 1001 for stop in stops[:-1])
+    assert compiled.ok and stops[-1] == 1001
+    if newton:
+        assert stops == [1001]
+    else:
+        assert len(stops) > 3 and all(2 <= stop < 1001 for stop in stops[:-1])
     np.testing.assert_allclose(compiled.q, python.q, rtol=0, atol=1e-12)
     np.testing.assert_allclose(compiled.qd, python.qd, rtol=0, atol=1e-10)
     np.testing.assert_allclose(compiled.qdd, python.qdd, rtol=0, atol=1e-8)
     assert lean_track.ENABLED
+
+
+@pytest.mark.parametrize("name", ["panda", "skewed_axes"])
+def test_compiled_and_python_geometric_traces_agree(name, monkeypatch):
+    """40 random lines per arm through :func:`cartesian.check_reachability` (the geometric
+    trace retiming makes first; points bisected where a joint steps more than 0.1 rad): the
+    same points, status and events with the kernel and without, q within 1e-9 rad."""
+    robot = _arm(name)
+    compiled_points = 0
+    for what, path, q0, _ in _lines(robot, 40, seed=5):
+        with monkeypatch.context() as patch:
+            compiled = cartesian.check_reachability(robot, path, q_seed=q0)
+            patch.setattr(lean_kernel, "ENABLED", False)
+            python = cartesian.check_reachability(robot, path, q_seed=q0)
+        assert compiled.status == python.status, what
+        assert [e.message for e in compiled.events] == [e.message for e in python.events], what
+        np.testing.assert_array_equal(compiled.s, python.s, err_msg=what)
+        np.testing.assert_allclose(compiled.q, python.q, rtol=0, atol=1e-9, err_msg=what)
+        compiled_points += len(compiled.s) if compiled.ok else 0
+    assert compiled_points > 0
