@@ -64,6 +64,15 @@ LINES = {
     "ur5": (np.radians([0.0, -100.0, 100.0, -90.0, -90.0, 0.0]), np.array([0.0, 0.3, 0.0])),
     "panda": (np.array([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.78]), np.array([0.0, 0.3, 0.0])),
     "planar_2r": (np.array([0.3, 1.2]), np.array([0.0, 0.3, 0.0])),  # position only
+    # a numerical arm (no closed form): six revolute joints on skewed axes, 0.15 m line
+    "skewed_axes": (
+        np.array([0.41, -0.69, -1.38, -1.45, 0.94, 1.24]),
+        np.array([0.0, 0.15, 0.0]),
+    ),
+}
+#: Arms loaded from the tests' URDF fixtures rather than by name.
+FIXTURES = {
+    "skewed_axes": os.path.join(os.path.dirname(__file__), "..", "urdf", "skewed_axes.urdf")
 }
 DURATION = 1.0  # [s]
 DT = 0.001  # [s], 1 kHz
@@ -367,7 +376,10 @@ def profile_follow(robot: Robot, line: cartesian.Line, q0: np.ndarray, top: int 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
-        "--robots", nargs="+", default=["ur5", "panda", "planar_2r"], help="robot names"
+        "--robots",
+        nargs="+",
+        default=["ur5", "panda", "planar_2r", "skewed_axes"],
+        help="robot names",
     )
     parser.add_argument("--repeat", type=int, default=5, help="timed calls per method")
     parser.add_argument(
@@ -386,7 +398,7 @@ def main(argv: list[str] | None = None) -> int:
         "The machine is noisy (runs drift 1.5-2x): compare ratios within one run.\n"
     )
     for name in args.robots:
-        robot = load_robot(name)
+        robot = load_robot(FIXTURES.get(name, name))
         line, q0 = make_line(robot, name)
         methods = [
             kinplan_method(robot, line, q0),
@@ -395,6 +407,8 @@ def main(argv: list[str] | None = None) -> int:
             *(
                 [Method("rtb ctraj + ik_LM", unavailable="not compared (a position-only arm)")]
                 if robot.default_position_only()
+                else [Method("rtb ctraj + ik_LM", unavailable="not compared (a test URDF)")]
+                if name in FIXTURES
                 else rtb_methods(robot, line, q0, np.random.default_rng([0, 2]))
             ),
             pyroboplan_method(),

@@ -20,6 +20,7 @@ SCRIPTS = [
     ("Inverse kinematics", ["bench_ik.py"]),
     ("Closed-form IK (UR family)", ["bench_analytic_ik.py", "--robots", "ur5"]),
     ("Cartesian following", ["bench_cartesian.py"]),
+    ("Time-optimal Cartesian timing against toppra", ["bench_retime.py"]),
     ("Trajectory sampling", ["bench_trajectory.py"]),
     ("Joint timing: S-curve and time-optimal", ["bench_timing.py"]),
     ("Batch IK and capability maps", ["bench_reach.py"]),
