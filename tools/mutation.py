@@ -109,6 +109,7 @@ MODULES: dict[str, list[str]] = {
         "tests/ik/test_panda_ik.py",
         "tests/ik/test_ik_batch.py",
         "tests/ik/test_panda_ik_mutants.py",
+        "tests/ik/test_panda_kernel.py",
     ],
     "cartesian/follow.py": FOLLOW_TESTS,
     "cartesian/tracker.py": FOLLOW_TESTS,

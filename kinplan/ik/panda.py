@@ -476,6 +476,7 @@ class PandaIK:
         self._w = [float(x) for x in self.weights]
         self._limits = tuple(zip(self._lo, self._hi, self._w))
         self._mid_joints = self._joints(0.5 * (self.lower + self.upper))
+        self._constants: tuple[np.ndarray, ...] | None = None  # of the compiled solve
         g = geometry
         self._wrist_pair = _AxisPair.of(g.axes[4], g.axes[5])  # Ra = axis 5, Rb = axis 6
         self._shoulder_pair = _AxisPair.of(g.axes[1], g.axes[0])  # Ra = axis 2, Rb = axis 1
@@ -700,11 +701,59 @@ class PandaIK:
                 found.append(q)
         return np.array(found).reshape(-1, 7)
 
+    def kernel_constants(self) -> tuple[np.ndarray, ...]:
+        """The geometry and precomputed terms the compiled solve reads
+        (:func:`kinplan.ik.panda_kernel.nearest_for_q7`), as arrays."""
+        g = self.geometry
+        vectors = [g.points[6], g.wrist, self._s4, self._w4, self._e3, (0.0, 0.0, 0.0)]
+        elbow = [self._q4_lengths, self._q4_const, self._q4_amplitude, self._q4_phase]
+        pairs = [
+            [*pair.a, *pair.b, pair.c, *pair.normal, pair.normal2]
+            for pair in (self._wrist_pair, self._shoulder_pair)
+        ]
+        limits = [self.lower, self.upper, self.weights]
+        return tuple(np.array(x, dtype=float) for x in (g.axes, vectors, elbow, pairs, limits))
+
+    def _compiled_inputs(
+        self, prepared: tuple[Vec, Mat], q_ref: np.ndarray
+    ) -> tuple[tuple[np.ndarray, ...], np.ndarray, np.ndarray, np.ndarray] | None:
+        """What the compiled solve of this pose needs (constants, ``M T⁻¹ s``, ``R_T M_Rᵀ``,
+        the reference), or None when it is not available (then the Python solve runs)."""
+        from kinplan.ik import panda_kernel  # numba loads on first use
+
+        if not panda_kernel.available():
+            return None
+        if self._constants is None:
+            self._constants = self.kernel_constants()
+        seen, rotation_tm = prepared
+        return (
+            self._constants,
+            np.array(seen),
+            np.array(rotation_tm).reshape(3, 3),
+            np.asarray(q_ref, dtype=float),
+        )
+
     def _best(
-        self, prepared: tuple[Vec, Mat], q7_values: list[float], joints: list[_Joint]
+        self,
+        prepared: tuple[Vec, Mat],
+        q7_values: list[float],
+        joints: list[_Joint],
+        compiled: tuple | None = None,
     ) -> list[float] | None:
-        """The solution nearest the reference over the given θ7 values [rad], or None."""
+        """The solution nearest the reference over the given θ7 values [rad], or None.
+        ``compiled``: :meth:`_compiled_inputs` of the pose, for the compiled solve (the same
+        arithmetic; the Python one without)."""
         best, best_cost = None, math.inf
+        if compiled is not None:
+            from kinplan.ik import panda_kernel
+
+            out = np.empty(7)
+            constants, seen, rotation_tm, q_ref = compiled
+            for q7 in q7_values:
+                cost = panda_kernel.nearest_for_q7(constants, seen, rotation_tm, q7, q_ref, out)
+                if cost < best_cost:
+                    best, best_cost = out.tolist(), cost
+            return best
         for q7 in q7_values:
             found = self._solve(prepared, q7, joints, prune=True)
             if found and found[-1][1] < best_cost:
@@ -763,13 +812,14 @@ class PandaIK:
             first = q7_ref
         else:
             first = start + 0.25 * (end - start) if q7_ref < start else end - 0.25 * (end - start)
-        best = self._best(prepared, [first], joints)
+        compiled = self._compiled_inputs(prepared, q_ref)
+        best = self._best(prepared, [first], joints, compiled)
         middle = 0.5 * (start + end)
         if best is None and middle != first:
-            best = self._best(prepared, [middle], joints)
+            best = self._best(prepared, [middle], joints, compiled)
         if best is None:
             for stage in self._q7_stages(q7_ref, intervals, {first, middle}):
-                best = self._best(prepared, stage, joints)
+                best = self._best(prepared, stage, joints, compiled)
                 if best is not None:
                     break
         return None if best is None else np.array(best)
