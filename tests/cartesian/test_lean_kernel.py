@@ -191,3 +191,21 @@ def test_compiled_and_python_geometric_traces_agree(name, monkeypatch):
         np.testing.assert_allclose(compiled.q, python.q, rtol=0, atol=1e-9, err_msg=what)
         compiled_points += len(compiled.s) if compiled.ok else 0
     assert compiled_points > 0
+
+
+def test_kinplan_jit_0_switches_both_compiled_loops_off():
+    """``KINPLAN_JIT=0`` in the environment: the pure-Python loops run (read at import)."""
+    import os
+    import subprocess
+    import sys
+
+    code = (
+        "from cartesian import lean_kernel; from kinplan.ik import panda_kernel; "
+        "print(lean_kernel.ENABLED, panda_kernel.available())"
+    )
+    for value, expected in (("0", "False False"), ("1", "True True")):
+        env = {**os.environ, "KINPLAN_JIT": value}
+        done = subprocess.run(
+            [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+        )
+        assert done.stdout.strip() == expected
