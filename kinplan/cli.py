@@ -38,6 +38,7 @@ import numpy as np
 import pinocchio as pin
 
 import kinplan
+from kinplan.defaults import DEFAULT_DT, DEFAULT_SERVO_PERIOD
 from kinplan.errors import FrameError, InputError, KinplanError
 
 __all__ = ["main"]
@@ -840,8 +841,6 @@ def build_parser() -> argparse.ArgumentParser:
         "--plot", metavar="FILE", help="write joint position/velocity/acceleration, tool speed"
     )
     run.add_argument("--csv", metavar="FILE", help="write the samples: t, q, qd, qdd, tool pose")
-    from kinplan.export import DEFAULT_SERVO_PERIOD
-
     run.add_argument(
         "--urscript",
         metavar="FILE",
@@ -859,8 +858,6 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="FILE",
         help="write a ROS JointTrajectory of the samples (.json, .yaml or .yml)",
     )
-    from kinplan.program import DEFAULT_DT
-
     run.add_argument(
         "--dt", type=_positive, default=DEFAULT_DT, help=f"sampling period [s] ({DEFAULT_DT})"
     )

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from kinplan import checks
+from kinplan import checks, defaults
 from kinplan.errors import InputError, KinplanError
 from kinplan.motion import (
     MoveSpan,
@@ -135,7 +135,7 @@ UR_JOINT_NAMES = (
 )
 """Joints of a Universal Robots arm, base to wrist 3: the order of URScript joint vectors."""
 
-DEFAULT_SERVO_PERIOD = 0.008
+DEFAULT_SERVO_PERIOD = defaults.DEFAULT_SERVO_PERIOD
 """Period of the ``servoj`` stream [s]: the CB-series controller's 125 Hz (e-Series: 0.002)."""
 
 TRAJECTORY_FORMATS = {".json": "json", ".yaml": "yaml", ".yml": "yaml"}

@@ -14,6 +14,7 @@ import numpy as np
 import pinocchio as pin
 import yaml
 
+from kinplan import defaults
 from kinplan.cell import WorkCell
 from kinplan.robot import Robot
 
@@ -46,8 +47,8 @@ __all__ = [
 
 MOVE_KINDS = ("ptp", "lin", "circ")
 """The kinds of move a program may use."""
-DEFAULT_DT = 0.01
-"""Sampling period of planned programs [s]."""
+DEFAULT_DT = defaults.DEFAULT_DT
+"""Sampling period of planned programs [s] (:data:`kinplan.defaults.DEFAULT_DT`)."""
 DEFAULT_PTP_SPEED = 0.5
 """Cruise speed of a ``ptp`` move without ``speed``/``duration``, share of the joint limits [-]."""
 PTP_RAMP_TIME = 0.5

@@ -18,6 +18,7 @@ README = HERE / "README.md"
 START, END = "<!-- results:start -->", "<!-- results:end -->"
 SCRIPTS = [
     ("Inverse kinematics", ["bench_ik.py"]),
+    ("Inverse kinematics from a mid-range seed", ["bench_ik.py", "--mid-seed"]),
     ("Closed-form IK (UR family)", ["bench_analytic_ik.py", "--robots", "ur5"]),
     ("Cartesian following", ["bench_cartesian.py"]),
     ("Time-optimal Cartesian timing against toppra", ["bench_retime.py"]),
@@ -25,6 +26,7 @@ SCRIPTS = [
     ("Joint timing: S-curve and time-optimal", ["bench_timing.py"]),
     ("Batch IK and capability maps", ["bench_reach.py"]),
     ("Batch IK against issue 18's targets", ["bench_ik_batch.py"]),
+    ("Start-up of the console command", ["bench_startup.py"]),
 ]
 
 
