@@ -216,3 +216,51 @@ def test_nearest_many_breaks_ties_towards_the_lower_branch():
             else:
                 # branches 0-3 share θ1, and 4-7: the lowest of the nearer shoulder's
                 assert branch[k] in (bits[0], next((b for b in bits if b >= 4), -1))
+
+
+def _wrapped(a: np.ndarray) -> np.ndarray:
+    return (a + np.pi) % TAU - np.pi
+
+
+@pytest.mark.parametrize("name", ["ur3", "ur5", "ur10"])
+def test_branch_many_equals_every_pose_alone_and_its_forward_kinematics(name):
+    """URIK.branch_many (one branch of many poses, the follower's fast path) against the
+    plain-float all-branch solution of each pose alone (pose_branches): for each of the eight
+    branches over 400 random and near-singular poses (wrist θ5 ≈ 0, elbow θ3 ≈ 0), the same
+    angles modulo 2π (1e-9 rad) and the same missing branches wherever neither calls the pose
+    near a singularity; FK of every answer equals its target (1e-9); a branch per pose gives
+    the rows of the branches it names; the pose's own configuration is one of its branches."""
+    robot, solver = cached_robot(name), solver_of(name)
+    rng = np.random.default_rng([61, ["ur3", "ur5", "ur10"].index(name)])
+    q_true = np.array([robot.random_configuration(rng) for _ in range(400)])
+    q_true[300:350, 4] = rng.uniform(-1e-3, 1e-3, 50)  # near the wrist singularity
+    q_true[350:, 2] = rng.uniform(-1e-3, 1e-3, 50)  # near the straight elbow
+    positions, rotations = _poses(robot, q_true)
+    alone = [solver.pose_branches(p, r) for p, r in zip(positions, rotations)]
+    per_branch = []
+    compared = 0
+    for branch in range(8):
+        q, edge = solver.branch_many(positions, rotations, branch)
+        per_branch.append(q)
+        assert q.shape == (400, 6) and edge.shape == (400,)
+        for k in range(400):
+            if edge[k] or alone[k] is None:
+                continue
+            assert np.isnan(q[k]).any() == np.isnan(alone[k][branch]).any(), (branch, k)
+            if not np.isnan(q[k]).any():
+                np.testing.assert_allclose(
+                    _wrapped(q[k] - alone[k][branch]), 0.0, rtol=0, atol=1e-9
+                )
+                pose = robot.fk(q[k])
+                assert np.linalg.norm(pose.translation - positions[k]) < 1e-9
+                assert np.linalg.norm(pin.log3(pose.rotation.T @ rotations[k])) < 1e-9
+                compared += 1
+    assert compared > 400 * 4  # most branches of most poses exist and were compared
+    chosen = rng.integers(0, 8, 400)
+    q_chosen, _ = solver.branch_many(positions, rotations, chosen)
+    expected = np.array([per_branch[b][k] for k, b in enumerate(chosen)])
+    np.testing.assert_array_equal(q_chosen, expected)
+    # the configuration a pose was made from is one of its branches (modulo 2π)
+    stacked = np.stack(per_branch, axis=1)  # (N, 8, 6)
+    distance = np.abs(_wrapped(stacked - q_true[:, None, :])).max(axis=2)
+    assert np.mean(np.nanmin(distance[:300], axis=1) < 1e-8) == 1.0
