@@ -1,26 +1,29 @@
-"""The lean loop's per-sample work compiled (numba), for serial arms of revolute joints.
+"""The lean loop's per-point work compiled (numba), for serial arms of revolute joints.
 
-:func:`cartesian.lean_track.track` predicts each sample's configuration from the two before
-(Adams–Bashforth on q̇), checks the tool there against the target and, when it is within the
-tolerances, only needs the joint rates of the sample for the next predictions. In Python that
-is a kinematics pass through Pinocchio and a small solve per sample, about 12 µs on a 7-joint
-arm: the loop, not the arithmetic, is the cost, and no numpy formulation removes it (each
-sample depends on the one before). :func:`advance` runs those samples in compiled code, with
-the kinematics written as a product of exponentials of the joint screws at q = 0
-(:func:`kinplan.ik.screws.screws_at_zero`, checked here against Pinocchio's forward kinematics
-before use), and stops at the first sample whose prediction misses the tolerances: its Newton
-steps are the Python loop's (:meth:`cartesian.tracker.Tracker.solve`), and :func:`advance`
-resumes after it.
+:mod:`cartesian.lean_track` predicts each point's configuration from the two before it
+(Adams–Bashforth on the joint rates), corrects it by Newton steps when the tool misses the
+tolerances there, and keeps the point's joint rates for the next predictions — sample by
+sample in time for a plan, point by point in the path fraction for a geometric trace. In Python
+that is a kinematics pass through Pinocchio and a small solve per point, about 12 µs on a
+7-joint arm: the loop, not the arithmetic, is the cost, and no numpy formulation removes it
+(each point depends on the one before). :func:`advance` runs those points in compiled code:
+the kinematics as a product of exponentials of the joint screws at q = 0
+(:func:`kinplan.ik.screws.screws_at_zero`, checked against Pinocchio's tool pose and Jacobian
+before use), the Newton steps of :meth:`cartesian.tracker.Tracker.solve` (those of
+:meth:`kinplan.ik.IKSolver.descend` without limits), the rates and task pseudo-inverses by a
+small LU. It stops at the first point it cannot solve cleanly — failed Newton steps, a joint
+step beyond a trace's bisection threshold, a rotation error beyond a quarter turn — which the
+Python loop then solves (with its events, bisections and fallbacks), and is called again after
+it.
 
-The compiled kinematics and rates are the Python loop's equations in another rounding (the
-tool pose and its LOCAL_WORLD_ALIGNED Jacobian from screws instead of Pinocchio's joint
-placements, the rates from an LU with partial pivoting of the same Gram matrix); the samples
-agree with the Python loop's within its IK tolerance (``tests/cartesian/test_lean_kernel.py``).
+These are the Python loop's equations in another rounding; plans and traces agree with the
+Python loop's within its IK tolerance (``tests/cartesian/test_lean_kernel.py``).
 
-numba is imported on first use; without it (or with :data:`ENABLED` False, or the environment
-variable ``KINPLAN_JIT=0``) :func:`kernel_for` returns None and the Python loop runs every
-sample. Compiled functions are cached on disk (numba's ``cache=True``: next to this module, or
-in the user's cache directory when the package folder is read-only).
+numba is imported with this module, which :mod:`cartesian.lean_track` imports on first use;
+without it (or with :data:`ENABLED` False, or the environment variable ``KINPLAN_JIT=0``)
+:func:`kernel_for` returns None and the Python loop solves every point. Compiled functions are
+cached on disk (numba's ``cache=True``: next to this module, or in the user's cache directory
+when the package folder is read-only).
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from cartesian.tracker import NEWTON_ITERATIONS
 from kinplan.ik.numeric import (
     DAMPING_FLOOR,
     DAMPING_GAIN,
@@ -55,8 +59,9 @@ if TYPE_CHECKING:
 #: Python loop runs every sample).
 ENABLED = os.environ.get("KINPLAN_JIT", "1") != "0"
 
-#: Largest difference [m] between the screw kinematics and Pinocchio's tool position on the
-#: check configurations for the kernel to be used (both are exact up to rounding: ~1e-15 m).
+#: Largest difference between the screw kinematics and Pinocchio's tool pose and Jacobian
+#: (entries, [m] or [-]) on the check configurations for the kernel to be used (both are
+#: exact up to rounding: ~1e-15).
 AGREEMENT = 1e-12
 
 #: The rotations passed for a position-only task (never read).
@@ -64,7 +69,9 @@ _NO_ROTATIONS = np.zeros((1, 3, 3))
 
 #: Newton steps of :meth:`cartesian.tracker.Tracker.solve` (IKSolver.descend's constants and
 #: the tracker's 12 iterations): damping gain, damping floor, step cap, iterations, patience.
-_NEWTON = np.array([DAMPING_GAIN, DAMPING_FLOOR, MAX_STEP, 12.0, float(STALL_ITERATIONS)])
+_NEWTON = np.array(
+    [DAMPING_GAIN, DAMPING_FLOOR, MAX_STEP, float(NEWTON_ITERATIONS), float(STALL_ITERATIONS)]
+)
 
 #: Task shapes: wide (fewer task rows than joints: minimum-norm rates), square, tall.
 WIDE, SQUARE, TALL = -1, 0, 1

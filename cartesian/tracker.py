@@ -26,6 +26,8 @@ from kinplan.sampling import joint_speeds
 
 #: Default singularity threshold, as a share of the arm's median manipulability.
 SINGULAR_FRACTION = 0.05
+#: Newton steps per point after a missed prediction (:meth:`Tracker.solve`).
+NEWTON_ITERATIONS = 12
 
 
 # ------------------------------------------------------------------------------------------
@@ -87,7 +89,7 @@ class Tracker:
         position: np.ndarray,
         rotation: np.ndarray | None,
         evaluated: Evaluation | None = None,
-        iterations: int = 12,
+        iterations: int = NEWTON_ITERATIONS,
     ) -> tuple[np.ndarray, bool, float, float, int, Evaluation]:
         """Newton steps from ``guess``, ignoring the joint limits (the caller checks them: a
         joint that must leave its range is a ``joint_limit`` event, never a clamp).
