@@ -224,7 +224,7 @@ def advance(
         N when every point from k on is solved, else the first point the caller must solve
         itself: its Newton steps failed, its joint step exceeds ``max_step``, its guess is not
         finite, or its rotation error is beyond a quarter turn (left to Pinocchio's log). Its
-        row of ``q`` holds the guess.
+        row of ``q`` holds the last iterate (the guess when no Newton step was taken).
     """
     position_tolerance, rotation_tolerance = tolerances
     return int(
@@ -243,7 +243,9 @@ def advance(
 def _jit(function):
     """``function`` compiled by numba on first call (cached on disk), or as it is without
     numba (then :func:`kernel_for` never hands it out)."""
-    return function if numba is None else numba.njit(cache=True)(function)
+    # error_model="numpy": a division by zero gives inf or NaN (caught by the callers'
+    # checks), as numpy's, instead of raising ZeroDivisionError
+    return function if numba is None else numba.njit(cache=True, error_model="numpy")(function)
 
 
 @_jit

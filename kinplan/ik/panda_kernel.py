@@ -67,7 +67,9 @@ def nearest_for_q7(
 # ---------------------------------------------------------------------------- compiled code
 def _jit(function):
     """``function`` compiled by numba on first call (cached on disk), or as it is."""
-    return function if numba is None else numba.njit(cache=True)(function)
+    # error_model="numpy": a division by zero gives inf or NaN (caught by the callers'
+    # checks), as numpy's, instead of raising ZeroDivisionError
+    return function if numba is None else numba.njit(cache=True, error_model="numpy")(function)
 
 
 @_jit
