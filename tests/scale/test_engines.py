@@ -222,6 +222,9 @@ def _interrupt_a_map(folder: Path, extra: list[str], wait: float) -> None:
         stderr=subprocess.PIPE,
         text=True,
         start_new_session=True,
+        # Ctrl-C's default action, even when this test runs in a background job (whose
+        # children inherit SIGINT ignored, and Python then keeps it ignored)
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     time.sleep(wait)  # past the imports, into the map (about 30 s of work at 2 cm)
     os.killpg(process.pid, signal.SIGINT)
