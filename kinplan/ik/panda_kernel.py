@@ -9,8 +9,11 @@ in Python while the per-θ7 solve does not.
 
 It is a twin of :meth:`PandaIK._solve <kinplan.ik.panda.PandaIK>` with ``prune=True``, step
 for step (the same subproblems, angle choices, tolerances and tie-breaking order), tested
-against it on thousands of random poses, θ7 values and references
-(``tests/ik/test_panda_kernel.py``). Without numba (or with ``KINPLAN_JIT=0``)
+against it on thousands of random poses, θ7 values and references, and on crafted geometries,
+free angles and limit edges (``tests/ik/test_panda_kernel.py``). The two agree to the last
+bit but one: Python squares a distance with ``pow`` and numba with a product, so two branches
+whose distances tie to the last bit may be chosen differently (they then differ by ~1e-15
+rad). Without numba (or with ``KINPLAN_JIT=0``)
 :func:`available` is False and the Python solve runs. Compiled code is cached on disk.
 """
 
