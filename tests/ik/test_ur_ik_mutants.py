@@ -222,28 +222,24 @@ def _wrapped(a: np.ndarray) -> np.ndarray:
     return (a + np.pi) % TAU - np.pi
 
 
-@pytest.mark.parametrize("name", ["ur3", "ur5", "ur10"])
-def test_branch_many_equals_every_pose_alone_and_its_forward_kinematics(name):
-    """URIK.branch_many (one branch of many poses, the follower's fast path) against the
-    plain-float all-branch solution of each pose alone (pose_branches): for each of the eight
-    branches over 400 random and near-singular poses (wrist θ5 ≈ 0, elbow θ3 ≈ 0), the same
-    angles modulo 2π (1e-9 rad) and the same missing branches wherever neither calls the pose
-    near a singularity; FK of every answer equals its target (1e-9); a branch per pose gives
-    the rows of the branches it names; the pose's own configuration is one of its branches."""
-    robot, solver = cached_robot(name), solver_of(name)
-    rng = np.random.default_rng([61, ["ur3", "ur5", "ur10"].index(name)])
-    q_true = np.array([robot.random_configuration(rng) for _ in range(400)])
-    q_true[300:350, 4] = rng.uniform(-1e-3, 1e-3, 50)  # near the wrist singularity
-    q_true[350:, 2] = rng.uniform(-1e-3, 1e-3, 50)  # near the straight elbow
+def _assert_branch_many(
+    robot, solver: URIK, q_true: np.ndarray, rng
+) -> tuple[np.ndarray, np.ndarray]:
+    """branch_many of each branch against pose_branches of each pose alone (same angles
+    modulo 2π to 1e-9 rad, same missing branches, wherever neither calls the pose near a
+    singularity), FK of every answer at its target (1e-9), a branch per pose giving the rows
+    of the branches it names, and the pose's own configuration among its branches."""
+    count = len(q_true)
     positions, rotations = _poses(robot, q_true)
     alone = [solver.pose_branches(p, r) for p, r in zip(positions, rotations)]
-    per_branch = []
+    per_branch, edges = [], []
     compared = 0
     for branch in range(8):
         q, edge = solver.branch_many(positions, rotations, branch)
         per_branch.append(q)
-        assert q.shape == (400, 6) and edge.shape == (400,)
-        for k in range(400):
+        edges.append(edge)
+        assert q.shape == (count, 6) and edge.shape == (count,)
+        for k in range(count):
             if edge[k] or alone[k] is None:
                 continue
             assert np.isnan(q[k]).any() == np.isnan(alone[k][branch]).any(), (branch, k)
@@ -255,12 +251,45 @@ def test_branch_many_equals_every_pose_alone_and_its_forward_kinematics(name):
                 assert np.linalg.norm(pose.translation - positions[k]) < 1e-9
                 assert np.linalg.norm(pin.log3(pose.rotation.T @ rotations[k])) < 1e-9
                 compared += 1
-    assert compared > 400 * 4  # most branches of most poses exist and were compared
-    chosen = rng.integers(0, 8, 400)
-    q_chosen, _ = solver.branch_many(positions, rotations, chosen)
+    assert compared > count * 3  # most branches of most poses exist and were compared
+    chosen = rng.integers(0, 8, count)
+    q_chosen, edge_chosen = solver.branch_many(positions, rotations, chosen)
     expected = np.array([per_branch[b][k] for k, b in enumerate(chosen)])
     np.testing.assert_array_equal(q_chosen, expected)
-    # the configuration a pose was made from is one of its branches (modulo 2π)
+    np.testing.assert_array_equal(edge_chosen, [edges[b][k] for k, b in enumerate(chosen)])
     stacked = np.stack(per_branch, axis=1)  # (N, 8, 6)
     distance = np.abs(_wrapped(stacked - q_true[:, None, :])).max(axis=2)
-    assert np.mean(np.nanmin(distance[:300], axis=1) < 1e-8) == 1.0
+    own = np.nanargmin(np.where(np.isnan(distance), np.inf, distance), axis=1)
+    regular = np.array([a is not None for a in alone])
+    assert np.all(distance[regular, own[regular]] < 1e-8)
+    return np.array(edges), own
+
+
+@pytest.mark.parametrize("name", ["ur3", "ur5", "ur10"])
+def test_branch_many_equals_every_pose_alone_and_its_forward_kinematics(name):
+    """URIK.branch_many (one branch of many poses, the follower's fast path) on the stock arms
+    over 400 random and near-singular poses (wrist θ5 ≈ 0, elbow θ3 ≈ 0): see
+    :func:`_assert_branch_many`; and a pose whose own branch is within 1e-6 rad of the
+    straight elbow or the aligned wrist is flagged near a singularity (edge) on that branch."""
+    robot, solver = cached_robot(name), solver_of(name)
+    rng = np.random.default_rng([61, ["ur3", "ur5", "ur10"].index(name)])
+    q_true = np.array([robot.random_configuration(rng) for _ in range(400)])
+    q_true[300:340, 4] = rng.uniform(-1e-3, 1e-3, 40)  # near the wrist singularity
+    q_true[340:370, 2] = rng.uniform(-1e-3, 1e-3, 30)  # near the straight elbow
+    q_true[370:385, 2] = rng.uniform(-1e-7, 1e-7, 15)  # at it (within the edge)
+    q_true[385:, 4] = rng.uniform(-1e-7, 1e-7, 15)  # at the wrist singularity
+    edges, own = _assert_branch_many(robot, solver, q_true, rng)
+    assert np.all(edges[own[370:], np.arange(370, 400)])
+
+
+@pytest.mark.parametrize("variant", list(MODIFIED_GEOMETRIES))
+def test_branch_many_on_modified_geometries(tmp_path, variant):
+    """The same on UR5s with moved joint origins (offsets, zero offsets, a turned tool):
+    elbow offsets and wrist angles δ that the stock arms have at zero."""
+    tool_rpy = "0.3 -0.5 1.2" if variant == "zero offsets and tool" else None
+    robot = modified_ur5(tmp_path, tool_rpy=tool_rpy, **MODIFIED_GEOMETRIES[variant])
+    solver = analytic_solver_for(robot)
+    assert isinstance(solver, URIK) and solver.branch_many_available
+    rng = np.random.default_rng(62)
+    q_true = np.array([robot.random_configuration(rng) for _ in range(150)])
+    _assert_branch_many(robot, solver, q_true, rng)
