@@ -293,3 +293,25 @@ def test_branch_many_on_modified_geometries(tmp_path, variant):
     rng = np.random.default_rng(62)
     q_true = np.array([robot.random_configuration(rng) for _ in range(150)])
     _assert_branch_many(robot, solver, q_true, rng)
+
+
+def test_branch_many_at_singularities_and_without_the_single_pose_path():
+    """At exact wrist, elbow and shoulder singularities branch_many warns about nothing (its
+    NaN lanes are expected) and flags every pose on some branch; a solver without the single-pose
+    path (a negative weight) answers every pose as near a singularity, with float NaN rows."""
+    robot, solver = cached_robot("ur5"), solver_of("ur5")
+    rng = np.random.default_rng(63)
+    q_true = np.array([robot.random_configuration(rng) for _ in range(45)])
+    q_true[:15, 4] = 0.0
+    q_true[15:30, 2] = 0.0
+    for k in range(30, 45):
+        q_true[k] = shoulder_singular(robot, solver, q_true[k])
+    positions, rotations = _poses(robot, q_true)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        edges = np.array([solver.branch_many(positions, rotations, b)[1] for b in range(8)])
+    assert edges.any(axis=0).all()  # every singular pose is flagged on some branch
+    negative = URIK(solver.geometry, robot.lower, robot.upper, -WEIGHTS)
+    assert not negative.branch_many_available
+    q, edge = negative.branch_many(positions, rotations, 3)
+    assert q.dtype == float and q.shape == (45, 6) and np.isnan(q).all() and edge.all()

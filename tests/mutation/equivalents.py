@@ -713,6 +713,40 @@ EQUIVALENTS += [
         "float limits: the same floats"),
 ]  # fmt: skip
 
+_EDGE_ONLY = (
+    "a value beyond ±1 before the clip only occurs for poses flagged near a singularity "
+    "(|value| > 1 − _FAST_EDGE), whose outputs are documented as meaningless and never used "
+    "(the follower and nearest() hand them to the exact path)"
+)
+_OWN_SKEW = (
+    "rotate_about and rotate_about_line compute skew(axis).T themselves when given None: the "
+    "same matrix"
+)
+EQUIVALENTS += [
+    _ur("cross5=skew(u[4]).T,", "cross5=None,", _OWN_SKEW),
+    _ur("point = rotate_about_line(point, g.p6, g.u6, -t6, g.cross6)",
+        "point = rotate_about_line(point, g.p6, g.u6, -t6, None)", _OWN_SKEW),
+    _ur("turned = rotate_about(turned, g.u1, -t1, g.cross1)",
+        "turned = rotate_about(turned, g.u1, -t1, None)", _OWN_SKEW),
+    _ur("np.clip(cosine, -1.0, 1.0, out=cosine)", "np.clip(cosine, -1.0, 1.0, )", _EDGE_ONLY),
+    _ur("np.clip(cosine, -1.0, 1.0, out=cosine)", "np.clip(cosine, -1.0, 2.0, out=cosine)",
+        _EDGE_ONLY),
+    _ur("np.clip(ratio, -1.0, 1.0, out=ratio)", "np.clip(ratio, -1.0, 1.0, out=None)",
+        _EDGE_ONLY),
+    _ur("np.clip(ratio, -1.0, 1.0, out=ratio)", "np.clip(ratio, -2.0, 1.0, out=ratio)",
+        _EDGE_ONLY),
+    _ur("cos_half5, sin_half5 = b6 / norm, sign5 * sine / norm",
+        "cos_half5, sin_half5 = b6 / norm, sign5 * sine * norm",
+        "norm is the length of (sin, cos) of one angle built from a unit vector's components: "
+        "1 to rounding, so dividing or multiplying by it differs by an ulp"),
+    _ur("no_shoulder = size > 1.0 + CLAMP + _FAST_EDGE",
+        "no_shoulder = size >= 1.0 + CLAMP + _FAST_EDGE", _NEVER_EQUAL),
+    _ur("edge = size > 1.0 - _FAST_EDGE", "edge = size >= 1.0 - _FAST_EDGE", _NEVER_EQUAL),
+    _ur("if defect > _FAST_DEFECT:", "if defect >= _FAST_DEFECT:", _NEVER_EQUAL),
+    _ur("if min(np.hypot(*r23), np.hypot(*r34)) < STRUCTURE_TOL:",
+        "if min(np.hypot(*r23), np.hypot(*r34)) <= STRUCTURE_TOL:", _NEVER_EQUAL),
+]  # fmt: skip
+
 _QUICK_MANY = (
     "the first q only decides which entries are ties: a wrong number of turns puts q more than "
     "half a turn from the reference, so the entry goes to the exact search (near_angle), which "
