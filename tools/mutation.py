@@ -134,6 +134,8 @@ MODULES: dict[str, list[str]] = {
     ],
     "cartesian/paths.py": [
         "tests/cartesian/test_paths.py",
+        "tests/cartesian/test_path_mutants.py",
+        "tests/cartesian/test_weave.py",
         "tests/cartesian/test_cartesian.py",
         "tests/cartesian/test_follow_monitoring.py",
         "tests/test_validation.py",
