@@ -136,6 +136,7 @@ MODULES: dict[str, list[str]] = {
         "tests/cartesian/test_paths.py",
         "tests/cartesian/test_path_mutants.py",
         "tests/cartesian/test_weave.py",
+        "tests/cartesian/test_follow_mutants.py",  # HeldOrientation: 3-vector paths followed
         "tests/cartesian/test_cartesian.py",
         "tests/cartesian/test_follow_monitoring.py",
         "tests/test_validation.py",
