@@ -3,10 +3,11 @@
 :func:`track` runs the IK of :func:`cartesian.follow._track` sample by sample — the same
 prediction (Taylor at the second sample, two-step Adams–Bashforth on q̇ after), the same
 kinematics pass and acceptance test, the same Newton steps — but nothing else per sample: the
-joint rates the next prediction needs come from one small solve on the sample's Jacobian (both
-scaled rates the two next predictions use, in one right-hand side), and every monitoring
-quantity — joint limits, manipulability, q̇ = J⁺ẋ, the jump test, joint speeds and
-accelerations, the work cell — is computed after the loop, stacked over all samples.
+joint rates q̇ = J⁺ẋ the next prediction needs come from one small solve on the sample's
+Jacobian, and every other monitoring quantity — joint limits, manipulability, the jump test,
+joint speeds and accelerations, the work cell — is computed after the loop, stacked over all
+samples. On serial arms of revolute joints, runs of samples (and of a trace's points) are
+solved in compiled code (:mod:`cartesian.lean_kernel`); the points it leaves are solved here.
 
 Like :mod:`cartesian.batch_track` it answers only for clean paths: a sample whose Newton steps
 fail, or that raises a flag or comes within the same safety margins of one
