@@ -929,3 +929,68 @@ EQUIVALENTS += [
                  "minimum time bit for bit; the joint then would exceed both limits, so the "
                  "message is true with either name"),
 ]  # fmt: skip
+
+# ---------------------------------------------------------------------------- the compiled loop
+_lk = _module(("cartesian/lean_kernel.py",))
+_DTYPE = (
+    "the callers pass float64 arrays (and int64 rows); without the conversion numba compiles "
+    "the same loop for the given dtype, which computes in float64 alike: the same results"
+)
+_COMPILED_OR_NOT = (
+    "compiled or interpreted, cached or not, the functions compute the same values; only the "
+    "speed and the start-up differ"
+)
+_CHECK_POINTS = (
+    "the screw check needs some configurations, not these: a geometry that disagrees with "
+    "Pinocchio does so at any generic configuration (the three drawn, four, other seeds, or "
+    "ranges of ±π for every joint), and a right one agrees at all"
+)
+EQUIVALENTS += [
+    *(
+        _lk(f"{target} = np.ascontiguousarray(screws.{source}, dtype=float)",
+            f"{target} = np.ascontiguousarray(screws.{source}, {mutant})", _DTYPE)
+        for target, source in (("directions", "directions"), ("points", "points"),
+                               ("tool", "tool.homogeneous"))
+        for mutant in ("dtype=None", "")
+    ),
+    *(
+        _lk(f"np.ascontiguousarray({name}, dtype=float),",
+            f"np.ascontiguousarray({name}, {mutant}),", _DTYPE)
+        for name in ("grid", "velocities", "positions")
+        for mutant in ("dtype=None", "")
+    ),
+    *(
+        _lk("None if rotations is None else np.ascontiguousarray(rotations, dtype=float),",
+            f"None if rotations is None else np.ascontiguousarray(rotations, {mutant}),", _DTYPE)
+        for mutant in ("dtype=None", "")
+    ),
+    _lk("rows = np.asarray(rows, dtype=np.int64)", "rows = np.asarray(rows, dtype=None)", _DTYPE),
+    _lk("rows = np.asarray(rows, dtype=np.int64)", "rows = np.asarray(rows, )", _DTYPE),
+    *(
+        _lk("return function if numba is None else numba.njit(cache=True)(function)", mutant,
+            _COMPILED_OR_NOT)
+        for mutant in (
+            "return function if (numba is None) and False else numba.njit(cache=True)(function)",
+            "return function if (numba is None) or True else numba.njit(cache=True)(function)",
+            "return function if numba is None else numba.njit(cache=False)(function)",
+            "return function if numba is None else numba.njit(cache=None)(function)",
+            "return function if numba is not None else numba.njit(cache=True)(function)",
+        )
+    ),
+    _lk("rng = np.random.default_rng(0)", "rng = np.random.default_rng(1)", _CHECK_POINTS),
+    _lk("rng = np.random.default_rng(0)", "rng = np.random.default_rng(None)", _CHECK_POINTS),
+    _lk("for q in rng.uniform(low, high, size=(3, robot.nq)):",
+        "for q in rng.uniform(low, high, size=(4, robot.nq)):", _CHECK_POINTS),
+    _lk("for q in rng.uniform(low, high, size=(3, robot.nq)):",
+        "for q in rng.uniform(low, size=(3, robot.nq)):", _CHECK_POINTS),
+    _lk("low = np.where(np.isfinite(robot.lower), robot.lower, -np.pi)",
+        "low = np.where(None, robot.lower, -np.pi)", _CHECK_POINTS),
+    _lk("low = np.where(np.isfinite(robot.lower), robot.lower, -np.pi)",
+        "low = np.where(np.isfinite(robot.lower), robot.lower, +np.pi)", _CHECK_POINTS),
+    _lk("high = np.where(np.isfinite(robot.upper), robot.upper, np.pi)",
+        "high = np.where(None, robot.upper, np.pi)", _CHECK_POINTS),
+    _lk("np.abs(pose - robot.fk(q).homogeneous).max() <= AGREEMENT",
+        "np.abs(pose - robot.fk(q).homogeneous).max() < AGREEMENT", _NEVER_EQUAL),
+    _lk("and np.abs(jacobian - robot.jacobian(q)).max() <= AGREEMENT",
+        "and np.abs(jacobian - robot.jacobian(q)).max() < AGREEMENT", _NEVER_EQUAL),
+]  # fmt: skip
