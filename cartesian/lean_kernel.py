@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from cartesian.tracker import NEWTON_ITERATIONS
+from kinplan.compiled import jit, numba, product, product_into, rotation_about
 from kinplan.ik.numeric import (
     DAMPING_FLOOR,
     DAMPING_GAIN,
@@ -46,11 +47,6 @@ from kinplan.ik.numeric import (
     frobenius_tolerance,
 )
 from kinplan.ik.screws import screws_at_zero
-
-try:
-    import numba
-except ImportError:  # pragma: no cover - numba is a dependency; the Python loop is the fallback
-    numba = None  # type: ignore[assignment]
 
 if TYPE_CHECKING:
     from kinplan.robot import Robot
@@ -240,15 +236,7 @@ def advance(
 
 
 # ---------------------------------------------------------------------------- compiled code
-def _jit(function):
-    """``function`` compiled by numba on first call (cached on disk), or as it is without
-    numba (then :func:`kernel_for` never hands it out)."""
-    # error_model="numpy": a division by zero gives inf or NaN (caught by the callers'
-    # checks), as numpy's, instead of raising ZeroDivisionError
-    return function if numba is None else numba.njit(cache=True, error_model="numpy")(function)
-
-
-@_jit
+@jit
 def kinematics(q, directions, points, tool, pose, jacobian) -> None:
     """Tool pose (4, 4) and LOCAL_WORLD_ALIGNED Jacobian (6, nq) at ``q`` by the product of
     exponentials T(q) = exp(S1 q1) ⋯ exp(Sn qn) M, written into ``pose`` and ``jacobian``.
@@ -262,7 +250,7 @@ def kinematics(q, directions, points, tool, pose, jacobian) -> None:
     translation = np.zeros(3)
     origins = np.empty((nq, 3))
     step = np.empty((3, 3))
-    product = np.empty((3, 3))
+    turned = np.empty((3, 3))
     for i in range(nq):
         ux, uy, uz = directions[i, 0], directions[i, 1], directions[i, 2]
         px, py, pz = points[i, 0], points[i, 1], points[i, 2]
@@ -272,38 +260,17 @@ def kinematics(q, directions, points, tool, pose, jacobian) -> None:
                 rotation[a, 0] * px + rotation[a, 1] * py + rotation[a, 2] * pz + translation[a]
             )
         # exp(Sᵢ qᵢ): Rodrigues about u, then translation (I − step) p
-        c, s = np.cos(q[i]), np.sin(q[i])
-        t = 1.0 - c
-        step[0, 0] = c + ux * ux * t
-        step[0, 1] = ux * uy * t - uz * s
-        step[0, 2] = ux * uz * t + uy * s
-        step[1, 0] = uy * ux * t + uz * s
-        step[1, 1] = c + uy * uy * t
-        step[1, 2] = uy * uz * t - ux * s
-        step[2, 0] = uz * ux * t - uy * s
-        step[2, 1] = uz * uy * t + ux * s
-        step[2, 2] = c + uz * uz * t
+        rotation_about(directions[i], np.cos(q[i]), np.sin(q[i]), step)
         # t += R (p − step p), with the rotation before this joint
         sx = px - (step[0, 0] * px + step[0, 1] * py + step[0, 2] * pz)
         sy = py - (step[1, 0] * px + step[1, 1] * py + step[1, 2] * pz)
         sz = pz - (step[2, 0] * px + step[2, 1] * py + step[2, 2] * pz)
         for a in range(3):
             translation[a] += rotation[a, 0] * sx + rotation[a, 1] * sy + rotation[a, 2] * sz
-        for a in range(3):
-            for b in range(3):
-                product[a, b] = (
-                    rotation[a, 0] * step[0, b]
-                    + rotation[a, 1] * step[1, b]
-                    + rotation[a, 2] * step[2, b]
-                )
-        rotation[:, :] = product
+        product_into(rotation, step, turned)
+        rotation, turned = turned, rotation
+    product_into(rotation, tool[:3, :3], pose[:3, :3])
     for a in range(3):
-        for b in range(3):
-            pose[a, b] = (
-                rotation[a, 0] * tool[0, b]
-                + rotation[a, 1] * tool[1, b]
-                + rotation[a, 2] * tool[2, b]
-            )
         pose[a, 3] = (
             rotation[a, 0] * tool[0, 3]
             + rotation[a, 1] * tool[1, 3]
@@ -322,7 +289,7 @@ def kinematics(q, directions, points, tool, pose, jacobian) -> None:
         jacobian[2, i] = wx * ry - wy * rx
 
 
-@_jit
+@jit
 def lu_solve(a, b):
     """x with a x = b for a square ``a`` (m, m) and ``b`` (m, k), by Gaussian elimination with
     partial pivoting (copies; a singular pivot gives inf/NaN, caught by the caller's checks)."""
@@ -354,19 +321,7 @@ def lu_solve(a, b):
     return b
 
 
-@_jit
-def _product(a, b):
-    """a b for small matrices (loops: numba's matrix product would need SciPy's BLAS)."""
-    out = np.zeros((a.shape[0], b.shape[1]))
-    for i in range(a.shape[0]):
-        for m in range(a.shape[1]):
-            factor = a[i, m]
-            for j in range(b.shape[1]):
-                out[i, j] += factor * b[m, j]
-    return out
-
-
-@_jit
+@jit
 def _rotation_error(target, pose, error) -> bool:
     """log(R* Rᵀ) (the rotation vector [rad] taking the tool's rotation R to the target's,
     world frame, as ``pin.log3``) into ``error[3:]``; False when the angle exceeds a quarter
@@ -392,17 +347,17 @@ def _rotation_error(target, pose, error) -> bool:
     return True
 
 
-@_jit
+@jit
 def _pseudo_inverse(task, shape, identity):
     """J⁺ of the task rows: Jᵀ (J Jᵀ)⁻¹ (wide), J⁻¹ (square) or (JᵀJ)⁻¹ Jᵀ (tall)."""
     if shape < 0:
-        return _product(task.T, lu_solve(_product(task, task.T), identity))
+        return product(task.T, lu_solve(product(task, task.T), identity))
     if shape == 0:
         return lu_solve(task, identity)
-    return lu_solve(_product(task.T, task), task.T)
+    return lu_solve(product(task.T, task), task.T)
 
 
-@_jit
+@jit
 def _advance(
     k, grid, velocities, positions, rotations, with_rotation, q, rates, jacobians, tools,
     pinvs, position2, frobenius2, max_step, directions, points, tool, rows, shape, newton,

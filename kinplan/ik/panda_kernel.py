@@ -24,12 +24,8 @@ import os
 
 import numpy as np
 
+from kinplan.compiled import jit, numba, product_into, rotation_about
 from kinplan.ik.screws import CLAMP, FREE_TOL, HALF_TURN_SAFE, LIMIT_TOL, TAU
-
-try:
-    import numba
-except ImportError:  # pragma: no cover - numba is a dependency; the Python solve is the fallback
-    numba = None  # type: ignore[assignment]
 
 #: Private switch for tests and benchmarks: False makes :func:`available` False.
 ENABLED = os.environ.get("KINPLAN_JIT", "1") != "0"
@@ -68,14 +64,7 @@ def nearest_for_q7(
 
 
 # ---------------------------------------------------------------------------- compiled code
-def _jit(function):
-    """``function`` compiled by numba on first call (cached on disk), or as it is."""
-    # error_model="numpy": a division by zero gives inf or NaN (caught by the callers'
-    # checks), as numpy's, instead of raising ZeroDivisionError
-    return function if numba is None else numba.njit(cache=True, error_model="numpy")(function)
-
-
-@_jit
+@jit
 def _rotate_cs(v, axis, c, s):
     """``v`` (3,) rotated about the unit ``axis`` by the angle of cosine ``c``, sine ``s``."""
     ax, ay, az = axis[0], axis[1], axis[2]
@@ -88,7 +77,7 @@ def _rotate_cs(v, axis, c, s):
     return out
 
 
-@_jit
+@jit
 def _choice(value, ref, clipped, lower, upper, weight):
     """(found, q, w (q − ref)²): the 2π-equivalent of ``value`` within the limits nearest the
     clipped reference (``joint_choice`` and ``near_angle`` of :mod:`kinplan.ik.screws`)."""
@@ -115,7 +104,7 @@ def _choice(value, ref, clipped, lower, upper, weight):
     return True, q, weight * (q - ref) ** 2
 
 
-@_jit
+@jit
 def _pair(pair, u, v, free_a, free_b, out):
     """Angles (θa, θb) with ``Rb(θb) Ra(θa) u = v`` (Paden–Kahan subproblem 2, as
     ``_AxisPair.solve``) into the rows of ``out`` (2, 2); returns how many (0, 1 or 2)."""
@@ -146,7 +135,7 @@ def _pair(pair, u, v, free_a, free_b, out):
     return count
 
 
-@_jit
+@jit
 def _angle_about(axis, a, b, free):
     """The angle about the unit ``axis`` taking ``a`` towards ``b`` (subproblem 1), or
     ``free`` when either lies on the axis (``_angle_about`` of :mod:`kinplan.ik.panda`)."""
@@ -164,7 +153,7 @@ def _angle_about(axis, a, b, free):
     )
 
 
-@_jit
+@jit
 def _matvec(m, v):
     out = np.empty(3)
     for i in range(3):
@@ -172,7 +161,7 @@ def _matvec(m, v):
     return out
 
 
-@_jit
+@jit
 def _nearest(axes, vectors, elbow, pairs, limits, seen, rotation_tm, q7, q_ref, out):
     """:func:`nearest_for_q7` (compiled)."""
     lower, upper, weights = limits[0], limits[1], limits[2]
@@ -247,22 +236,9 @@ def _nearest(axes, vectors, elbow, pairs, limits, seen, rotation_tm, q7, q_ref, 
         if cost6 >= bound:
             break
         if not have_p:  # R_P = R_T M_Rᵀ Rot(ω7, −θ7)
-            c, s, t = c7, -s7, 1.0 - c7
-            x, yy, z = a7[0], a7[1], a7[2]
-            turn = np.array(
-                [
-                    [c + x * x * t, x * yy * t - z * s, x * z * t + yy * s],
-                    [yy * x * t + z * s, c + yy * yy * t, yy * z * t - x * s],
-                    [z * x * t - yy * s, z * yy * t + x * s, c + z * z * t],
-                ]
-            )
-            for r in range(3):
-                for col in range(3):
-                    rotation_p[r, col] = (
-                        rotation_tm[r, 0] * turn[0, col]
-                        + rotation_tm[r, 1] * turn[1, col]
-                        + rotation_tm[r, 2] * turn[2, col]
-                    )
+            turn = np.empty((3, 3))
+            rotation_about(a7, c7, -s7, turn)
+            product_into(rotation_tm, turn, rotation_p)
             have_p = True
         cos5, sin5, cos6, sin6 = math.cos(q5), -math.sin(q5), math.cos(q6), -math.sin(q6)
         g3 = _rotate_cs(_rotate_cs(axes[2], a4, cos4, sin4), a5, cos5, sin5)
