@@ -31,7 +31,6 @@ from __future__ import annotations
 import math
 import os
 import weakref
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -84,7 +83,6 @@ class Kernel:
     """The compiled loop of one arm and task.
 
     Attributes:
-        advance: The compiled :func:`_advance` (see :func:`advance`).
         directions: Unit joint axes at q = 0 (nq, 3), world frame.
         points: A point of each axis at q = 0 (nq, 3) [m].
         tool: Tool pose at q = 0 (4, 4).
@@ -92,7 +90,6 @@ class Kernel:
         shape: :data:`WIDE`, :data:`SQUARE` or :data:`TALL`.
     """
 
-    advance: Callable[..., int]
     directions: np.ndarray
     points: np.ndarray
     tool: np.ndarray
@@ -113,7 +110,7 @@ def kernel_for(robot: Robot, rows: np.ndarray) -> Kernel | None:
         return None
     rows = np.asarray(rows, dtype=np.int64)
     shape = (len(rows) > robot.nq) - (len(rows) < robot.nq)
-    return Kernel(_advance, *cached, rows, shape)
+    return Kernel(*cached, rows, shape)
 
 
 def checked_screws(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
@@ -224,7 +221,7 @@ def advance(
     """
     position_tolerance, rotation_tolerance = tolerances
     return int(
-        kernel.advance(
+        _advance(
             k, run.grid, run.velocities, run.positions,
             _NO_ROTATIONS if run.rotations is None else run.rotations, run.rotations is not None,
             run.q, run.rates, run.jacobians, run.tools, run.pinvs,
