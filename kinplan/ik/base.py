@@ -43,6 +43,11 @@ class AnalyticIK(Protocol):
         ...
 
 
+class NeedsBatch(Exception):
+    """Raised by a closed form's single-pose path in plain floats (UR family, planar 2R) for a
+    pose or input it leaves to the vectorised path (near a singularity, malformed input)."""
+
+
 # ---------------------------------------------------------------------------- common machinery
 class ClosedFormIK:
     """Limits, 2π equivalents, nearest-solution choice and branch following for closed forms.

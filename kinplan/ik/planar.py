@@ -3,18 +3,21 @@
 from __future__ import annotations
 
 import logging
+import math
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from kinplan.ik.base import ClosedFormIK
+from kinplan.ik.base import ClosedFormIK, NeedsBatch
 from kinplan.ik.screws import (
     CLAMP,
     FREE_TOL,
     PLANAR_TOL,
     SIGNS,
     STRUCTURE_TOL,
+    TAU,
     Screws,
+    joint_choice,
     parallel,
     plane_basis,
     wrap_angle,
@@ -63,6 +66,10 @@ def planar_2r(
 class Planar2RIK(ClosedFormIK):
     """Closed-form IK of a planar arm with two parallel revolute axes (both elbow branches).
 
+    :meth:`nearest` of a position solves it in plain floats (:meth:`_nearest_fast`), with the
+    answer of the vectorised path (:meth:`_nearest_batch_path`) to 1e-9 rad; a target with a
+    rotation, on joint A's axis (θ1 free) or malformed takes the vectorised path itself.
+
     Args:
         screws: Joint axes and tool pose at q = 0 (world frame).
         lower: Lower joint limits [rad], shape (2,).
@@ -92,6 +99,83 @@ class Planar2RIK(ClosedFormIK):
         self._r1 = self._in_plane(screws.points[1] - screws.points[0])
         self._r2 = self._in_plane(self._tool_point - screws.points[1])
         self.link_lengths = (float(np.hypot(*self._r1)), float(np.hypot(*self._r2)))
+        # the single-pose path's constants as floats (the arithmetic of planar_2r)
+        self._floats = (
+            tuple(self._origin.tolist()),
+            tuple(self._e.tolist()),
+            tuple(self._f.tolist()),
+            tuple(self._axis.tolist()),
+            tuple(self._tool_point.tolist()),
+            tuple(self._r1.tolist()),
+            tuple(self._r2.tolist()),
+            math.atan2(self._r1[1], self._r1[0]) - math.atan2(self._r2[1], self._r2[0]),
+        )
+        self._joint_floats = tuple(zip(self.lower.tolist(), self.upper.tolist(),
+                                       self.weights.tolist(), strict=True))  # fmt: skip
+
+    def nearest(
+        self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray
+    ) -> np.ndarray | None:
+        if rotation is None:
+            try:
+                return self._nearest_fast(position, q_ref)
+            except NeedsBatch:
+                pass
+        return self._nearest_batch_path(position, rotation, q_ref)
+
+    nearest.__doc__ = ClosedFormIK.nearest.__doc__
+
+    def _nearest_batch_path(
+        self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray
+    ) -> np.ndarray | None:
+        """:meth:`nearest` computed by the vectorised machinery (:meth:`_raw` for N = 1): the
+        reference of the single-pose path, and its fallback."""
+        return ClosedFormIK.nearest(self, position, rotation, q_ref)
+
+    def _nearest_fast(self, position: np.ndarray, q_ref: np.ndarray) -> np.ndarray | None:
+        """:meth:`nearest` of a position in plain floats: :func:`planar_2r` for one target and
+        the choice :meth:`_pick` makes (equal distances go to the first branch, θ2 ≥ 0 before
+        the sign of the second axis).
+
+        Raises:
+            NeedsBatch: a malformed or non-finite position or ``q_ref``, or a target on joint
+                A's axis (θ1 free: the vectorised path keeps the reference's θ1).
+        """
+        position, ref = np.asarray(position, dtype=float), np.asarray(q_ref, dtype=float)
+        if position.shape != (3,) or ref.shape != (2,):
+            raise NeedsBatch
+        (px, py, pz), (ref1, ref2) = position.tolist(), ref.tolist()
+        if not math.isfinite(px + py + pz + ref1 + ref2):
+            raise NeedsBatch
+        origin, e, f, axis, tool, r1, r2, offset = self._floats
+        dx, dy, dz = px - origin[0], py - origin[1], pz - origin[2]
+        tx, ty = dx * e[0] + dy * e[1] + dz * e[2], dx * f[0] + dy * f[1] + dz * f[2]
+        d2 = tx * tx + ty * ty
+        if d2 < FREE_TOL**2:
+            raise NeedsBatch
+        off_plane = (px - tool[0]) * axis[0] + (py - tool[1]) * axis[1] + (pz - tool[2]) * axis[2]
+        l1, l2 = math.hypot(*r1), math.hypot(*r2)
+        cosine = (d2 - l1**2 - l2**2) / (2.0 * l1 * l2)
+        if not (abs(off_plane) <= PLANAR_TOL and abs(cosine) <= 1.0 + CLAMP):
+            return None
+        (lower1, upper1, weight1), (lower2, upper2, weight2) = self._joint_floats
+        joint1 = (ref1, min(max(ref1, lower1), upper1), lower1, upper1, weight1)
+        joint2 = (ref2, min(max(ref2, lower2), upper2), lower2, upper2, weight2)
+        elbow = math.acos(min(max(cosine, -1.0), 1.0))
+        target_angle = math.atan2(ty, tx)
+        best, best_cost = None, math.inf
+        for psi_b in (elbow + offset, -elbow + offset):
+            cb, sb = math.cos(psi_b), math.sin(psi_b)
+            vx = r1[0] + cb * r2[0] - sb * r2[1]
+            vy = r1[1] + sb * r2[0] + cb * r2[1]
+            psi_a = target_angle - math.atan2(vy, vx)
+            psi_a -= TAU * round(psi_a / TAU)
+            psi_b -= TAU * round(psi_b / TAU)
+            choice1 = joint_choice(psi_a, joint1)
+            choice2 = joint_choice(self._sign2 * psi_b, joint2)
+            if choice1 is not None and choice2 is not None and choice1[1] + choice2[1] < best_cost:
+                best, best_cost = (choice1[0], choice2[0]), choice1[1] + choice2[1]
+        return None if best is None else np.array(best)
 
     def _in_plane(self, v: np.ndarray) -> np.ndarray:
         return np.stack((v @ self._e, v @ self._f), axis=-1)

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kinplan.ik.base import ClosedFormIK
+from kinplan.ik.base import ClosedFormIK, NeedsBatch
 from kinplan.ik.planar import planar_2r
 from kinplan.ik.screws import (
     CLAMP,
@@ -170,10 +170,6 @@ def ur_geometry(screws: Screws) -> URGeometry | None:
 
 
 # ---------------------------------------------------------------------------- UR fast single pose
-class NeedsBatch(Exception):
-    """Raised by URIK's fast single-pose path for a pose or input it leaves to the batch path."""
-
-
 @dataclass(frozen=True, slots=True)
 class _URFast:
     """Constants of URIK's single-pose path in plain floats, read once from a :class:`URGeometry`.

@@ -794,3 +794,113 @@ def test_planar_2r_closed_form_on_a_moved_and_tilted_base():
     axis_point = robot.fk([0.0, np.pi]).translation  # folded (l1 = l2): on joint 1's axis
     folded = solver.nearest(axis_point, None, np.array([0.7, 3.0]))
     np.testing.assert_allclose(folded, [0.7, np.pi], atol=1e-9)
+
+
+# ---------------------------------------------------------------------------- planar single pose
+def skewed_planar_2r(tmp_path: Path, lower: float, upper: float) -> kinplan.Robot:
+    """A 2R arm whose second axis points the other way, with the tool off the link's line
+    (r2 not along x) and first-axis limits of more than a turn: every term of the single-pose
+    path differs from the lecture's arm."""
+    text = kinplan.planar.planar_arm_urdf([0.8, 0.45], lower=[lower, -2.5], upper=[upper, 2.9])
+    second = '<origin xyz="0.8 0 0" rpy="0 0 0" />\n    <axis xyz="0 0 1" />'
+    tool = '<origin xyz="0.45 0 0" rpy="0 0 0" />\n  </joint>\n</robot>'
+    text = text.replace(second, second.replace('"0 0 1"', '"0 0 -1"'))
+    text = text.replace(tool, tool.replace('"0.45 0 0"', '"0.45 0.12 0"'))
+    assert text.count('axis xyz="0 0 -1"') == 1 and "0.45 0.12 0" in text
+    path = tmp_path / "skewed_2r.urdf"
+    path.write_text(text)
+    base = pin.SE3(pin.utils.rpyToMatrix(0.4, 0.1, -0.7), np.array([0.2, -0.1, 0.3]))
+    return kinplan.load_robot(str(path), tip="tip", base_pose=base)
+
+
+def planar_arms(tmp_path: Path) -> list[kinplan.Robot]:
+    return [
+        cached_robot("planar_2r"),
+        kinplan.planar_arm([1.0, 0.5], lower=[0.0, 0.0], upper=[2 * np.pi, np.pi]),
+        kinplan.planar_arm([0.4, 0.9], lower=[-1.0, -0.5], upper=[2.0, 2.5]),
+        skewed_planar_2r(tmp_path, -4.0, 4.0),
+    ]
+
+
+def test_planar_fast_nearest_equals_batch_path(tmp_path):
+    """The planar 2R's plain-float nearest() against its vectorised path on 4 arms (a tilted
+    base, a reversed second axis, an offset tool, limits of more or less than a turn), 1,500
+    targets each: reachable, unreachable, out of the plane, on the workspace boundary; seeds
+    random, near, and beyond the limits."""
+    rng = np.random.default_rng(20261128)
+    for robot in planar_arms(tmp_path):
+        solver = robot.closed_form_ik
+        assert isinstance(solver, Planar2RIK)
+        normal = solver._axis  # the plane's normal in the world frame
+        paths = {"fast": 0, "none": 0, "batch": 0}
+        for i in range(1500):
+            q = rng.uniform(robot.lower - 0.5, robot.upper + 0.5)
+            target = robot.fk(q).translation
+            kind = i % 5
+            if kind == 1:  # beyond reach along the same direction
+                target = target + rng.uniform(0.0, 1.0) * (target - robot.fk(q * 0).translation)
+            elif kind == 2:  # off the plane by up to 1e-8 m (PLANAR_TOL is 1e-9)
+                target = target + rng.uniform(-1e-8, 1e-8) * normal
+            elif kind == 3:  # stretched or folded: on the boundary of the workspace
+                q = np.array([q[0], rng.choice([0.0, np.pi])])
+                target = robot.fk(q).translation
+            q_ref = (
+                np.clip(q + rng.normal(scale=0.3, size=2), robot.lower, robot.upper)
+                if i % 2
+                else rng.uniform(robot.lower - 3.0, robot.upper + 3.0)
+            )
+            expected = solver._nearest_batch_path(target, None, q_ref)
+            try:
+                fast = solver._nearest_fast(target, q_ref)
+            except NeedsBatch:  # on the first axis (θ1 free): only the folded lecture arm
+                assert kind == 3 and np.hypot(*target[:2]) < 1e-12, target
+                np.testing.assert_array_equal(solver.nearest(target, None, q_ref), expected)
+                paths["batch"] += 1
+                continue
+            paths["none" if fast is None else "fast"] += 1
+            assert (fast is None) == (expected is None), (i, target, q_ref, fast, expected)
+            if fast is not None:
+                np.testing.assert_allclose(fast, expected, rtol=0.0, atol=1e-9)
+                assert robot.within_limits(fast, tolerance=0.0)
+                reached = robot.fk(fast).translation
+                np.testing.assert_allclose(reached, target, rtol=0.0, atol=1e-9)
+                np.testing.assert_array_equal(solver.nearest(target, None, q_ref), fast)
+            else:
+                assert solver.nearest(target, None, q_ref) is None
+        assert paths["fast"] > 600 and paths["none"] > 200 and paths["batch"] < 200, paths
+
+
+def test_planar_fast_nearest_leaves_to_the_batch_path(planar_2r):
+    """A target on the first axis (θ1 free), a rotation, bad shapes and NaN take the vectorised
+    path: θ1 keeps the reference there, and bad input raises its InputError."""
+    solver = solver_of("planar_2r")
+    on_axis = planar_2r.fk([0.0, np.pi]).translation  # folded, l1 = l2
+    with pytest.raises(NeedsBatch):
+        solver._nearest_fast(on_axis, np.array([0.7, 3.0]))
+    np.testing.assert_allclose(solver.nearest(on_axis, None, np.array([0.7, 3.0])),
+                               [0.7, np.pi], atol=1e-12)  # fmt: skip
+    for position, q_ref in [
+        (np.array([1.0, 0.5]), np.zeros(2)),
+        (np.array([1.0, 0.5, 0.0]), np.zeros(3)),
+        (np.array([np.nan, 0.5, 0.0]), np.zeros(2)),
+        (np.array([1.0, 0.5, 0.0]), np.array([np.inf, 0.0])),
+    ]:
+        with pytest.raises(NeedsBatch):
+            solver._nearest_fast(position, q_ref)
+        with pytest.raises(InputError):
+            solver.nearest(position, None, q_ref)
+    q = np.array([0.4, 1.1])
+    pose = planar_2r.fk(q)
+    np.testing.assert_allclose(solver.nearest(pose.translation, pose.rotation, q), q, atol=1e-12)
+
+
+def test_planar_fast_nearest_breaks_a_tie_as_the_batch_path():
+    """Two elbow solutions (−0.75, 1.5) and (0.75, −1.5) as far from q_ref = 0 to the last bit
+    (their distances are equal in floats): both paths take the first branch (θ2 ≥ 0)."""
+    solver = solver_of("planar_2r")
+    target = np.array([2.0 * np.cos(0.75), 0.0, 0.0])
+    distances = np.sum(solver.solutions(target, None) ** 2, axis=1)
+    assert distances[0] == distances[1]
+    fast = solver._nearest_fast(target, np.zeros(2))
+    np.testing.assert_array_equal(fast, solver._nearest_batch_path(target, None, np.zeros(2)))
+    np.testing.assert_allclose(fast, [-0.75, 1.5], atol=1e-12)
