@@ -196,23 +196,14 @@ def _branch_solutions(
     ``q0`` at the first target, or None where that branch is ambiguous, a target has no
     solution on it or lies near a singularity of the closed form.
 
-    The UR family lists the first pose's branches in plain floats and solves the others on
-    that branch alone (:meth:`URIK.branch_many`); the planar 2R solves both branches of every
-    pose in one pass.
+    The first pose's branches come in plain floats (``pose_branches``); every target is then
+    solved on that branch alone in one vectorised pass (``branch_many``).
     """
-    if isinstance(solver, URIK):
-        assert rotations is not None  # a UR task is a pose (_branch_solver)
-        first = solver.pose_branches(positions[0], rotations[0])
-        branch = None if first is None else _branch_of(first, q0)
-        if branch is None:
-            return None
-        raw, edge = solver.branch_many(positions, rotations, branch)
-    else:
-        every, edge = solver.all_branches(positions, rotations, np.zeros((len(positions), 2)))
-        branch = _branch_of(every[0], q0)
-        if branch is None:
-            return None
-        raw = every[:, branch]
+    first = solver.pose_branches(positions[0], None if rotations is None else rotations[0])
+    branch = None if first is None else _branch_of(first, q0)
+    if branch is None:
+        return None
+    raw, edge = solver.branch_many(positions, rotations, branch)
     if edge.any() or np.isnan(raw).any():
         return None
     return raw

@@ -30,9 +30,13 @@ logger = logging.getLogger(__name__)
 
 
 def planar_2r(
-    r1: np.ndarray, r2: np.ndarray, target: np.ndarray, fill: np.ndarray
+    r1: np.ndarray,
+    r2: np.ndarray,
+    target: np.ndarray,
+    fill: np.ndarray,
+    signs: np.ndarray = SIGNS,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Both elbow solutions of a planar 2R chain.
+    """Both elbow solutions of a planar 2R chain (or the one of each sign in ``signs``).
 
     The tip is ``Rot(ψa)·(r1 + Rot(ψb)·r2)`` relative to joint A, with rotations counterclockwise
     in the plane's coordinates.
@@ -42,16 +46,19 @@ def planar_2r(
         r2: Joint B to the tip at zero angles [m], shape (2,).
         target: Tip positions relative to joint A [m], shape (..., 2).
         fill: ψa [rad] used where the target is on joint A's axis (ψa free), shape (...).
+        signs: The branches, as the sign of ψb − ψb(stretched): (+1, −1) both, (±1,) one.
 
     Returns:
-        (ψa, ψb, reachable) each of shape (..., 2) (elbow branch last) and ``free`` (...): where
-        ψa was taken from ``fill``.
+        (ψa, ψb, reachable) each of shape (..., len(signs)) (elbow branch last) and ``free``
+        (...): where ψa was taken from ``fill``.
     """
     l1, l2 = np.hypot(*r1), np.hypot(*r2)
     d2 = np.sum(target**2, axis=-1)
     cosine = (d2 - l1**2 - l2**2) / (2.0 * l1 * l2)
-    reachable = np.broadcast_to((np.abs(cosine) <= 1.0 + CLAMP)[..., None], cosine.shape + (2,))
-    psi_b = SIGNS * np.arccos(np.clip(cosine, -1.0, 1.0))[..., None]
+    reachable = np.broadcast_to(
+        (np.abs(cosine) <= 1.0 + CLAMP)[..., None], cosine.shape + (len(signs),)
+    )
+    psi_b = signs * np.arccos(np.clip(cosine, -1.0, 1.0))[..., None]
     psi_b = psi_b + (np.arctan2(r1[1], r1[0]) - np.arctan2(r2[1], r2[0]))
     cb, sb = np.cos(psi_b), np.sin(psi_b)
     vx = r1[0] + cb * r2[0] - sb * r2[1]
@@ -133,19 +140,42 @@ class Planar2RIK(ClosedFormIK):
         return ClosedFormIK.nearest(self, position, rotation, q_ref)
 
     def _nearest_fast(self, position: np.ndarray, q_ref: np.ndarray) -> np.ndarray | None:
-        """:meth:`nearest` of a position in plain floats: :func:`planar_2r` for one target and
-        the choice :meth:`_pick` makes (equal distances go to the first branch, θ2 ≥ 0 before
-        the sign of the second axis).
+        """:meth:`nearest` of a position in plain floats: :meth:`_fast_branches` and the choice
+        :meth:`_pick` makes (equal distances go to the first branch).
 
         Raises:
-            NeedsBatch: a malformed or non-finite position or ``q_ref``, or a target on joint
-                A's axis (θ1 free: the vectorised path keeps the reference's θ1).
+            NeedsBatch: as :meth:`_fast_branches`, and for a malformed or non-finite ``q_ref``.
         """
-        position, ref = np.asarray(position, dtype=float), np.asarray(q_ref, dtype=float)
-        if position.shape != (3,) or ref.shape != (2,):
+        ref = np.asarray(q_ref, dtype=float)
+        if ref.shape != (2,):
             raise NeedsBatch
-        (px, py, pz), (ref1, ref2) = position.tolist(), ref.tolist()
-        if not math.isfinite(px + py + pz + ref1 + ref2):
+        ref1, ref2 = ref.tolist()
+        if not math.isfinite(ref1 + ref2):
+            raise NeedsBatch
+        (lower1, upper1, weight1), (lower2, upper2, weight2) = self._joint_floats
+        joint1 = (ref1, min(max(ref1, lower1), upper1), lower1, upper1, weight1)
+        joint2 = (ref2, min(max(ref2, lower2), upper2), lower2, upper2, weight2)
+        best, best_cost = None, math.inf
+        for q1, q2 in self._fast_branches(position):
+            choice1, choice2 = joint_choice(q1, joint1), joint_choice(q2, joint2)
+            if choice1 is not None and choice2 is not None and choice1[1] + choice2[1] < best_cost:
+                best, best_cost = (choice1[0], choice2[0]), choice1[1] + choice2[1]
+        return None if best is None else np.array(best)
+
+    def _fast_branches(self, position: np.ndarray) -> list[tuple[float, float]]:
+        """Both branches' (θ1, θ2) [rad] (wrapped into [−π, π]) of a position in plain floats:
+        :func:`planar_2r` for one target, rows as :meth:`_raw`'s; empty when the position is out
+        of reach or off the arm's plane.
+
+        Raises:
+            NeedsBatch: a malformed or non-finite position, or a target on joint A's axis (θ1
+                free: the vectorised path takes it from a reference).
+        """
+        position = np.asarray(position, dtype=float)
+        if position.shape != (3,):
+            raise NeedsBatch
+        px, py, pz = position.tolist()
+        if not math.isfinite(px + py + pz):
             raise NeedsBatch
         origin, e, f, axis, tool, r1, r2, offset = self._floats
         dx, dy, dz = px - origin[0], py - origin[1], pz - origin[2]
@@ -157,13 +187,10 @@ class Planar2RIK(ClosedFormIK):
         l1, l2 = math.hypot(*r1), math.hypot(*r2)
         cosine = (d2 - l1**2 - l2**2) / (2.0 * l1 * l2)
         if not (abs(off_plane) <= PLANAR_TOL and abs(cosine) <= 1.0 + CLAMP):
-            return None
-        (lower1, upper1, weight1), (lower2, upper2, weight2) = self._joint_floats
-        joint1 = (ref1, min(max(ref1, lower1), upper1), lower1, upper1, weight1)
-        joint2 = (ref2, min(max(ref2, lower2), upper2), lower2, upper2, weight2)
+            return []
         elbow = math.acos(min(max(cosine, -1.0), 1.0))
         target_angle = math.atan2(ty, tx)
-        best, best_cost = None, math.inf
+        branches = []
         for psi_b in (elbow + offset, -elbow + offset):
             cb, sb = math.cos(psi_b), math.sin(psi_b)
             vx = r1[0] + cb * r2[0] - sb * r2[1]
@@ -171,20 +198,51 @@ class Planar2RIK(ClosedFormIK):
             psi_a = target_angle - math.atan2(vy, vx)
             psi_a -= TAU * round(psi_a / TAU)
             psi_b -= TAU * round(psi_b / TAU)
-            choice1 = joint_choice(psi_a, joint1)
-            choice2 = joint_choice(self._sign2 * psi_b, joint2)
-            if choice1 is not None and choice2 is not None and choice1[1] + choice2[1] < best_cost:
-                best, best_cost = (choice1[0], choice2[0]), choice1[1] + choice2[1]
-        return None if best is None else np.array(best)
+            branches.append((psi_a, self._sign2 * psi_b))
+        return branches
+
+    # ------------------------------------------------------------ paths, one branch
+    def pose_branches(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray | None:
+        """Both branches of one position in plain floats (inputs unchecked): (2, 2) [rad], NaN
+        rows for branches without a solution (row ``branch``, as :meth:`branch_many`); None for
+        a rotation or a target on joint A's axis, where the vectorised path decides."""
+        if rotation is not None:
+            return None
+        try:
+            branches = self._fast_branches(position)
+        except NeedsBatch:
+            return None
+        return np.array(branches) if branches else np.full((2, 2), np.nan)
+
+    def branch_many(
+        self, positions: np.ndarray, rotations: np.ndarray | None, branch: int
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """One branch of many targets in one vectorised pass (inputs unchecked): for followers
+        that keep a branch along a path (:mod:`cartesian.batch_track`); :meth:`_raw`'s row
+        ``branch`` (0: θ2 − θ2(stretched) ≥ 0 about joint A's axis, 1: ≤ 0).
+
+        Returns:
+            (q (N, 2) [rad], NaN rows where the branch has no solution; edge (N,) bool: targets
+            on joint A's axis, where θ1 is free).
+        """
+        fill = np.zeros((len(positions), 2))
+        raw, free = self._raw(positions, rotations, fill, SIGNS[branch : branch + 1])
+        return raw[:, 0], free
 
     def _in_plane(self, v: np.ndarray) -> np.ndarray:
         return np.stack((v @ self._e, v @ self._f), axis=-1)
 
     def _raw(
-        self, positions: np.ndarray, rotations: np.ndarray | None, fill: np.ndarray
+        self,
+        positions: np.ndarray,
+        rotations: np.ndarray | None,
+        fill: np.ndarray,
+        signs: np.ndarray = SIGNS,
     ) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`ClosedFormIK._raw`, of the branches ``signs`` (default both, see
+        :func:`planar_2r`)."""
         target = self._in_plane(positions - self._origin)
-        psi1, psi2, ok, free = planar_2r(self._r1, self._r2, target, fill[:, 0])
+        psi1, psi2, ok, free = planar_2r(self._r1, self._r2, target, fill[:, 0], signs)
         in_plane = np.abs((positions - self._tool_point) @ self._axis) <= PLANAR_TOL
         ok = ok & in_plane[:, None]
         if rotations is not None:
@@ -193,7 +251,7 @@ class Planar2RIK(ClosedFormIK):
             psi1 = np.where(free[:, None], wrap_angle(angle[:, None] - psi2), psi1)
             turn_error = np.abs(wrap_angle(angle[:, None] - psi1 - psi2))
             ok &= untilted[:, None] & (turn_error <= PLANAR_TOL)
-        q = np.stack((psi1, self._sign2 * psi2), axis=-1)  # (N, 2 branches, 2 joints)
+        q = np.stack((psi1, self._sign2 * psi2), axis=-1)  # (N, branches, 2 joints)
         return np.where(ok[..., None], q, np.nan), free
 
     def _rotation_angle(self, rotations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

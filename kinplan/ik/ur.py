@@ -821,18 +821,18 @@ class URIK(ClosedFormIK):
         single-pose path: orthonormal axes, weights ≥ 0)."""
         return self._fast is not None
 
-    def pose_branches(self, position: np.ndarray, rotation: np.ndarray) -> np.ndarray | None:
+    def pose_branches(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray | None:
         """Every branch of one pose in plain floats (inputs unchecked): (8, 6) [rad], any 2π
         representative, NaN rows for branches without a solution (row ``branch``, as
         :meth:`branch_many`); None near a singularity, where the single-pose formulas leave the
-        pose to the batch path."""
+        pose to the batch path, and without a rotation."""
         try:
             return self._fast_all_branches(position, rotation)
         except NeedsBatch:
             return None
 
     def branch_many(
-        self, positions: np.ndarray, rotations: np.ndarray, branch: np.ndarray | int
+        self, positions: np.ndarray, rotations: np.ndarray | None, branch: np.ndarray | int
     ) -> tuple[np.ndarray, np.ndarray]:
         """One branch of many poses in one vectorised pass (inputs unchecked): for followers
         that keep a branch along a path (:mod:`cartesian.batch_track`).
@@ -846,9 +846,9 @@ class URIK(ClosedFormIK):
             (q (N, 6) [rad], any 2π representative, NaN rows where the branch has no solution;
             edge (N,) bool: poses near a singularity of the branch, where q is ill-conditioned
             — every pose when the geometry has no single-pose path, see
-            :attr:`branch_many_available`).
+            :attr:`branch_many_available`, or without rotations).
         """
-        if self._fast is None:
+        if self._fast is None or rotations is None:
             count = len(positions)
             return np.full((count, 6), np.nan), np.ones(count, dtype=bool)
         with np.errstate(invalid="ignore", divide="ignore"):  # NaN lanes: no solution

@@ -904,3 +904,30 @@ def test_planar_fast_nearest_breaks_a_tie_as_the_batch_path():
     fast = solver._nearest_fast(target, np.zeros(2))
     np.testing.assert_array_equal(fast, solver._nearest_batch_path(target, None, np.zeros(2)))
     np.testing.assert_allclose(fast, [-0.75, 1.5], atol=1e-12)
+
+
+def test_planar_branch_many_and_pose_branches_equal_all_branches(tmp_path):
+    """The planar 2R's one-branch pass (branch_many) and plain-float pose_branches give the
+    rows of all_branches: on 4 arms, 2,000 targets each (reachable, beyond reach, off the
+    plane, on the first axis)."""
+    rng = np.random.default_rng(77)
+    for robot in planar_arms(tmp_path):
+        solver = robot.closed_form_ik
+        q = rng.uniform(robot.lower - 0.5, robot.upper + 0.5, size=(2000, 2))
+        positions = np.array([robot.fk(row).translation for row in q])
+        positions[::7] *= 1.0 + rng.uniform(0.0, 1.0, size=(len(positions[::7]), 1))
+        positions[3::11] += 1e-8 * solver._axis  # off the plane
+        positions[5] = robot.fk([0.3, np.pi]).translation  # folded (on the axis when l1 = l2)
+        every, free = solver.all_branches(positions, None, np.zeros((2000, 2)))
+        for branch in (0, 1):
+            raw, edge = solver.branch_many(positions, None, branch)
+            np.testing.assert_array_equal(raw, every[:, branch])
+            np.testing.assert_array_equal(edge, free)
+        assert 100 < np.isnan(every[:, 0, 0]).sum() < 1000
+        for k in range(0, 2000, 4):
+            first = solver.pose_branches(positions[k], None)
+            if free[k]:
+                assert first is None
+                continue
+            np.testing.assert_allclose(first, every[k], rtol=0.0, atol=1e-12)
+        assert solver.pose_branches(positions[1], np.eye(3)) is None
