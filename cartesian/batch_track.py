@@ -18,6 +18,8 @@ the loop within ``tolerance`` of the path).
 
 from __future__ import annotations
 
+import functools
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -127,13 +129,14 @@ def track(
     if not regular(tracker, manipulability):
         return None
     qd = _solve(factors, np.ascontiguousarray(xd.T)).T
-    if not _continuous(tracker, timing.t, q, qd, task[:, :, 0], xdd[0]):
+    if not _continuous(tracker, timing.t, q, qd, factors, xdd[0]):
         return None
     peak = speed_peak(tracker, timing.t, q, qd)
     if peak is None:
         return None
     # q̈ = J⁻¹(ẍ − J̇q̇): Tracker.accelerations for a square task of full rank
-    drift = _drift(jacobians, np.ascontiguousarray(qd.T))[tracker.rows]
+    angular = bool(tracker.rows.max() >= 3)  # a position task needs the linear rows alone
+    drift = _drift(jacobians, np.ascontiguousarray(qd.T), angular)[tracker.rows]
     qdd = _solve(factors, xdd.T - drift).T
     if not within_accelerations(tracker, qdd):
         return None
@@ -262,7 +265,7 @@ def _continuous(
     t: np.ndarray,
     q: np.ndarray,
     qd: np.ndarray,
-    first_task: np.ndarray,
+    factors: Factors,
     first_xdd: np.ndarray,
 ) -> bool:
     """Whether the loop would find these samples with no jump: every joint step explained by
@@ -271,8 +274,8 @@ def _continuous(
 
     Args:
         t: Sample times [s]; q, qd: joint positions and velocities (N, nq).
-        first_task: The first sample's task Jacobian (r, nq); first_xdd: its task
-            acceleration (r,).
+        factors: The samples' task Jacobians, factored (:func:`_factor`); first_xdd: the
+            first sample's task acceleration (r,).
     """
     if len(t) < 2:
         return True
@@ -283,7 +286,10 @@ def _continuous(
         return False
     # the loop's predictions: Taylor at the second sample (q̈ = J⁻¹ẍ when starting at rest),
     # two-step Adams–Bashforth after (cartesian.tracker.adams_bashforth_weights)
-    qdd_first = np.linalg.solve(first_task, first_xdd) if not qd[0].any() else 0.0
+    qdd_first: np.ndarray | float = 0.0
+    if not qd[0].any():
+        first = Factors(factors.order, factors.lu[:, :, :1], factors.determinant[:1])
+        qdd_first = _solve(first, first_xdd[:, None])[:, 0]
     guess = q[0] + qd[0] * h[0] + 0.5 * h[0] ** 2 * qdd_first
     if not np.abs(guess - q[1]).max() <= bound:
         return False
@@ -358,11 +364,25 @@ def _factor(matrices: np.ndarray) -> Factors | None:
         for k in range(n - 1):
             lu[k + 1 :, k] /= lu[k, k]
             lu[k + 1 :, k + 1 :] -= lu[k + 1 :, k, None] * lu[k, None, k + 1 :]
-        multipliers = lu[np.tril_indices(n, -1)]
+        multipliers = lu[_below_diagonal(n)]
         if not np.abs(multipliers).max(initial=0.0) <= MAX_MULTIPLIER:
             return None
-    sign = np.linalg.det(np.eye(n)[order])  # of the row order, ±1
-    return Factors(order, lu, sign * np.prod(lu[np.arange(n), np.arange(n)], axis=0))
+    diagonal = np.arange(n)
+    return Factors(order, lu, _permutation_sign(order) * np.prod(lu[diagonal, diagonal], axis=0))
+
+
+@functools.cache
+def _below_diagonal(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The indices of the entries below the diagonal of an n × n matrix (``np.tril_indices``)."""
+    return np.tril_indices(n, -1)
+
+
+def _permutation_sign(order: np.ndarray) -> float:
+    """The sign (±1) of a permutation (the determinant of its permutation matrix): −1 to the
+    number of inversions."""
+    values = order.tolist()
+    inversions = sum(a > b for i, a in enumerate(values) for b in values[i + 1 :])
+    return -1.0 if inversions % 2 else 1.0
 
 
 def _pivot_order(matrix: np.ndarray) -> np.ndarray:
@@ -392,8 +412,9 @@ def _solve(factors: Factors, b: np.ndarray) -> np.ndarray:
     return x
 
 
-def _drift(jacobians: np.ndarray, qd: np.ndarray) -> np.ndarray:
-    """J̇q̇ (6, N) of serial-chain tool Jacobians (6, nq, N) at joint velocities (nq, N), as rows.
+def _drift(jacobians: np.ndarray, qd: np.ndarray, angular: bool = True) -> np.ndarray:
+    """J̇q̇ (6, N) of serial-chain tool Jacobians (6, nq, N) at joint velocities (nq, N), as rows
+    (its linear rows (3, N) alone unless ``angular``).
 
     :func:`kinplan.robot.jacobian_time_variation` times q̇ without forming J̇: with
     w_i, v_i the angular and linear rows of column i, ω_i = Σ_(j<i) q̇_j w_j and
@@ -410,7 +431,7 @@ def _drift(jacobians: np.ndarray, qd: np.ndarray) -> np.ndarray:
         omega[:, i] = omega[:, i - 1] + w_qd[:, i - 1]
         sigma[:, -1 - i] = sigma[:, -i] + v_qd[:, -1 - i]
     linear = _summed_cross(omega, v_qd) + _summed_cross(w_qd, sigma)
-    return np.concatenate((linear, _summed_cross(omega, w_qd)))
+    return np.concatenate((linear, _summed_cross(omega, w_qd))) if angular else linear
 
 
 def _summed_cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:

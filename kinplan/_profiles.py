@@ -227,12 +227,12 @@ def merged_knots(breaks: np.ndarray) -> np.ndarray:
         Knot times from 0 to the duration exactly, shape (S + 1,) [s].
     """
     duration = float(breaks[0, -1])
-    candidates = np.unique(breaks)
+    candidates = np.sort(breaks, axis=None).tolist()  # repeated values are skipped below
     tolerance = KNOT_MERGE_TOLERANCE * duration
     knots = [0.0]
     for t in candidates:
         if t - knots[-1] > tolerance and duration - t > tolerance:
-            knots.append(float(t))
+            knots.append(t)
     knots.append(duration)  # [0, 0] for a motion of zero duration: one empty segment
     return np.asarray(knots)
 
@@ -278,7 +278,7 @@ def constant_derivative_pieces(
             increment = increment + values * spans ** (order - d) / math.factorial(order - d)
         initial = q0[:, None] if d == 0 else np.zeros((q0.size, 1))
         totals = np.cumsum(increment, axis=1)
-        starts[d] = np.hstack([initial, initial + totals if d == 0 else totals])
+        starts[d] = np.concatenate([initial, initial + totals if d == 0 else totals], axis=1)
     knots = merged_knots(breaks)
     joints = np.arange(q0.size)[None, :]
     middles = 0.5 * (knots[:-1] + knots[1:])

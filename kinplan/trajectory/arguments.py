@@ -120,6 +120,8 @@ def check_durations(values: np.ndarray, name: str) -> None:
 
 
 def duration_value(value: object, name: str) -> float:
+    if type(value) is float and MIN_DURATION <= value <= MAX_DURATION:
+        return value
     result = scalar_value(value, name)
     check_durations(np.asarray(result), name)
     return result

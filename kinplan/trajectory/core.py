@@ -149,16 +149,26 @@ class Trajectory:
         self.n: int = self.segments[0].coefficients.shape[0]
         self.duration: float = self.segments[-1].t1
         self._build_evaluator()
-        evaluated = [x[0] for x in self._polynomials(np.array([self.duration]))]
+        _check_junctions(self.segments, self._position_coefficients)
         self.start: np.ndarray = _frozen(self.segments[0].coefficients[:, 0])
-        self.end: np.ndarray = _frozen(_given_or(end, evaluated[0], self.n, "end"))
-        self._end_velocity = _given_or(end_velocity, evaluated[1], self.n, "end_velocity")
-        self._end_acceleration = _given_or(
-            end_acceleration, evaluated[2], self.n, "end_acceleration"
+        self.end: np.ndarray = _frozen(self._end_state(end, self._position_coefficients, "end"))
+        self._end_velocity = self._end_state(
+            end_velocity, self._velocity_coefficients, "end_velocity"
         )
-        if waypoints is None:
-            waypoints = Waypoints(np.array([0.0, self.duration]), np.vstack([self.start, self.end]))
-        self.waypoints: Waypoints = waypoints
+        self._end_acceleration = self._end_state(
+            end_acceleration, self._acceleration_coefficients, "end_acceleration"
+        )
+        self._waypoints = waypoints
+
+    @property
+    def waypoints(self) -> Waypoints:
+        """Points the motion was planned through (start, via points, end), for plots; the
+        start and end points unless the constructor gave others."""
+        if self._waypoints is None:  # made on first use: most motions are never plotted
+            self._waypoints = Waypoints(
+                np.array([0.0, self.duration]), np.vstack([self.start, self.end])
+            )
+        return self._waypoints
 
     def __repr__(self) -> str:
         degrees = sorted({s.degree for s in self.segments})
@@ -271,6 +281,19 @@ class Trajectory:
         self._velocity_coefficients = velocity if degree >= 1 else np.zeros_like(padded)
         self._acceleration_coefficients = acceleration if degree >= 2 else np.zeros_like(padded)
         self._segment_starts = np.array([s.t0 for s in self.segments])
+
+    def _end_state(
+        self, given: ArrayLike | None, coefficients: np.ndarray, name: str
+    ) -> np.ndarray:
+        """The end state ``given`` (n,) (checked), or else the last segment's polynomial of
+        ``coefficients`` at :attr:`duration`: :meth:`_polynomials` there (the same arithmetic)
+        without its search."""
+        if given is not None:
+            (result,) = joint_vectors(n=self.n, **{name: given})
+            return result
+        last = np.array([len(self.segments) - 1])
+        tau = np.array([[self.duration - self._segment_starts[-1]]])
+        return _horner(coefficients, last, tau)[0]
 
     def _polynomials(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The segments' polynomials at times ``t`` clipped to [0, duration], (len(t), n) each.
@@ -408,13 +431,6 @@ def check_rates_continuous(coefficients: list[np.ndarray], durations: np.ndarray
             )
 
 
-def _given_or(value: ArrayLike | None, default: np.ndarray, n: int, name: str) -> np.ndarray:
-    if value is None:
-        return default.copy()
-    (result,) = joint_vectors(n=n, **{name: value})
-    return result
-
-
 def _frozen(array: np.ndarray) -> np.ndarray:
     result = np.array(array, dtype=float)
     result.setflags(write=False)
@@ -451,16 +467,24 @@ def _check_segments(segments: tuple[Segment, ...]) -> None:
             f"segment {j + 1} starts at {t0[j + 1]} s but segment {j} ends at {t1[j]} s; "
             "segments must be contiguous"
         )
-    degree = max(s.degree for s in segments)
-    padded = np.zeros((len(segments), n, degree + 1))
-    for k, segment in enumerate(segments):
-        padded[k, :, : segment.degree + 1] = segment.coefficients
-    powers = (t1 - t0)[:, None] ** np.arange(degree + 1)  # (S, degree + 1)
-    ends = np.einsum("skd,sd->sk", padded, powers)
+
+
+def _check_junctions(segments: tuple[Segment, ...], padded: np.ndarray) -> None:
+    """InputError where a segment does not start where the one before it ends.
+
+    Args:
+        segments: Contiguous segments (checked by :func:`_check_segments`).
+        padded: Their position coefficients padded to a common degree, (degree + 1, S, n).
+    """
+    if len(segments) < 2:
+        return
+    t0 = np.array([s.t0 for s in segments])
+    powers = (np.array([s.t1 for s in segments]) - t0)[:, None] ** np.arange(len(padded))
+    ends = np.einsum("dsk,sd->sk", padded, powers)
     # Positions accumulate rounding in proportion to the largest terms anywhere in the motion
     # (its extent), not to the position at the junction.
-    scale = 1.0 + np.max(np.einsum("skd,sd->sk", np.abs(padded), powers), axis=0)
-    gaps = np.abs(ends[:-1] - padded[1:, :, 0])
+    scale = 1.0 + np.max(np.einsum("dsk,sd->sk", np.abs(padded), powers), axis=0)
+    gaps = np.abs(ends[:-1] - padded[0, 1:])
     for k, j in zip(*np.nonzero(gaps > CONTINUITY_TOLERANCE * scale), strict=True):
         raise InputError(
             f"joint {j} jumps by {gaps[k, j]:.3g} rad between segments {k} and {k + 1} "

@@ -13,6 +13,7 @@ survivors showed untested, each against an independent answer.
 
 from __future__ import annotations
 
+import itertools
 from types import SimpleNamespace
 
 import numpy as np
@@ -211,6 +212,9 @@ def test_drift_is_the_time_derivative_of_the_jacobian_times_the_rates(ur5):
     for k in range(len(q)):
         dJ = (ur5.jacobian(q[k] + eps * qd[k]) - ur5.jacobian(q[k] - eps * qd[k])) / (2 * eps)
         np.testing.assert_allclose(drift[:, k], dJ @ qd[k], atol=1e-7)
+    # a position task: the same linear rows, alone
+    linear = batch_track._drift(J, np.ascontiguousarray(qd.T), angular=False)
+    np.testing.assert_array_equal(linear, drift[:3])
 
 
 def test_summed_cross_products():
@@ -756,3 +760,13 @@ def test_a_path_ending_at_full_stretch_is_left_to_the_loop():
     options = dict(duration=2.0, q_seed=[0.3, 1.0], singular_threshold=0.0)
     plan = cartesian.follow(robot, line, **options)
     assert plan.status == "singular" and plan.events[0].index == len(plan.t)
+
+
+def test_permutation_sign_is_the_determinant_of_the_permutation_matrix():
+    """Every permutation of up to 6 rows: −1 to the number of inversions equals numpy's
+    determinant of the permutation matrix."""
+    for n in range(1, 7):
+        for order in itertools.permutations(range(n)):
+            order = np.array(order)
+            expected = np.linalg.det(np.eye(n)[order])
+            assert batch_track._permutation_sign(order) == round(expected), order
