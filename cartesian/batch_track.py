@@ -19,7 +19,6 @@ the loop within ``tolerance`` of the path).
 from __future__ import annotations
 
 import functools
-
 from dataclasses import dataclass
 
 import numpy as np
@@ -182,7 +181,8 @@ def _first_configuration(tracker: Tracker, targets: Targets, seed: np.ndarray) -
 def _branch_of(raw: np.ndarray, q0: np.ndarray) -> int | None:
     """The row of ``raw`` (S, nq) (one pose's branches [rad], NaN rows: none) that is ``q0``
     (up to whole turns), when exactly one is that near."""
-    distance = np.nan_to_num(np.abs(wrap_angle(raw - q0)).max(axis=1), nan=np.inf)
+    distance = np.abs(wrap_angle(raw - q0)).max(axis=1)
+    distance[np.isnan(distance)] = np.inf  # rows without a solution
     order = np.argsort(distance)
     if not distance[order[0]] <= SAME_BRANCH or distance[order[1]] <= OTHER_BRANCH:
         return None

@@ -89,11 +89,7 @@ def out_of_reach(robot: Robot, result: IKResult, position: np.ndarray) -> str:
 
 def joint_units(robot: Robot) -> list[str]:
     """Unit of each joint coordinate: "m" for prismatic joints, "rad" for the others."""
-    units = ["rad"] * robot.nq
-    for joint in robot.model.joints[1:]:
-        if joint.nq == 1 and joint.shortname().startswith("JointModelP"):  # PX/PY/PZ/Unaligned
-            units[joint.idx_q] = "m"
-    return units
+    return ["m" if prismatic else "rad" for prismatic in robot.prismatic.tolist()]
 
 
 def where(position: np.ndarray) -> str:

@@ -59,6 +59,8 @@ class Robot:
         lower: Lower position limits [rad or m], shape (nq,).
         upper: Upper position limits [rad or m], shape (nq,).
         velocity_limit: Speed limits [rad/s or m/s], shape (nq,) (``inf`` where the URDF has none).
+        prismatic: Which joints are prismatic (their coordinates in m, the others' in rad),
+            shape (nq,) bool.
         model: The Pinocchio model of the chain (shared, do not modify).
         package_dirs: Folders that resolve the URDF's ``package://`` mesh paths.
         tool: The tool of a robot made by :meth:`with_tool` (None without one).
@@ -119,6 +121,10 @@ class Robot:
         self._ik = IKSolver(self.model, self.tip_id, self.lower, self.upper)
         self._reference_manipulability: dict[bool, float] = {}
         self._unbounded = np.flatnonzero(~np.isfinite(self.lower) & ~np.isfinite(self.upper))
+        self.prismatic = np.zeros(self.nq, dtype=bool)
+        for joint in self.model.joints[1:]:
+            if joint.nq == 1 and joint.shortname().startswith("JointModelP"):  # PX/PY/PZ/Unaligned
+                self.prismatic[joint.idx_q] = True
         self._task = self._task_structure()
         self.link_lengths = self._planar_link_lengths()
 
@@ -332,11 +338,8 @@ class Robot:
         offsets = [model.jointPlacements[j] for j in range(2, model.njoints)]
         total = sum(float(np.linalg.norm(p.translation)) for p in offsets)
         total += float(np.linalg.norm(model.frames[self.tip_id].placement.translation))
-        for j in range(1, model.njoints):
-            joint = model.joints[j]
-            if joint.nq == 1 and joint.shortname().startswith("JointModelP"):  # prismatic
-                total += max(abs(self.lower[joint.idx_q]), abs(self.upper[joint.idx_q]))
-        return total
+        extension = np.maximum(np.abs(self.lower), np.abs(self.upper))[self.prismatic]
+        return total + float(extension.sum())
 
     def shoulder_distance(self, position: Sequence[float] | np.ndarray) -> float:
         """Distance [m] of a position (base frame) from the first joint's origin."""

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
+import yourdfpy
 from conftest import TESTS, cached_robot
 from scipy.optimize import minimize
 
@@ -68,6 +69,11 @@ def test_chain_length_counts_every_prismatic_extension_and_the_tool_offset():
     q = np.random.default_rng(2).uniform(lower, upper, (500, gantry.nq))
     q[:, :2] = upper[:2]  # rail and lift at their ends
     assert shoulder_distances(gantry, q).max() <= gantry._chain_length()
+    # rail and lift are the prismatic joints (yourdfpy reads the joint types independently)
+    urdf = yourdfpy.URDF.load(str(URDF / "prismatic_gantry.urdf"), load_meshes=False)
+    kinds = [urdf.joint_map[name].type == "prismatic" for name in gantry.joint_names]
+    assert gantry.prismatic.tolist() == kinds == [True, True, False, False, False, False]
+    assert not planar_arm([0.4, 0.3]).prismatic.any()
 
 
 def test_planar_reach_is_the_sum_of_the_link_lengths_and_no_sample_goes_further():
