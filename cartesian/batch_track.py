@@ -128,7 +128,7 @@ def track(
     if not regular(tracker, manipulability):
         return None
     qd = _solve(factors, np.ascontiguousarray(xd.T)).T
-    if not _continuous(tracker, timing.t, q, qd, factors, xdd[0]):
+    if not _continuous(tracker, timing.t, q, qd, task[:, :, 0], xdd[0]):
         return None
     peak = speed_peak(tracker, timing.t, q, qd)
     if peak is None:
@@ -265,7 +265,7 @@ def _continuous(
     t: np.ndarray,
     q: np.ndarray,
     qd: np.ndarray,
-    factors: Factors,
+    first_task: np.ndarray,
     first_xdd: np.ndarray,
 ) -> bool:
     """Whether the loop would find these samples with no jump: every joint step explained by
@@ -274,8 +274,8 @@ def _continuous(
 
     Args:
         t: Sample times [s]; q, qd: joint positions and velocities (N, nq).
-        factors: The samples' task Jacobians, factored (:func:`_factor`); first_xdd: the
-            first sample's task acceleration (r,).
+        first_task: The first sample's task Jacobian (r, nq); first_xdd: its task
+            acceleration (r,).
     """
     if len(t) < 2:
         return True
@@ -286,10 +286,7 @@ def _continuous(
         return False
     # the loop's predictions: Taylor at the second sample (q̈ = J⁻¹ẍ when starting at rest),
     # two-step Adams–Bashforth after (cartesian.tracker.adams_bashforth_weights)
-    qdd_first: np.ndarray | float = 0.0
-    if not qd[0].any():
-        first = Factors(factors.order, factors.lu[:, :, :1], factors.determinant[:1])
-        qdd_first = _solve(first, first_xdd[:, None])[:, 0]
+    qdd_first = np.linalg.solve(first_task, first_xdd) if not qd[0].any() else 0.0
     guess = q[0] + qd[0] * h[0] + 0.5 * h[0] ** 2 * qdd_first
     if not np.abs(guess - q[1]).max() <= bound:
         return False

@@ -71,21 +71,6 @@ def as_fractions(s: ArrayLike) -> np.ndarray:
     return arr
 
 
-def _rodrigues(vectors: np.ndarray) -> np.ndarray:
-    """Rotation matrices exp([v]×) for rotation vectors of shape (N, 3)."""
-    theta = np.linalg.norm(vectors, axis=1)
-    small = theta < 1e-12
-    safe = np.where(small, 1.0, theta)
-    k = vectors / safe[:, None]
-    K = np.zeros((len(vectors), 3, 3))
-    K[:, 0, 1], K[:, 0, 2] = -k[:, 2], k[:, 1]
-    K[:, 1, 0], K[:, 1, 2] = k[:, 2], -k[:, 0]
-    K[:, 2, 0], K[:, 2, 1] = -k[:, 1], k[:, 0]
-    sin = np.where(small, 0.0, np.sin(theta))[:, None, None]
-    cos = np.where(small, 0.0, 1.0 - np.cos(theta))[:, None, None]
-    return np.eye(3) + sin * K + cos * (K @ K)
-
-
 class Slerp:
     """Geodesic interpolation R(s) = R0 exp(s v), v = log(R0ᵀ R1); ω = R0 v ṡ in the world."""
 
@@ -93,14 +78,28 @@ class Slerp:
         self.start = np.array(start, dtype=float)
         self.local_axis = pin.log3(self.start.T @ np.asarray(end, dtype=float))
         self.world_rate = self.start @ self.local_axis  # [rad per unit s], constant
+        # Rodrigues about the one unit axis k: exp(θ[k]×) = I + sin θ [k]× + (1 − cos θ)[k]×²,
+        # so R(s) = R0 + sin(sθ)·R0[k]× + (1 − cos(sθ))·R0[k]×², rows of 9 entries
+        self._angle = angle = float(np.linalg.norm(self.local_axis))
+        cross = pin.skew(self.local_axis / angle) if angle > 0.0 else np.zeros((3, 3))
+        self._terms = np.stack([self.start, self.start @ cross, self.start @ cross @ cross])
+        self._terms = self._terms.reshape(3, 9)
 
     @property
     def angle(self) -> float:
         """Rotation angle from start to end [rad]."""
-        return float(np.linalg.norm(self.local_axis))
+        return self._angle
 
     def __call__(self, s: np.ndarray) -> np.ndarray:
-        return self.start @ _rodrigues(np.outer(s, self.local_axis))
+        """Rotations (N, 3, 3) at path fractions ``s`` (N,) in [0, 1]; exactly R0 where the
+        angle sθ is below 1e-12 rad."""
+        theta = s * self._angle
+        small = theta < 1e-12
+        weights = np.empty((len(s), 3))
+        weights[:, 0] = 1.0
+        weights[:, 1] = np.where(small, 0.0, np.sin(theta))
+        weights[:, 2] = np.where(small, 0.0, 1.0 - np.cos(theta))
+        return (weights @ self._terms).reshape(-1, 3, 3)
 
     def rates(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         n = len(s)
