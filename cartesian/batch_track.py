@@ -383,16 +383,22 @@ def _permutation_sign(order: np.ndarray) -> float:
 
 
 def _pivot_order(matrix: np.ndarray) -> np.ndarray:
-    """The row order of partial pivoting (largest magnitude first) of one matrix (n, n)."""
-    a = matrix.astype(float)
-    n = len(a)
-    order = np.arange(n)
+    """The row order of partial pivoting (largest magnitude first, the first of equal ones) of
+    one matrix (n, n), in plain floats (a few hundred operations: numpy's per-call cost would
+    dominate)."""
+    rows = np.asarray(matrix, dtype=float).tolist()
+    n = len(rows)
+    order = list(range(n))
     for k in range(n - 1):
-        p = k + int(np.argmax(np.abs(a[k:, k])))
-        a[[k, p]], order[[k, p]] = a[[p, k]], order[[p, k]]
-        if a[k, k] != 0.0:
-            a[k + 1 :] -= np.outer(a[k + 1 :, k] / a[k, k], a[k])
-    return order
+        p = max(range(k, n), key=lambda i: abs(rows[i][k]))
+        rows[k], rows[p] = rows[p], rows[k]
+        order[k], order[p] = order[p], order[k]
+        pivot_row = rows[k]
+        if pivot_row[k] != 0.0:
+            for i in range(k + 1, n):
+                multiplier = rows[i][k] / pivot_row[k]
+                rows[i] = [x - multiplier * y for x, y in zip(rows[i], pivot_row, strict=True)]
+    return np.array(order)
 
 
 def _solve(factors: Factors, b: np.ndarray) -> np.ndarray:
