@@ -82,8 +82,8 @@ class Slerp:
         # so R(s) = R0 + sin(sθ)·R0[k]× + (1 − cos(sθ))·R0[k]×², rows of 9 entries
         self._angle = angle = float(np.linalg.norm(self.local_axis))
         cross = pin.skew(self.local_axis / angle) if angle > 0.0 else np.zeros((3, 3))
-        self._terms = np.stack([self.start, self.start @ cross, self.start @ cross @ cross])
-        self._terms = self._terms.reshape(3, 9)
+        terms = (self.start, self.start @ cross, self.start @ cross @ cross)
+        self._terms = np.stack(terms).reshape(3, 9)
 
     @property
     def angle(self) -> float:

@@ -117,8 +117,8 @@ class Planar2RIK(ClosedFormIK):
             tuple(self._r2.tolist()),
             math.atan2(self._r1[1], self._r1[0]) - math.atan2(self._r2[1], self._r2[0]),
         )
-        self._joint_floats = tuple(zip(self.lower.tolist(), self.upper.tolist(),
-                                       self.weights.tolist(), strict=True))  # fmt: skip
+        limits = (self.lower.tolist(), self.upper.tolist(), self.weights.tolist())
+        self._joint_floats = tuple(zip(*limits, strict=True))  # per joint: lower, upper, weight
 
     def nearest(
         self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray
