@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import itertools
+import logging
 import re
 from pathlib import Path
 
@@ -931,3 +932,78 @@ def test_planar_branch_many_and_pose_branches_equal_all_branches(tmp_path):
                 continue
             np.testing.assert_allclose(first, every[k], rtol=0.0, atol=1e-12)
         assert solver.pose_branches(positions[1], np.eye(3)) is None
+
+
+def test_planar_inner_boundary_within_rounding_is_reached_folded():
+    """A target at |l1 − l2| from the first axis, 1e-12 m inside it (cos θ2 just below −1,
+    within the clamp): the folded arm (θ2 = π) reaches it, on both paths."""
+    robot = kinplan.planar_arm([1.0, 0.4])
+    solver = analytic_solver_for(robot)
+    target = np.array([0.6 - 1e-12, 0.0, 0.0])
+    for nearest in (solver._nearest_fast, lambda p, q: solver._nearest_batch_path(p, None, q)):
+        q = nearest(target, np.array([0.1, 3.0]))
+        assert q is not None
+        np.testing.assert_allclose(np.abs(wrap_angle(q - [0.0, np.pi])), 0.0, atol=2e-6)
+        np.testing.assert_allclose(robot.fk(q).translation, target, atol=1e-9)
+
+
+def test_planar_weights_choose_the_branch():
+    """The weights w of Σ wᵢ Δqᵢ² pick the branch. Target (2 cos 0.6, 0): solutions A =
+    (−0.6, 1.2) and B = (0.6, −1.2); from q_ref = (−0.5, −0.3), A is off by (−0.1, 1.5) and B
+    by (1.1, −0.9): unit weights 2.26 against 2.02 (B), w = (10, 0.1) 0.325 against 12.181
+    (A), w = (0.1, 10) 22.501 against 8.221 (B); both paths alike."""
+    robot = cached_robot("planar_2r")
+    target = np.array([2.0 * np.cos(0.6), 0.0, 0.0])
+    q_ref = np.array([-0.5, -0.3])
+    for weights, expected in [(None, [0.6, -1.2]), ([10.0, 0.1], [-0.6, 1.2]),
+                              ([0.1, 10.0], [0.6, -1.2])]:  # fmt: skip
+        solver = analytic_solver_for(robot, None if weights is None else np.array(weights))
+        found = solver.nearest(target, None, q_ref)
+        np.testing.assert_allclose(found, expected, atol=1e-12)
+        np.testing.assert_array_equal(found, solver._nearest_batch_path(target, None, q_ref))
+
+
+def test_two_joints_on_crossed_axes_have_no_planar_closed_form(tmp_path, caplog):
+    """A 2-joint arm whose second axis is not parallel to the first (z then y) is not a planar
+    2R: no closed form (the numerical solver serves it), refused by its geometry before any
+    solver is built and checked against the forward kinematics."""
+    text = kinplan.planar.planar_arm_urdf([0.8, 0.45])
+    second = '<origin xyz="0.8 0 0" rpy="0 0 0" />\n    <axis xyz="0 0 1" />'
+    assert second in text
+    path = tmp_path / "crossed.urdf"
+    path.write_text(text.replace(second, second.replace('"0 0 1"', '"0 1 0"')))
+    robot = kinplan.load_robot(str(path), tip="tip")
+    with caplog.at_level(logging.DEBUG, logger="kinplan.ik.closed_form"):
+        assert analytic_solver_for(robot) is None
+    assert "disagrees with its forward kinematics" not in caplog.text
+
+
+def test_planar_rotation_targets_fix_the_first_joint_on_its_axis():
+    """A pose on the first axis (folded, l1 = l2) with a rotation: θ1 is free for the position
+    but the rotation fixes θ1 + θ2, so nearest() takes it from the rotation, not the reference;
+    and with a rotation the branch comes from the rotation, not the reference's nearness."""
+    robot = cached_robot("planar_2r")
+    solver = solver_of("planar_2r")
+    folded = robot.fk([0.9, np.pi])
+    q = solver.nearest(folded.translation, folded.rotation, np.array([0.1, 3.0]))
+    np.testing.assert_allclose(wrap_angle(q - [0.9, np.pi]), 0.0, atol=1e-9)
+    # the elbow-down pose from a reference next to the elbow-up solution
+    pose = robot.fk([0.6, -1.2])
+    q = solver.nearest(pose.translation, pose.rotation, np.array([-0.6, 1.2]))
+    np.testing.assert_allclose(q, [0.6, -1.2], atol=1e-9)
+
+
+def test_planar_branch_many_with_rotations_equals_all_branches(planar_2r):
+    """branch_many of poses (a rotation per target) gives all_branches' rows: a rotation keeps
+    only the branch with its θ1 + θ2, the other row NaN."""
+    solver = solver_of("planar_2r")
+    q = np.random.default_rng(9).uniform(-3.0, 3.0, size=(300, 2))
+    poses = [planar_2r.fk(row) for row in q]
+    positions = np.array([p.translation for p in poses])
+    rotations = np.array([p.rotation for p in poses])
+    every, free = solver.all_branches(positions, rotations, np.zeros((300, 2)))
+    for branch in (0, 1):
+        raw, edge = solver.branch_many(positions, rotations, branch)
+        np.testing.assert_array_equal(raw, every[:, branch])
+        np.testing.assert_array_equal(edge, free)
+    assert np.all(np.isnan(every[:, 0, 0]) != np.isnan(every[:, 1, 0]))  # one branch each

@@ -856,6 +856,60 @@ EQUIVALENTS += [
            "vectorised closed form (UR family, planar 2R: serial chains of 1-dof joints) has "
            "batch kinematics"),
 ]  # fmt: skip
+# ------------------------------------------------------------------- issue 18: planar fast path
+_planar = _module(("kinplan/ik/planar.py",))
+_PLANAR_SUM = (
+    "a non-finite input makes the mutated sum non-finite too (NaN and ±inf propagate through "
+    "+ and −); finite inputs whose sum overflows only in one form are far out of reach, where "
+    "both paths find no solution (position) or the same nearest equivalents (reference)"
+)
+_PLANAR_REACH = "if not (abs(off_plane) <= PLANAR_TOL and abs(cosine) <= 1.0 + CLAMP):"
+_PLANAR_JOINTS = (
+    "self._joint_floats = tuple(zip(*limits, strict=True))  # per joint: lower, upper, weight"
+)
+EQUIVALENTS += [
+    _planar("(np.abs(cosine) <= 1.0 + CLAMP)[..., None], cosine.shape + (len(signs),)",
+            "(np.abs(cosine) < 1.0 + CLAMP)[..., None], cosine.shape + (len(signs),)",
+            _NEVER_EQUAL),
+    _planar("free = d2 < FREE_TOL**2", "free = d2 <= FREE_TOL**2", _NEVER_EQUAL),
+    _planar(_PLANAR_REACH, _PLANAR_REACH.replace("off_plane) <=", "off_plane) <"), _NEVER_EQUAL),
+    _planar(_PLANAR_REACH, _PLANAR_REACH.replace("cosine) <=", "cosine) <"), _NEVER_EQUAL),
+    _planar("if d2 < FREE_TOL**2:", "if d2 <= FREE_TOL**2:", _NEVER_EQUAL),
+    _planar("if not math.isfinite(px + py + pz):", "if not math.isfinite(px + py - pz):",
+            _PLANAR_SUM),
+    _planar("if not math.isfinite(px + py + pz):", "if not math.isfinite(px - py + pz):",
+            _PLANAR_SUM),
+    _planar("if not math.isfinite(ref1 + ref2):", "if not math.isfinite(ref1 - ref2):",
+            _PLANAR_SUM),
+    _planar("ref = np.asarray(q_ref, dtype=float)", "ref = np.asarray(q_ref, dtype=None)",
+            "the reference's values are read as Python numbers (tolist) and only meet floats: "
+            "an integer or float array gives the same arithmetic"),
+    _planar("position = np.asarray(position, dtype=float)",
+            "position = np.asarray(position, dtype=None)",
+            "the position's values are read as Python numbers (tolist) and only meet floats"),
+    _planar(_PLANAR_JOINTS, _PLANAR_JOINTS.replace("strict=True", "strict=None"),
+            "the three lists have nq entries each: zip's strictness never fires"),
+    _planar(_PLANAR_JOINTS, _PLANAR_JOINTS.replace(", strict=True", ", "),
+            "the three lists have nq entries each: zip's strictness never fires"),
+]  # fmt: skip
+EQUIVALENTS += [
+    _batch("distance[np.isnan(distance)] = np.inf  # rows without a solution",
+           "distance[np.isnan(distance)] = None  # rows without a solution",
+           "None stored into a float array is NaN, which argsort puts last and every <= "
+           "comparison rejects, exactly as inf"),
+    _batch("floats = None if rotation is None else rotation.reshape(9).tolist()",
+           "floats = None", _RECHECKED),
+    _batch("rows = np.asarray(matrix, dtype=float).tolist()",
+           "rows = np.asarray(matrix, dtype=None).tolist()",
+           "the Jacobians are float arrays: the conversion is a no-op"),
+    _batch("for i in range(k + 1, n):", "for i in range(n):",
+           "rows above the pivot are never read again, and the pivot row is replaced by a new "
+           "list while the elimination keeps the old one (pivot_row): the order is the same"),
+    _batch("angular = bool(tracker.rows.max() >= 3)  # a position task needs the linear rows alone",
+           "angular = bool(tracker.rows.max() >= 4)  # a position task needs the linear rows alone",
+           "task rows end at 2 (position), 1 (planar position) or 5 (pose, planar pose): never "
+           "at 3"),
+]  # fmt: skip
 _NEGATIVE_RESHAPE = "numpy's reshape takes any negative size as 'the rest'"
 _LEAN_STACKS = "q_out, dq_out = np.array(qs).reshape(-1, nq), np.array(dqs).reshape(-1, nq)"
 EQUIVALENTS += [
