@@ -138,8 +138,9 @@ class Path:
         return self._rotation(np.clip(as_fractions(s), 0.0, 1.0))
 
     def position_derivatives(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-        """(dp/ds, d²p/ds²), each (N, 3) [m]; central finite differences unless overridden."""
-        s = as_fractions(s)
+        """(dp/ds, d²p/ds²), each (N, 3) [m]; central finite differences unless overridden
+        (one-sided at the ends; fractions beyond them get the end's)."""
+        s = np.clip(as_fractions(s), 0.0, 1.0)
         h = self._fd_step
         lo, hi = np.clip(s - h, 0, 1), np.clip(s + h, 0, 1)
         mid = 0.5 * (lo + hi)
@@ -157,6 +158,7 @@ class Path:
             return zeros, zeros
         if self.slerp is not None:
             return self.slerp.rates(s)
+        s = np.clip(s, 0.0, 1.0)  # beyond the ends: the end's rates (differences, not 0/0)
         h = self._fd_step
         lo, hi = np.clip(s - h, 0, 1), np.clip(s + h, 0, 1)
         mid = 0.5 * (lo + hi)

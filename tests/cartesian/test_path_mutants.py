@@ -3,7 +3,10 @@ answers: a sub-path against its parent path at the mapped fractions and against 
 differences of itself, a corner blend's end conditions against the quintic's definition and its
 parametrisation against the arc length of a dense polyline, the cuts against the sphere of the
 radius, the per-corner radii and the refusals naming the corner; torch rotations against a
-product of Pinocchio's exponentials, their frame against the seam's tangent and normal."""
+product of Pinocchio's exponentials, their frame against the seam's tangent and normal. The
+paths themselves (cartesian.paths): difference derivatives at and beyond the ends against an
+analytic half circle, Arc's and Weave's refusals at their limits, weaves against their analytic
+sine offsets."""
 
 from __future__ import annotations
 
@@ -490,3 +493,328 @@ def test_torch_refuses_a_seam_of_no_length_and_one_into_the_surface():
     arc = cartesian.Arc([0.0, 0.0, 0.0], [0.1, 0.0, 0.1], [0.2, 0.0, 0.0])
     with pytest.raises(InputError, match="along the surface normal"):
         cartesian.TorchOrientation(arc, [1.0, 0.0, 0.0])
+
+
+# ---------------------------------------------------------------------------- paths: fractions
+CENTRE, RADIUS = np.array([0.4, 0.0, 0.2]), 0.1
+
+
+def _half_circle(u):
+    """p(u) = c + r (cos πu, sin πu, 0): at constant speed, so u is already the length
+    fraction and dp/ds = πr (−sin πs, cos πs, 0), d²p/ds² = −π²r (cos πs, sin πs, 0)."""
+    u = np.asarray(u, dtype=float)
+    angle = np.pi * u
+    return CENTRE + RADIUS * np.stack([np.cos(angle), np.sin(angle), 0.0 * angle], axis=-1)
+
+
+def _half_circle_derivatives(s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    angle = np.pi * s
+    first = np.pi * RADIUS * np.column_stack([-np.sin(angle), np.cos(angle), 0.0 * s])
+    second = -(np.pi**2) * RADIUS * np.column_stack([np.cos(angle), np.sin(angle), 0.0 * s])
+    return first, second
+
+
+def test_a_fraction_that_is_not_a_number_is_refused_saying_what_s_is():
+    """as_fractions names what s must be: a number or a 1-D array of path fractions."""
+    line = cartesian.Line([0.0, 0.0, 0.0], [1.0, 0.0, 0.0])
+    with pytest.raises(InputError, match=r"s must be a number or a 1-D array of path fractions"):
+        line.position("half")
+
+
+def test_difference_derivatives_at_the_ends_are_one_sided_over_the_path():
+    """A FunctionPath's derivatives are central differences of its positions: at s = 0 and
+    s = 1 the difference is one-sided over a step h = 4/4001 inside the path, so dp/ds and
+    d²p/ds² are the analytic ones of the half circle to O(h) there (1e-3 m, 5e-3 m) and to
+    O(h²) inside (1e-6 m, 1e-5 m); a difference that reached past the end, where positions
+    are held at the end point, would shrink them."""
+    path = cartesian.FunctionPath(_half_circle)
+    inner = np.linspace(0.1, 0.9, 9)
+    first, second = path.position_derivatives(inner)
+    expected_first, expected_second = _half_circle_derivatives(inner)
+    np.testing.assert_allclose(first, expected_first, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(second, expected_second, rtol=0, atol=1e-5)
+    ends = np.array([0.0, 1.0])
+    first, second = path.position_derivatives(ends)
+    expected_first, expected_second = _half_circle_derivatives(ends)
+    np.testing.assert_allclose(first, expected_first, rtol=0, atol=1e-3)
+    np.testing.assert_allclose(second, expected_second, rtol=0, atol=5e-3)
+
+
+def test_a_sequence_asked_outside_its_fractions_gives_its_ends_derivatives():
+    """A PathSequence clips s into [0, 1] before it maps s to its pieces: a FunctionPath piece
+    (derivatives by differences) asked at s = −0.5 and 1.5 gives exactly the one-sided
+    derivatives at its start and end, which are the analytic ones to O(h) (1e-3 m, 5e-3 m)."""
+    sequence = cartesian.PathSequence([cartesian.FunctionPath(_half_circle)])
+    first, second = sequence.position_derivatives(np.array([-0.5, 0.0, 1.0, 1.5]))
+    np.testing.assert_array_equal(first[[0, 3]], first[[1, 2]])
+    np.testing.assert_array_equal(second[[0, 3]], second[[1, 2]])
+    expected_first, expected_second = _half_circle_derivatives(np.array([0.0, 0.0, 1.0, 1.0]))
+    np.testing.assert_allclose(first, expected_first, rtol=0, atol=1e-3)
+    np.testing.assert_allclose(second, expected_second, rtol=0, atol=5e-3)
+
+
+def test_a_sequence_asked_at_no_fractions_gives_empty_arrays_of_its_shapes():
+    """An empty s: a one-piece sequence answers (0, 3) positions and derivatives and (0, 3, 3)
+    rotations (its first piece gives the shapes)."""
+    pose = pin.SE3(DOWN, np.array([0.4, 0.0, 0.2]))
+    line = cartesian.Line(pose, pin.SE3(DOWN, np.array([0.5, 0.0, 0.2])))
+    sequence = cartesian.PathSequence([line])
+    none = np.array([], dtype=float)
+    assert sequence.position(none).shape == (0, 3)
+    assert [d.shape for d in sequence.position_derivatives(none)] == [(0, 3), (0, 3)]
+    assert sequence.rotation(none).shape == (0, 3, 3)
+
+
+def test_a_position_only_path_has_zero_angular_rates_of_three_components():
+    """ω_s and dω_s/ds of a path without orientation: (N, 3) zeros."""
+    line = cartesian.Line([0.0, 0.0, 0.0], [0.3, 0.0, 0.0])
+    omega, domega = line.angular_rates(np.linspace(0.0, 1.0, 5))
+    np.testing.assert_array_equal(omega, np.zeros((5, 3)))
+    np.testing.assert_array_equal(domega, np.zeros((5, 3)))
+
+
+def test_an_orientation_function_is_asked_within_the_path_only_for_rates_beyond_it():
+    """Rates by differences of R(s) asked at s beyond the ends: the orientation function (defined
+    on [0, 1] only) is asked within [0, 1] only, and the rates there are the end's: a turn of
+    0.8 rad about z over the path, ω_s = (0, 0, 0.8) rad (one-sided differences at the ends,
+    exact to rounding for a constant rate), dω_s/ds = 0."""
+    asked = []
+
+    def turning(s: float) -> np.ndarray:
+        asked.append(s)
+        return pin.exp3(np.array([0.0, 0.0, 0.8 * s]))
+
+    path = cartesian.FunctionPath(_half_circle, orientation=turning)
+    asked.clear()
+    with np.errstate(all="raise"):  # no 0/0 beyond the ends
+        omega, domega = path.angular_rates(np.array([-0.5, 0.0, 0.5, 1.0, 1.5, 7.0]))
+    assert asked and min(asked) >= 0.0 and max(asked) <= 1.0
+    np.testing.assert_allclose(omega, np.tile([0.0, 0.0, 0.8], (6, 1)), atol=1e-6)
+    np.testing.assert_array_equal(omega[:2], omega[[0]].repeat(2, axis=0))
+    np.testing.assert_array_equal(omega[3:], omega[[3]].repeat(3, axis=0))
+    np.testing.assert_allclose(domega, 0.0, atol=1e-3)
+
+
+def test_position_derivatives_beyond_the_ends_are_the_ends():
+    """dp/ds and d²p/ds² by finite differences at s beyond [0, 1]: the values at the nearest
+    end (one-sided differences), finite, not 0/0 (a FunctionPath and a Weave on it)."""
+    path = cartesian.FunctionPath(_half_circle)
+    weave = cartesian.Weave(cartesian.Line([0.0, 0.0, 0.0], [0.4, 0.0, 0.0]), 0.01, 0.05)
+    for p in (path, weave):
+        with np.errstate(all="raise"):
+            first, second = p.position_derivatives(np.array([-0.5, 0.0, 1.0, 1.5, 7.0]))
+        np.testing.assert_array_equal(first[0], first[1])
+        np.testing.assert_array_equal(second[0], second[1])
+        np.testing.assert_array_equal(first[3:], first[[2]].repeat(2, axis=0))
+        np.testing.assert_array_equal(second[3:], second[[2]].repeat(2, axis=0))
+
+
+def test_an_oriented_path_without_a_slerp_must_implement_its_rotations():
+    """Path is a base class: an oriented subclass with neither a slerp nor _rotation is told
+    what to implement."""
+
+    class Bare(cartesian.Path):
+        has_orientation = True
+        length = 1.0
+
+        def position(self, s):
+            return np.zeros((len(np.atleast_1d(s)), 3))
+
+    with pytest.raises(NotImplementedError, match="without a slerp implements _rotation"):
+        Bare().rotation(np.array([0.5]))
+
+
+# ---------------------------------------------------------------------------- paths: Arc
+def test_arc_collinearity_is_judged_against_the_longer_side():
+    """A via point 1 m out and an end 1 cm from the start, 1e-11 m off the line through
+    them (a circle of radius ~5e8 m): |ab × ac| = 1e-11 m² is within 1e-9 × the longer side
+    squared (1 m²), though not of the shorter one (1e-13 m²): refused as collinear."""
+    with pytest.raises(InputError, match="collinear"):
+        cartesian.Arc([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.01, 1e-11, 0.0])
+
+
+@pytest.mark.parametrize("chord", [0.01, 1.0, 10.0])
+def test_arc_collinearity_is_relative_to_the_size_of_the_points(chord):
+    """Start and end a chord apart, the via point midway and off the chord by a sagitta of
+    5e-10 chord (refused as collinear) or 4e-9 chord (an arc, of the chord's length to 1e-12,
+    from the start to the end to 1e-7 chord), the same at 1 cm, 1 m and 10 m."""
+    start, end = np.zeros(3), np.array([chord, 0.0, 0.0])
+    with pytest.raises(InputError, match="collinear"):
+        cartesian.Arc(start, [0.5 * chord, 5e-10 * chord, 0.0], end)
+    arc = cartesian.Arc(start, [0.5 * chord, 4e-9 * chord, 0.0], end)
+    assert arc.length == pytest.approx(chord, rel=1e-12)
+    np.testing.assert_allclose(
+        arc.position(np.array([0.0, 1.0])), [start, end], rtol=0, atol=1e-7 * chord
+    )
+
+
+def test_an_arc_whose_circumcentre_rounds_onto_a_point_is_refused_as_an_arc():
+    """A right triangle one rounding step (2.2e-16 m) on a side, 1.7 m from the origin: its
+    circumcentre, a half step from the start in two coordinates, rounds onto the start (a
+    radius of 0). The Arc refuses the circle itself, rather than failing later on a unit
+    vector of NaN."""
+    step = np.spacing(1.0)
+    with pytest.raises(InputError, match="Arc: the circle through start, via and end"):
+        cartesian.Arc([1.0, 1.0, 1.0], [1.0, 1.0 + step, 1.0], [1.0 + step, 1.0, 1.0])
+
+
+# ---------------------------------------------------------------------------- paths: Weave
+SEAM_X = ([0.4, 0.0, 0.2], [0.6, 0.0, 0.2])  # 0.2 m along x
+
+
+def _sine_weave(s: np.ndarray, start, direction, across, amplitude, wavelength) -> np.ndarray:
+    """Seam point plus A sin(2π u / λ) along ``across``, u = s × the seam length."""
+    direction = np.asarray(direction, dtype=float)
+    u = s * np.linalg.norm(direction)
+    offset = amplitude * np.sin(2.0 * np.pi * u / wavelength)
+    return np.asarray(start) + s[:, None] * direction + offset[:, None] * np.asarray(across)
+
+
+@pytest.mark.parametrize(
+    ("args", "kwargs", "words"),
+    [
+        ((0.001, 0.0), {}, r"wavelength must be > 0 \[m\], got 0.0"),
+        ((0.001, -0.01), {}, r"wavelength must be > 0 \[m\], got -0.01"),
+        ((0.001, 0.01), {"dwell": -0.001}, r"dwell must be ≥ 0 \[m\], got -0.001"),
+        ((0.1, 0.01), {}, r"amplitude 0.1 m is not small against the seam \(0.2 m long\)"),
+        ((0.001, 0.01), {"normal": [0.0, 0.0, 0.999e-9]}, "normal must be a non-zero 3-vector"),
+    ],
+)
+def test_weave_refuses_each_argument_at_its_limit_by_name(args, kwargs, words):
+    """A 0.2 m seam: a wavelength of 0 or below, a negative dwell, an amplitude of half the seam
+    and a normal shorter than 1e-9 are each refused with their own message."""
+    with pytest.raises(InputError, match=words):
+        cartesian.Weave(cartesian.Line(*SEAM_X), *args, **kwargs)
+
+
+def test_weave_accepts_the_arguments_just_inside_their_limits():
+    """An amplitude just under half the seam (0.2 m and 4 m seams), a dwell of 0, and normals of
+    length 1e-9 (exactly) and 1e-6, normalised."""
+    seam = cartesian.Line(*SEAM_X)
+    assert cartesian.Weave(seam, 0.0999, 0.01, dwell=0.0).amplitude == 0.0999
+    long_seam = cartesian.Line([0.0, 0.0, 0.0], [4.0, 0.0, 0.0])
+    assert cartesian.Weave(long_seam, 1.99, 0.5).amplitude == 1.99
+    for size in (1e-9, 1e-6):
+        weave = cartesian.Weave(seam, 0.001, 0.01, normal=[0.0, 0.0, size])
+        np.testing.assert_allclose(weave.normal, [0.0, 0.0, 1.0], rtol=0, atol=1e-15)
+
+
+def test_weave_refuses_a_seam_of_zero_length():
+    """A Line that only turns the tool has length 0: no seam to weave along."""
+    turn = cartesian.Line(_pose([0.4, 0.0, 0.1]), _pose([0.4, 0.0, 0.1], (np.pi, 0.0, 0.5)))
+    assert turn.length == 0.0
+    with pytest.raises(InputError, match="Weave needs a seam of non-zero length"):
+        cartesian.Weave(turn, 0.001, 0.01)
+
+
+def test_weave_across_an_explicit_normal_is_perpendicular_to_it():
+    """normal (0, 3, 4): kept as its unit vector (0, 0.6, 0.8); on a seam along x the torch
+    weaves along n × t = (0, 0.8, −0.6), A sin(2πu/λ) (1e-12 m)."""
+    seam = cartesian.Line(*SEAM_X)
+    weave = cartesian.Weave(seam, 0.002, 0.01, normal=[0.0, 3.0, 4.0])
+    np.testing.assert_allclose(weave.normal, [0.0, 0.6, 0.8], rtol=0, atol=1e-15)
+    s = np.linspace(0.0, 1.0, 201)
+    expected = _sine_weave(s, SEAM_X[0], [0.2, 0.0, 0.0], [0.0, 0.8, -0.6], 0.002, 0.01)
+    np.testing.assert_allclose(weave.position(s), expected, rtol=0, atol=1e-12)
+
+
+def test_weave_of_a_position_only_seam_stays_in_the_horizontal_plane():
+    """No orientation and no normal: n is the world z, so a seam along y weaves along
+    z × y = −x, in its own horizontal plane (1e-12 m)."""
+    start = [0.4, 0.0, 0.2]
+    seam = cartesian.Line(start, [0.4, 0.2, 0.2])
+    weave = cartesian.Weave(seam, 0.002, 0.01)
+    assert weave.normal is None
+    s = np.linspace(0.0, 1.0, 201)
+    expected = _sine_weave(s, start, [0.0, 0.2, 0.0], [-1.0, 0.0, 0.0], 0.002, 0.01)
+    np.testing.assert_allclose(weave.position(s), expected, rtol=0, atol=1e-12)
+
+
+def test_weave_refuses_a_seam_within_1e_9_rad_of_the_world_z():
+    """A position-only seam 1 m long and 7.5e-10 rad off the (default, unit) world z runs
+    along the normal to 1e-9: refused; at 1.5e-9 rad it is woven."""
+    with pytest.raises(InputError, match="the seam runs along the normal"):
+        cartesian.Weave(cartesian.Line([0.0, 0.0, 0.0], [7.5e-10, 0.0, 1.0]), 0.001, 0.01)
+    cartesian.Weave(cartesian.Line([0.0, 0.0, 0.0], [1.5e-9, 0.0, 1.0]), 0.001, 0.01)
+
+
+@pytest.mark.parametrize(
+    "points",
+    [
+        [[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.1, 0.0, 0.1], [0.3, 0.0, 0.1]],
+        [[0.0, 0.0, 0.0], [0.025, 0.0, 0.0], [0.025, 0.0, 0.013], [2.547, 0.0, 0.013]],
+    ],
+)
+def test_weave_refuses_a_seam_that_runs_along_the_normal_for_a_stretch(points):
+    """A horizontal seam with a vertical step in it (along the world z, the default normal):
+    0.1 m of a 0.4 m seam, or 13 mm of a 2.56 m one (s from 2.5/256 to 3.8/256: between two
+    fractions 1/128 apart, around one of the 257 evenly spaced fractions the whole seam is
+    checked at)."""
+    with pytest.raises(InputError, match="the seam runs along the normal somewhere"):
+        cartesian.Weave(cartesian.Polyline(points), 0.001, 0.01)
+
+
+def test_weave_of_an_oriented_seam_keeps_the_seams_slerp():
+    """A seam of poses turning 0.6 rad about the world z: the weave's orientation is the seam's
+    slerp (the same object), R0 exp(s log(R0ᵀ R1)) by Pinocchio (1e-15), and it weaves across
+    the tool axis (−z): along (−z) × x = −y (1e-12 m)."""
+    r0, r1 = pin.rpy.rpyToMatrix(np.pi, 0.0, 0.0), pin.rpy.rpyToMatrix(np.pi, 0.0, 0.6)
+    seam = cartesian.Line(pin.SE3(r0, np.array(SEAM_X[0])), pin.SE3(r1, np.array(SEAM_X[1])))
+    weave = cartesian.Weave(seam, 0.002, 0.01)
+    assert weave.slerp is seam.slerp
+    s = np.linspace(0.0, 1.0, 11)
+    expected = [r0 @ pin.exp3(f * pin.log3(r0.T @ r1)) for f in s]
+    np.testing.assert_allclose(weave.rotation(s), expected, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(weave.slerp(s), expected, rtol=0, atol=1e-15)
+    s = np.linspace(0.0, 1.0, 201)
+    expected = _sine_weave(s, SEAM_X[0], [0.2, 0.0, 0.0], [0.0, -1.0, 0.0], 0.002, 0.01)
+    np.testing.assert_allclose(weave.position(s), expected, rtol=0, atol=1e-12)
+
+
+def test_weave_of_a_seam_held_at_a_rotation_weaves_across_the_held_tool_axis():
+    """HeldOrientation of a position-only seam along x at Rx(π/2) (tool axis −y): the weave
+    keeps the seam's difference step and offsets along (−y) × x = z (1e-12 m)."""
+    seam = cartesian.Line(*SEAM_X)
+    held = cartesian.HeldOrientation(seam, pin.rpy.rpyToMatrix(np.pi / 2, 0.0, 0.0))
+    weave = cartesian.Weave(held, 0.002, 0.01)
+    s = np.linspace(0.0, 1.0, 201)
+    expected = _sine_weave(s, SEAM_X[0], [0.2, 0.0, 0.0], [0.0, 0.0, 1.0], 0.002, 0.01)
+    np.testing.assert_allclose(weave.position(s), expected, rtol=0, atol=1e-12)
+
+
+def test_weave_across_a_curved_seam_and_beyond_its_ends():
+    """On a position-only half circle (normal z) the direction across the seam is z × t, the
+    inward radius −(cos πs, sin πs, 0) (1e-9 inside, where the differences are central; 2e-3
+    at the one-sided ends); asked beyond the ends it is exactly that at the nearest end."""
+    weave = cartesian.Weave(cartesian.FunctionPath(_half_circle), 0.002, 0.02)
+    inner = np.linspace(0.05, 0.95, 19)
+    inward = -np.column_stack([np.cos(np.pi * inner), np.sin(np.pi * inner), 0.0 * inner])
+    np.testing.assert_allclose(weave.across(inner), inward, rtol=0, atol=1e-9)
+    ends = weave.across(np.array([0.0, 1.0]))
+    np.testing.assert_allclose(ends, [[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]], rtol=0, atol=2e-3)
+    beyond = weave.across(np.array([-0.5, 1.5, 7.0]))
+    np.testing.assert_array_equal(beyond, ends[[0, 1, 1]])
+
+
+def test_weave_asks_its_seam_within_its_fractions_only():
+    """A seam of one's own (a Path subclass) that extrapolates beyond its ends: the weave
+    clips s into [0, 1] before it asks the seam, so at s = −0.5 and 1.5 it is exactly at its
+    own start and end, on the seam's ends."""
+
+    class Extrapolating(cartesian.Path):
+        """p(s) = a + s d for any s, not clipped."""
+
+        a, d = np.array([0.4, 0.0, 0.2]), np.array([0.2, 0.0, 0.0])
+        length = 0.2
+
+        def position(self, s):
+            return self.a + np.asarray(s, dtype=float)[:, None] * self.d
+
+        def position_derivatives(self, s):
+            n = len(np.atleast_1d(s))
+            return np.tile(self.d, (n, 1)), np.zeros((n, 3))
+
+    weave = cartesian.Weave(Extrapolating(), 0.002, 0.01)
+    beyond = weave.position(np.array([-0.5, 1.5]))
+    np.testing.assert_array_equal(beyond, weave.position(np.array([0.0, 1.0])))
+    np.testing.assert_allclose(beyond, [SEAM_X[0], SEAM_X[1]], rtol=0, atol=1e-15)

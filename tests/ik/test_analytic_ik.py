@@ -1007,3 +1007,17 @@ def test_planar_branch_many_with_rotations_equals_all_branches(planar_2r):
         np.testing.assert_array_equal(raw, every[:, branch])
         np.testing.assert_array_equal(edge, free)
     assert np.all(np.isnan(every[:, 0, 0]) != np.isnan(every[:, 1, 0]))  # one branch each
+
+
+def test_planar_pose_out_of_reach_or_off_the_plane_has_no_solution(planar_2r):
+    """A rotation does not make an unreachable position reachable: beyond the reach (2.5 m;
+    with the rotation of the stretched arm pointing there, which the clamped closed form would
+    otherwise take) or off the plane (0.3 m above a reachable point, with the rotation of one of
+    its solutions), a pose has no solution."""
+    solver = solver_of("planar_2r")
+    beyond = (np.array([2.5, 0.0, 0.0]), planar_2r.fk([0.0, 0.0]).rotation)
+    below = solver.solutions(np.array([1.0, 0.0, 0.0]), None)[0]
+    above = (np.array([1.0, 0.0, 0.3]), planar_2r.fk(below).rotation)
+    for position, rotation in (beyond, above):
+        assert solver.solutions(position, rotation).shape == (0, 2)
+        assert solver.nearest(position, rotation, np.zeros(2)) is None

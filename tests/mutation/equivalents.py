@@ -60,6 +60,21 @@ _paths = _module(("cartesian/paths.py",))
 _analytic = _module(_CLOSED_FORMS)
 _AS_S = "if type(s) is np.ndarray and s.dtype == np.float64 and s.ndim == 1:  # the common case"
 _RODRIGUES = "cos = np.where(small, 0.0, 1.0 - np.cos(theta))[:, None, None]"
+_CLIP_S = "s = as_fractions(s).clip(0.0, 1.0)"
+_INTERP_ENDS = (
+    "in FunctionPath.position: np.interp holds u at the table's end values outside the table "
+    "(u = 0 for s < 0, u = 1 for s > 1), which is what the clip gives (s is finite: "
+    "as_fractions refuses NaN). The same text in Line.position, PathSequence._split, "
+    "Weave.across and Weave.position is killed by tests/cartesian/test_paths.py and "
+    "test_path_mutants.py"
+)
+_LINE_ERRSTATE = 'with np.errstate(over="ignore", invalid="ignore"):'
+_NO_NAN = (
+    "nothing in the block can make a NaN, the only thing invalid='ignore' silences: "
+    "parse_target refuses non-finite points, so b − a is finite or ±inf (an overflow, "
+    "silenced by over='ignore') and its norm, the square root of a sum of squares, is at "
+    "most inf"
+)
 _FLOAT_INPUT = (
     "the limits and poses reach the solver as float arrays (from Robot and its checks), so the "
     "conversion to float is a no-op"
@@ -150,11 +165,31 @@ EQUIVALENTS: list[dict[str, str]] = [
         'return self._gather(s, "position", None)[0]',
         "chain 0 and None are both falsy",
     ),
+    _paths(_LINE_ERRSTATE, 'with np.errstate(over="ignore", invalid=None):', _NO_NAN),
+    _paths(_LINE_ERRSTATE, 'with np.errstate(over="ignore", ):', _NO_NAN),
     _paths(
-        'with np.errstate(over="ignore", invalid="ignore"):',
-        'with np.errstate(over="ignore", invalid=None):',
-        "numpy's error state only decides "
-        "whether a warning is printed; the checks that follow refuse the value either way",
+        _AS_S,
+        _AS_S.replace("s.ndim == 1", "s.ndim == 2"),
+        "a 1-D float64 array then takes the slow path, where checks.floats (np.asarray, no "
+        "copy of a float64 array) and np.atleast_1d hand back the same array object; a 2-D "
+        "float64 array takes the fast path and meets the same ndim check and message",
+    ),
+    _paths(_CLIP_S, "s = as_fractions(s).clip(None, 1.0)", _INTERP_ENDS),
+    _paths(_CLIP_S, "s = as_fractions(s).clip(0.0, )", _INTERP_ENDS),
+    _paths(
+        "return (weights @ self._terms).reshape(-1, 3, 3)",
+        "return (weights @ self._terms).reshape(-2, 3, 3)",
+        "numpy takes any negative size in reshape as the one size to infer: reshape(-2, 3, 3) "
+        "gives the same (N, 3, 3) view, N = 0 included, without a warning (numpy 2.4)",
+    ),
+    _paths(
+        "self.local_axis = pin.log3(self.start.T @ np.asarray(end, dtype=float))",
+        "self.local_axis = pin.log3(self.start.T @ np.asarray(end, dtype=None))",
+        "the end rotation reaches Slerp as a float64 3×3 array (parse_target, checks.rotation, "
+        "torch_rotations), kept as it is with either dtype; for any real array or list "
+        "(CornerBlend passes its caller's rotations unchecked) the product with the float64 "
+        "start is float64 with the same values. Only an object or complex array, no rotation "
+        "matrix, would differ",
     ),
     _analytic(
         "return point + _rotate(x - point, axis, angle, cross_t)",
@@ -891,6 +926,27 @@ EQUIVALENTS += [
             "the three lists have nq entries each: zip's strictness never fires"),
     _planar(_PLANAR_JOINTS, _PLANAR_JOINTS.replace(", strict=True", ", "),
             "the three lists have nq entries each: zip's strictness never fires"),
+    _planar(_PLANAR_JOINTS, _PLANAR_JOINTS.replace("strict=True", "strict=False"),
+            "the three lists have nq entries each: zip's strictness never fires"),
+    _planar("if min(solver.link_lengths) < STRUCTURE_TOL:",
+            "if min(solver.link_lengths) <= STRUCTURE_TOL:", _NEVER_EQUAL),
+    _planar("if d2 < FREE_TOL**2:", "if d2 < FREE_TOL * 2:",
+            "a target within 1.4e-6 m of the first axis leaves the plain-float path for the "
+            "vectorised one, which gives the same answer (tested to 1e-9 rad)"),
+    _planar("psi1 = np.where(free[:, None], wrap_angle(angle[:, None] - psi2), psi1)",
+            "psi1 = np.where(free[:, None], wrap_angle(angle[:, None] + psi2), psi1)",
+            "θ1 is free only for a target on the first axis, which only an arm with l1 = l2 "
+            "reaches, folded (ψ2 = ±π): angle ± ψ2 differ by 2π, which wrap_angle removes"),
+    _planar("ok &= untilted[:, None] & (turn_error <= PLANAR_TOL)",
+            "ok &= untilted[:, None] & (turn_error < PLANAR_TOL)", _NEVER_EQUAL),
+    _planar("untilted = np.linalg.norm(relative @ self._axis - self._axis, axis=-1) <= PLANAR_TOL",
+            "untilted = np.linalg.norm(relative @ self._axis - self._axis, axis=+1) <= PLANAR_TOL",
+            "the vectors are the rows of an (N, 3) array: axis 1 is the last axis"),
+    _planar("untilted = np.linalg.norm(relative @ self._axis - self._axis, axis=-1) <= PLANAR_TOL",
+            "untilted = np.linalg.norm(relative @ self._axis - self._axis, axis=-1) < PLANAR_TOL",
+            _NEVER_EQUAL),
+    _planar("fill = np.zeros((len(positions), 2))", "fill = np.zeros((len(positions), 3))",
+            "only the first column of fill is read (θ1 where it is free)"),
 ]  # fmt: skip
 EQUIVALENTS += [
     _batch("distance[np.isnan(distance)] = np.inf  # rows without a solution",
