@@ -140,7 +140,7 @@ class Path:
     def position_derivatives(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """(dp/ds, d²p/ds²), each (N, 3) [m]; central finite differences unless overridden
         (one-sided at the ends; fractions beyond them get the end's)."""
-        s = np.clip(as_fractions(s), 0.0, 1.0)
+        s = as_fractions(s).clip(0.0, 1.0)
         h = self._fd_step
         lo, hi = np.clip(s - h, 0, 1), np.clip(s + h, 0, 1)
         mid = 0.5 * (lo + hi)
@@ -158,7 +158,7 @@ class Path:
             return zeros, zeros
         if self.slerp is not None:
             return self.slerp.rates(s)
-        s = np.clip(s, 0.0, 1.0)  # beyond the ends: the end's rates (differences, not 0/0)
+        s = s.clip(0.0, 1.0)  # beyond the ends: the end's rates (differences, not 0/0)
         h = self._fd_step
         lo, hi = np.clip(s - h, 0, 1), np.clip(s + h, 0, 1)
         mid = 0.5 * (lo + hi)
@@ -323,9 +323,9 @@ class Arc(CircularArc):
         radius = float(np.linalg.norm(a - center))
         if not (np.all(np.isfinite(center)) and np.isfinite(radius) and radius > 0):
             raise InputError(
-                "Arc: the circle through start, via and end is too large to compute with (the "
-                "points are nearly collinear or very far apart); use a Line, or move the via "
-                "point off the line"
+                "Arc: the circle through start, via and end cannot be computed in double "
+                "precision (the points are nearly collinear, nearly coincide or are very far "
+                "apart); use a Line, or move the via point off the line"
             )
         n = normal / np.linalg.norm(normal)
         e1 = (a - center) / radius
