@@ -634,11 +634,24 @@ class Weave(Path):
         return self.amplitude * shape
 
     def across(self, s: ArrayLike) -> np.ndarray:
-        """The unit direction across the seam (N, 3) at path fractions ``s``."""
+        """The unit direction across the seam (N, 3) at path fractions ``s``.
+
+        Raises:
+            InputError: the seam runs along the normal at some of ``s`` (a stretch too short
+                for the check at construction, which samples the seam 257 times): no direction
+                is across it there.
+        """
         s = as_fractions(s).clip(0.0, 1.0)
         tangent, _ = self.path.position_derivatives(s)
         side = np.cross(self._normals(s), tangent)
-        return side / np.linalg.norm(side, axis=1)[:, None]
+        norm = np.linalg.norm(side, axis=1)
+        along = np.flatnonzero(~(norm >= 1e-9 * self.length))
+        if along.size:
+            raise InputError(
+                f"Weave: the seam runs along the normal at s = {s[along[0]]:.6g} (no direction is "
+                "across it there); give another normal, or a seam that turns off it"
+            )
+        return side / norm[:, None]
 
     def position(self, s: ArrayLike) -> np.ndarray:
         s = as_fractions(s).clip(0.0, 1.0)

@@ -818,3 +818,17 @@ def test_weave_asks_its_seam_within_its_fractions_only():
     beyond = weave.position(np.array([-0.5, 1.5]))
     np.testing.assert_array_equal(beyond, weave.position(np.array([0.0, 1.0])))
     np.testing.assert_allclose(beyond, [SEAM_X[0], SEAM_X[1]], rtol=0, atol=1e-15)
+
+
+def test_weave_refuses_a_stretch_along_the_normal_between_its_construction_samples():
+    """A 7 mm vertical step in a 2.56 m horizontal seam, between two of the 257 fractions the
+    construction checks (k/256 for k = 2, 3): the weave is built, but asked where the step is
+    (s ≈ 0.0094) it says the seam runs along the normal there instead of returning NaN; away
+    from the step it weaves."""
+    points = [[0.0, 0.0, 0.0], [0.0205, 0.0, 0.0], [0.0205, 0.0, 0.007], [2.553, 0.0, 0.007]]
+    weave = cartesian.Weave(cartesian.Polyline(points), 0.001, 0.01)
+    s_step = (0.0205 + 0.0035) / weave.length
+    assert 2 / 256 < s_step < 3 / 256
+    with pytest.raises(InputError, match=r"runs along the normal at s = 0\.009"):
+        weave.position(np.array([0.5, s_step]))
+    assert np.all(np.isfinite(weave.position(np.linspace(0.02, 1.0, 50))))
