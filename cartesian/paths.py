@@ -596,9 +596,7 @@ class Weave(Path):
         self.slerp = path.slerp
         # differences resolve the oscillation: a hundredth of a wavelength at most
         self._fd_step = min(path._fd_step, self.wavelength / self.length / 100.0)
-        tangent, _ = path.position_derivatives(np.linspace(0.0, 1.0, 257))
-        if np.any(np.linalg.norm(np.cross(self._normals(np.linspace(0.0, 1.0, 257)), tangent),
-                                 axis=1) < 1e-9 * self.length):  # fmt: skip
+        if self._sides(np.linspace(0.0, 1.0, 257))[2].size:
             raise InputError("Weave: the seam runs along the normal somewhere; give another normal")
 
     def __repr__(self) -> str:
@@ -614,6 +612,14 @@ class Weave(Path):
         if rotations is None:
             return np.tile([0.0, 0.0, 1.0], (len(s), 1))
         return rotations[:, :, 2]
+
+    def _sides(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """n × t at the fractions ``s`` (N, 3) [m], its norms (N,), and the indices where it
+        (nearly) vanishes: |n × t| < 1e-9 L, the seam running along the normal."""
+        tangent, _ = self.path.position_derivatives(s)
+        side = np.cross(self._normals(s), tangent)
+        norm = np.linalg.norm(side, axis=1)
+        return side, norm, np.flatnonzero(~(norm >= 1e-9 * self.length))
 
     def offset(self, s: ArrayLike) -> np.ndarray:
         """The lateral offset w [m] at path fractions ``s`` (N,)."""
@@ -642,10 +648,7 @@ class Weave(Path):
                 is across it there.
         """
         s = as_fractions(s).clip(0.0, 1.0)
-        tangent, _ = self.path.position_derivatives(s)
-        side = np.cross(self._normals(s), tangent)
-        norm = np.linalg.norm(side, axis=1)
-        along = np.flatnonzero(~(norm >= 1e-9 * self.length))
+        side, norm, along = self._sides(s)
         if along.size:
             raise InputError(
                 f"Weave: the seam runs along the normal at s = {s[along[0]]:.6g} (no direction is "

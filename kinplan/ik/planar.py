@@ -184,7 +184,7 @@ class Planar2RIK(ClosedFormIK):
         if d2 < FREE_TOL**2:
             raise NeedsBatch
         off_plane = (px - tool[0]) * axis[0] + (py - tool[1]) * axis[1] + (pz - tool[2]) * axis[2]
-        l1, l2 = math.hypot(*r1), math.hypot(*r2)
+        l1, l2 = self.link_lengths  # np.hypot, as planar_2r
         cosine = (d2 - l1**2 - l2**2) / (2.0 * l1 * l2)
         if not (abs(off_plane) <= PLANAR_TOL and abs(cosine) <= 1.0 + CLAMP):
             return []
