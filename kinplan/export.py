@@ -20,6 +20,12 @@ refused (:class:`~kinplan.errors.InputError`), since a controller would run the 
 Between its samples a motion is the quintic Hermite interpolation of the samples (exact in
 position, velocity and acceleration at every sample: :func:`kinplan.program.hermite_segments`),
 which is what a :class:`~kinplan.program.ProgramPlan` evaluates too.
+
+Every export that writes a motion (:func:`write_csv`, :func:`servo_samples`, :func:`urscript`,
+:func:`joint_trajectory` and their writers) first checks that interpolant against the robot's
+limits, whatever built the motion (:func:`check_limits`): positions, velocities and the
+accelerations the robot declares, at the samples and between them. A motion beyond a limit is
+refused with a :class:`LimitViolationError` naming the joint, the time, the value and the limit.
 """
 
 from __future__ import annotations
@@ -56,9 +62,14 @@ if TYPE_CHECKING:
 logger = logging.getLogger(__name__)
 
 __all__ = [
+    "CHECK_SUBDIVISIONS",
     "DEFAULT_SERVO_PERIOD",
+    "POSITION_SLACK",
+    "RATE_SLACK",
     "TRAJECTORY_FORMATS",
     "UR_JOINT_NAMES",
+    "LimitViolationError",
+    "check_limits",
     "csv_header",
     "joint_trajectory",
     "plan_failure",
@@ -99,11 +110,14 @@ def write_csv(
         The written path.
 
     Raises:
-        InputError: not a motion with a robot.
+        InputError: not a motion with a robot, or not a file path.
+        LimitViolationError: the motion breaks its robot's limits (:func:`check_limits`; a
+            failed plan's achieved part too).
         KinplanError: the file cannot be written.
     """
-    target = Path(path)
+    target = Path(checks.file_path(path, "path"))
     track = _tool_track(plan, "write_csv")
+    check_limits(plan, "write_csv")
     table = np.column_stack([plan.t, plan.q, plan.qd, plan.qdd, track.positions, track.quaternions])
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
@@ -142,6 +156,239 @@ TRAJECTORY_FORMATS = {".json": "json", ".yaml": "yaml", ".yml": "yaml"}
 """File extensions of :func:`write_joint_trajectory` and the format each writes."""
 
 _NANOSECONDS = 1_000_000_000
+
+
+#: Sub-intervals of each sample interval at which the exports check the interpolant (the quintic
+#: Hermite through the samples) against the robot's limits, besides the samples themselves.
+CHECK_SUBDIVISIONS = 16
+#: Slack of the position-limit check [rad or m]: rounding, nothing a controller could resolve.
+POSITION_SLACK = 1e-9
+#: Relative slack of the velocity and acceleration checks [-]: rounding, and the maximum of the
+#: interpolant between two of the sub-samples (below 1e-3 of its curvature scale at
+#: :data:`CHECK_SUBDIVISIONS` = 16).
+RATE_SLACK = 1e-6
+
+
+class LimitViolationError(InputError):
+    """An export refused a motion that breaks the robot's limits.
+
+    Attributes:
+        joint: The joint's name.
+        quantity: ``"position"``, ``"velocity"`` or ``"acceleration"``.
+        t: When [s], from the motion's start (the worst instant of the interpolant).
+        value: The joint's value there [rad, rad/s, rad/s² or m, m/s, m/s²].
+        limit: The limit it breaks (the nearer position limit, or the rate limit).
+    """
+
+    def __init__(
+        self, message: str, joint: str, quantity: str, t: float, value: float, limit: float
+    ) -> None:
+        super().__init__(message)
+        self.joint = joint
+        self.quantity = quantity
+        self.t = t
+        self.value = value
+        self.limit = limit
+
+
+def check_limits(plan: SampledMotion, what: str = "the export") -> None:
+    """Refuse a motion whose interpolant breaks its robot's position, velocity or (declared)
+    acceleration limits.
+
+    What the exports write, and what a controller runs between the samples, is the quintic
+    Hermite interpolation of the samples (positions, velocities and accelerations: see
+    :func:`servo_samples`); it is checked at every sample and at :data:`CHECK_SUBDIVISIONS`
+    instants inside every interval between two samples, so a controller's own period (a
+    ``servoj`` stream's Δq / period, its second differences) stays within the same bounds.
+    Checked, in this order: positions within [lower, upper] (± :data:`POSITION_SLACK`), |q̇|
+    within the velocity limit and |q̈| within the acceleration limit where the robot declares
+    one (each with a relative slack :data:`RATE_SLACK`). A motion without a robot has no
+    limits to check.
+
+    Args:
+        plan: A motion with samples (:class:`~kinplan.motion.SampledMotion`).
+        what: The export's name, for the message.
+
+    Raises:
+        LimitViolationError: the worst violation of the first kind found, naming the joint,
+            the time [s], the value, the limit and what to change.
+        InputError: not a motion, or samples that are not finite.
+    """
+    t, q, qd, qdd = _samples(plan, what)
+    robot = plan.robot
+    if robot is None or len(t) == 0:
+        return
+    t = t - t[0]
+    lower, upper = np.asarray(robot.lower, float), np.asarray(robot.upper, float)
+    speed = np.asarray(robot.velocity_limit, float)
+    accel = np.asarray(robot.acceleration_limit, float)
+    worst: dict[str, tuple[float, int, float, float, float]] = {}  # ratio, joint, t, value, limit
+    first: dict[str, float] = {}  # the earliest instant beyond the limit [s]
+
+    def keep(quantity: str, ratio: np.ndarray, times: np.ndarray, values: np.ndarray, limit):
+        threshold = 1.0 + RATE_SLACK if quantity != "position" else 0.0
+        beyond = times[(ratio > threshold).any(axis=1)]
+        first[quantity] = min(first.get(quantity, math.inf), float(beyond.min()))
+        flat = int(np.argmax(ratio))
+        k, j = divmod(flat, ratio.shape[1])
+        if ratio[k, j] > worst.get(quantity, (0.0,))[0]:
+            bound = limit[j] if np.ndim(limit) == 1 else limit[k, j]
+            worst[quantity] = (float(ratio[k, j]), j, float(times[k]), float(values[k, j]), bound)
+
+    for times, position, velocity, acceleration in _interpolant(t, q, qd, qdd):
+        below = lower - position
+        above = position - upper
+        excess = np.maximum(below, above)
+        if np.any(excess > POSITION_SLACK):
+            bound = np.where(below > above, lower, upper)
+            keep("position", np.where(excess > POSITION_SLACK, excess, 0.0), times, position,
+                 bound)  # fmt: skip
+        with np.errstate(divide="ignore", invalid="ignore"):
+            for quantity, values, limit in (
+                ("velocity", velocity, speed),
+                ("acceleration", acceleration, accel),
+            ):
+                ratio = np.where(np.isfinite(limit), np.abs(values) / limit, 0.0)
+                ratio = np.where(np.isnan(ratio), np.inf, ratio)  # a limit of 0, a motion
+                if np.any(ratio > 1.0 + RATE_SLACK):
+                    keep(quantity, ratio, times, values, limit)
+    for quantity in ("position", "velocity", "acceleration"):
+        if quantity in worst:
+            ratio, j, when, value, limit = worst[quantity]
+            raise _violation(plan, what, quantity, j, when, value, limit, ratio, first[quantity])
+
+
+def _samples(
+    plan: SampledMotion, what: str
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The samples (t, q, qd, qdd) of a motion, finite and consistent; InputError otherwise."""
+    if not isinstance(plan, SampledMotion):
+        raise InputError(
+            f"{what} takes a planned motion (kinplan.motion.SampledMotion: a program or Cartesian "
+            f"plan, or kinplan.motion.sampled(trajectory, robot)), got {type(plan).__name__}"
+        )
+    t = checks.vector(plan.t, "the plan's times", unit="s")
+    if len(t) == 0:
+        return t, np.zeros((0, 0)), np.zeros((0, 0)), np.zeros((0, 0))
+    q = checks.rows(plan.q, "the plan's positions", np.shape(plan.q)[-1])
+    qd = checks.rows(plan.qd, "the plan's velocities", q.shape[1])
+    qdd = checks.rows(plan.qdd, "the plan's accelerations", q.shape[1])
+    if not len(q) == len(qd) == len(qdd) == len(t):
+        raise InputError(
+            f"{what}: the plan has {len(t)} times but {len(q)}, {len(qd)}, {len(qdd)} rows of "
+            "positions, velocities, accelerations"
+        )
+    steps = np.diff(t)
+    if np.any(steps <= 0.0):
+        k = int(np.argmax(steps <= 0.0))
+        raise InputError(
+            f"{what}: the plan's times must increase, but sample {k + 1} is at {t[k + 1]!r} s "
+            f"after {t[k]!r} s"
+        )
+    if plan.robot is not None and q.shape[1] != plan.robot.nq:
+        raise InputError(
+            f"{what}: the plan has {q.shape[1]} joints, its robot {plan.robot.name} {plan.robot.nq}"
+        )
+    return t, q, qd, qdd
+
+
+def _interpolant(t: np.ndarray, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray):
+    """The quintic Hermite through the samples at the samples and :data:`CHECK_SUBDIVISIONS`
+    instants inside each interval, in chunks: (times (K,), q, q̇, q̈ (K, n) each)."""
+    from kinplan._profiles import quintic_coefficients
+
+    yield t, q, qd, qdd
+    if len(t) < 2:
+        return
+    u = np.arange(1, CHECK_SUBDIVISIONS) / CHECK_SUBDIVISIONS  # inside the intervals
+    chunk = max(1, 200_000 // (len(u) * q.shape[1]))
+    for start in range(0, len(t) - 1, chunk):
+        stop = min(start + chunk, len(t) - 1)
+        h = np.diff(t[start : stop + 1])  # (P,)
+        c = quintic_coefficients(
+            q[start:stop].T, q[start + 1 : stop + 1].T, qd[start:stop].T,
+            qd[start + 1 : stop + 1].T, qdd[start:stop].T, qdd[start + 1 : stop + 1].T, h,
+        )  # fmt: skip
+        c = np.moveaxis(c, 2, 0)[:, None, :, :]  # (P, 1, n, 6)
+        tau = (h[:, None] * u[None, :])[:, :, None]  # (P, S, 1)
+        position, velocity, acceleration = c[..., 5], 5.0 * c[..., 5], 20.0 * c[..., 5]
+        for k in (4, 3, 2):  # Horner, the three polynomials at once
+            position = position * tau + c[..., k]
+            velocity = velocity * tau + k * c[..., k]
+            acceleration = acceleration * tau + k * (k - 1) * c[..., k]
+        position = (position * tau + c[..., 1]) * tau + c[..., 0]
+        velocity = velocity * tau + c[..., 1]
+        times = (t[start:stop, None] + tau[..., 0]).reshape(-1)
+        n = q.shape[1]
+        yield (
+            times,
+            position.reshape(-1, n),
+            velocity.reshape(-1, n),
+            acceleration.reshape(-1, n),
+        )
+
+
+def _violation(
+    plan: SampledMotion,
+    what: str,
+    quantity: str,
+    joint: int,
+    when: float,
+    value: float,
+    limit: float,
+    ratio: float,
+    since: float,
+) -> LimitViolationError:
+    """The error of the worst violation of one kind (``since``: the first instant beyond a
+    limit of that kind [s]), with what to change."""
+    robot = plan.robot
+    assert robot is not None
+    name = robot.joint_names[joint]
+    prismatic = bool(np.asarray(getattr(robot, "prismatic", np.zeros(robot.nq)))[joint])
+    unit = {"position": "m", "velocity": "m/s", "acceleration": "m/s²"}[quantity]
+    if not prismatic:
+        unit = unit.replace("m", "rad", 1)
+    where = _move_at(plan, when)
+    if since < when - 1e-12:
+        where += f" (the first beyond a {quantity} limit at t = {since:.4f} s)"
+    if quantity == "position":
+        side = "lower" if value < limit else "upper"
+        text = (
+            f"joint {name} reaches {value:.6g} {unit} at t = {when:.4f} s{where}, beyond its "
+            f"{side} limit {limit:.6g} {unit}; move the motion's points so that the joint stays "
+            "within its limits (the motion between two samples included)"
+        )
+    else:
+        scale = ratio if quantity == "velocity" else math.sqrt(ratio)
+        slower = math.ceil(scale * 1000.0) / 1000.0  # rounded up: pasting it works
+        text = (
+            f"joint {name} {'moves at' if quantity == 'velocity' else 'accelerates at'} "
+            f"{abs(value):.6g} {unit} at t = {when:.4f} s{where}, {ratio:.3g}× its {quantity} "
+            f"limit {limit:.6g} {unit}; plan the motion at least {slower:g}× slower (a longer "
+            "duration or a lower speed)"
+        )
+    if quantity == "acceleration" and np.isinf(ratio):
+        text = text.replace(f"{ratio:.3g}×", "beyond")
+    return LimitViolationError(
+        f"{what} refuses a motion beyond the robot's limits: {text}",
+        name,
+        quantity,
+        when,
+        value,
+        limit,
+    )
+
+
+def _move_at(plan: SampledMotion, when: float) -> str:
+    """`` in move 3 (label)`` for the program move running at ``when`` [s], else ""."""
+    moves = list(getattr(plan, "moves", None) or [])
+    if not moves:
+        return ""
+    start = float(np.asarray(plan.t, dtype=float)[0])
+    for move in moves:
+        if float(move.t0) - start <= when <= float(move.t1) - start + 1e-12:
+            return f" in move {move.number} ({move.label})"
+    return ""
 
 
 def ur_arm_problem(robot: Robot) -> str:
@@ -237,9 +484,15 @@ def servo_samples(
     Raises:
         InputError: not a motion, a failed plan, samples that are not finite or whose times do
             not increase, or a period that is not a positive number.
+        LimitViolationError: the motion breaks its robot's limits (:func:`check_limits`).
     """
+    return _servo_samples(plan, period, "servo_samples")
+
+
+def _servo_samples(plan: SampledMotion, period: float, what: str) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`servo_samples`, its errors naming ``what``."""
     step = checks.number(period, "period", positive=True, unit="s")
-    t, q, qd, qdd = _whole_motion(plan, "servo_samples")
+    t, q, qd, qdd = _whole_motion(plan, what)
     times = time_grid(float(t[-1] - t[0]), step)
     if len(t) == 1:
         return times, np.repeat(q, len(times), axis=0)
@@ -291,6 +544,7 @@ def urscript(
     Raises:
         InputError: not a motion, a failed plan (a controller must not run a partial motion),
             no robot or not a UR arm, or a parameter out of its range.
+        LimitViolationError: the motion breaks its robot's limits (:func:`check_limits`).
     """
     from kinplan import __version__
 
@@ -301,7 +555,7 @@ def urscript(
         start_acceleration, "start_acceleration", positive=True, unit="rad/s²"
     )
     robot = _ur_robot(plan, "urscript")
-    times, targets = servo_samples(plan, period)
+    times, targets = _servo_samples(plan, period, "urscript")
     step = float(period)
     hold = math.ceil(2.0 * lookahead / step - 1e-9)
     servo = f"t={_script_number(step)}, lookahead_time={_script_number(lookahead)}, " + (
@@ -399,6 +653,8 @@ def joint_trajectory(
     Raises:
         InputError: not a motion, a failed plan, no joint names (or not one per joint),
             samples that are not finite, or two samples at the same nanosecond.
+        LimitViolationError: the motion breaks its robot's limits (:func:`check_limits`; a
+            motion without a robot is not checked).
     """
     t, q, qd, qdd = _whole_motion(plan, "joint_trajectory")
     names = _joint_names(plan, joint_names, q.shape[1])
@@ -468,11 +724,11 @@ def write_joint_trajectory(
 
 
 def _whole_motion(
-    plan: SampledMotion, what: str
+    plan: SampledMotion, what: str, limits: bool = True
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The samples (t, q, qd, qdd) of a motion a controller may run; InputError for anything
     else: not a motion, a failed plan, samples that are not finite or times that do not
-    increase."""
+    increase, and (``limits``) a motion beyond its robot's limits (:func:`check_limits`)."""
     if not isinstance(plan, SampledMotion):
         raise InputError(
             f"{what} takes a planned motion (kinplan.motion.SampledMotion: a program or Cartesian "
@@ -483,34 +739,17 @@ def _whole_motion(
             f"{what} refuses a failed plan: {plan_failure(plan)}; a controller must not run a "
             "partial motion (write_csv and plot_motion show the achieved part for inspection)"
         )
-    t = checks.vector(plan.t, "the plan's times", unit="s")
+    t, q, qd, qdd = _samples(plan, what)
     if len(t) == 0:
         raise InputError(f"{what}: the plan has no samples")
-    q = checks.rows(plan.q, "the plan's positions", np.shape(plan.q)[-1])
-    qd = checks.rows(plan.qd, "the plan's velocities", q.shape[1])
-    qdd = checks.rows(plan.qdd, "the plan's accelerations", q.shape[1])
-    if not len(q) == len(qd) == len(qdd) == len(t):
-        raise InputError(
-            f"{what}: the plan has {len(t)} times but {len(q)}, {len(qd)}, {len(qdd)} rows of "
-            "positions, velocities, accelerations"
-        )
-    steps = np.diff(t)
-    if np.any(steps <= 0.0):
-        k = int(np.argmax(steps <= 0.0))
-        raise InputError(
-            f"{what}: the plan's times must increase, but sample {k + 1} is at {t[k + 1]!r} s "
-            f"after {t[k]!r} s"
-        )
-    if plan.robot is not None and q.shape[1] != plan.robot.nq:
-        raise InputError(
-            f"{what}: the plan has {q.shape[1]} joints, its robot {plan.robot.name} {plan.robot.nq}"
-        )
+    if limits:
+        check_limits(plan, what)
     return t, q, qd, qdd
 
 
 def _ur_robot(plan: SampledMotion, what: str) -> Robot:
     """The robot of a whole motion when it is a UR arm; InputError otherwise."""
-    _whole_motion(plan, what)  # not a motion, or a failed plan: said first
+    _whole_motion(plan, what, limits=False)  # not a motion, or a failed plan: said first
     robot = plan.robot
     if robot is None:
         raise InputError(
