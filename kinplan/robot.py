@@ -801,12 +801,15 @@ def load_robot(
     Raises:
         RobotNotFoundError: unknown name (the message lists the known ones) or missing file.
         URDFError: malformed XML, a URDF Pinocchio rejects, several chains without ``tip``, a
-            floating or continuous joint on the chain.
+            floating joint inside the chain; a joint of the chain without usable limits (no
+            ``<limit>``, lower ≥ upper, a velocity of 0), with the axis 0 0 0, or an offset
+            beyond 10 km.
         FrameError: ``tip`` is not a frame of the robot, or several chains and no ``tip`` (the
             message lists the candidate tool frames).
         InputError: ``source`` is not a string or path, ``tip`` not a string; malformed
             ``locked_joints``, ``base_pose``, ``limits`` or ``package_dirs`` (unknown joint
-            names are listed with the known ones).
+            names are listed with the known ones); a locked value outside its joint's limits; a
+            base pose more than 10 km from the world origin.
     """
     if isinstance(source, os.PathLike):
         try:

@@ -15,13 +15,21 @@ between the root and the tool frame, one coordinate per joint (radians or metres
 * **limit overrides** (``limits={joint: {"lower", "upper", "velocity", "acceleration"}}``, any
   subset) that replace the URDF's values, so joints without usable limits load.
 
-Everything wrong with the input is a :class:`~kinplan.errors.KinplanError` that says what to do.
+Everything wrong with the input is a :class:`~kinplan.errors.KinplanError` that says what to do:
+a joint that kinplan moves needs a range (lower < upper) and a velocity limit > 0 (a URDF velocity
+of 0, an exporter's "unknown", is refused, never read as "no limit"; a continuous joint without
+``<limit>`` has an unknown speed, inf) and a direction (an ``<axis xyz="0 0 0">`` is refused); a
+locked value must lie within its joint's limits; base poses, joint origins and frames lie within
+:data:`MAX_OFFSET` of where they are placed. ``drake:acceleration`` on a ``<limit>`` is read as
+the joint's acceleration limit; prefixes a file uses without declaring them (airo-models' UR5e)
+are declared before parsing (:func:`read_urdf`).
 """
 
 from __future__ import annotations
 
 import contextlib
 import logging
+import math
 import os
 import re
 import sys
@@ -42,6 +50,10 @@ logger = logging.getLogger(__name__)
 #: Joint limits written into the URDF for continuous joints read as revolute [rad]; kinplan's own
 #: limits for them are ±inf.
 UNBOUNDED = 1e9
+#: Largest distance [m] of a base pose from the world origin, and of a joint or frame from its
+#: parent: 10 km. Positions there carry a rounding of 2e-12 m, far below every tolerance; no
+#: robot cell is larger (a base at 1e300 m overflows the kinematics).
+MAX_OFFSET = 1e4
 #: Keys of a ``limits=`` entry.
 LIMIT_KEYS = ("lower", "upper", "velocity", "acceleration")
 #: Joint (and link) names of a gripper or hand, left out of the default tool chain (held at 0)
@@ -105,20 +117,76 @@ class _Joint:
     child: str
     has_limit: bool
     mimic: tuple[str, float, float] | None
+    #: ``<axis xyz>`` as written (None: no ``<axis>``, the URDF's default 1 0 0).
+    axis: str | None = None
+    #: ``<limit velocity>`` as written (None: no such attribute, or no ``<limit>``).
+    velocity: str | None = None
+    #: ``<limit drake:acceleration>`` as written (None: none).
+    acceleration: str | None = None
 
 
 # ------------------------------------------------------------------------------------ reading
+#: Namespace of Drake's URDF extensions: ``drake:acceleration`` on a ``<limit>`` is the joint's
+#: acceleration limit [rad/s² or m/s²].
+DRAKE_NAMESPACE = "http://drake.mit.edu"
+#: expat's error code for a prefix used without an ``xmlns:`` declaration.
+_UNBOUND_PREFIX = 27
+#: What may come before the root element: comments, processing instructions, a doctype.
+_PROLOGUE = re.compile(rb"<!--.*?-->|<\?.*?\?>|<!DOCTYPE[^>]*>|<([A-Za-z_][\w.-]*)", re.S)
+
+
 def read_urdf(urdf_path: Path) -> ET.Element:
-    """The URDF's ``<robot>`` element, or a URDFError saying why it cannot be used."""
+    """The URDF's ``<robot>`` element, or a URDFError saying why it cannot be used.
+
+    Prefixed names whose prefix the file never declares (airo-models' UR5e writes
+    ``drake:acceleration="..."`` without ``xmlns:drake``) make the file namespace-invalid XML,
+    which URDF readers without namespaces (urdfdom, yourdfpy) accept: such prefixes are declared
+    on the root element before parsing (``drake`` as :data:`DRAKE_NAMESPACE`, the others as a
+    placeholder namespace); every other XML error is reported as it is.
+    """
     try:
-        root = ET.parse(urdf_path).getroot()
-    except ET.ParseError as exc:
-        raise URDFError(f"{urdf_path} is not valid XML ({exc}); fix the file") from exc
+        data = Path(urdf_path).read_bytes()
     except OSError as exc:
         raise URDFError(f"cannot read the URDF file {urdf_path}: {exc}") from exc
+    try:
+        root = ET.fromstring(data)
+    except ET.ParseError as exc:
+        declared = _undeclared_prefixes_declared(data) if exc.code == _UNBOUND_PREFIX else None
+        if declared is None:
+            raise URDFError(f"{urdf_path} is not valid XML ({exc}); fix the file") from exc
+        text, prefixes = declared
+        try:
+            root = ET.fromstring(text)
+        except ET.ParseError as other:  # something else is wrong too (same line numbers)
+            raise URDFError(f"{urdf_path} is not valid XML ({other}); fix the file") from other
+        logger.info(
+            "%s uses the XML prefix(es) %s without declaring them (xmlns:...): read as if declared",
+            urdf_path,
+            ", ".join(prefixes),
+        )
     if root.tag != "robot":
         raise URDFError(f"{urdf_path} is not a URDF: its root element is <{root.tag}>, not <robot>")
     return root
+
+
+def _undeclared_prefixes_declared(data: bytes) -> tuple[bytes, list[str]] | None:
+    """The XML text ``data`` with the prefixes its element and attribute names use but never
+    declare declared on its root element, and those prefixes; None when there is none (or no
+    root element): the unbound prefix is then not one kinplan can bind."""
+    used = set(re.findall(rb"<([A-Za-z_][\w.-]*):[A-Za-z_]", data))
+    used |= set(re.findall(rb"\s([A-Za-z_][\w.-]*):[A-Za-z_][\w.-]*\s*=", data))
+    declared = set(re.findall(rb"xmlns:([A-Za-z_][\w.-]*)\s*=", data))
+    missing = sorted(used - declared - {b"xml", b"xmlns"})
+    start = next((m for m in _PROLOGUE.finditer(data) if m.group(1) is not None), None)
+    if not missing or start is None:
+        return None
+    names = [prefix.decode("ascii", errors="replace") for prefix in missing]
+    declarations = b"".join(
+        b' xmlns:%s="%s"'
+        % (prefix, DRAKE_NAMESPACE.encode() if prefix == b"drake" else b"urn:kinplan:" + prefix)
+        for prefix in missing
+    )
+    return data[: start.end()] + declarations + data[start.end() :], names
 
 
 def root_link(root: ET.Element, urdf_path: Path) -> str:
@@ -139,24 +207,48 @@ def root_link(root: ET.Element, urdf_path: Path) -> str:
 def _joints(root: ET.Element) -> dict[str, _Joint]:
     joints = {}
     for element in root.findall("joint"):
+        name = element.get("name", "")
         mimic = element.find("mimic")
         mimic_of = None
         if mimic is not None:
             mimic_of = (
                 mimic.get("joint", ""),
-                float(mimic.get("multiplier", "1")),
-                float(mimic.get("offset", "0")),
+                _mimic_number(mimic, "multiplier", "1", name),
+                _mimic_number(mimic, "offset", "0", name),
             )
         parent, child = element.find("parent"), element.find("child")
-        joints[element.get("name", "")] = _Joint(
-            element.get("name", ""),
+        axis, limit = element.find("axis"), element.find("limit")
+        joints[name] = _Joint(
+            name,
             element.get("type", ""),
             "" if parent is None else parent.get("link", ""),
             "" if child is None else child.get("link", ""),
-            element.find("limit") is not None,
+            limit is not None,
             mimic_of,
+            axis=None if axis is None else axis.get("xyz", "1 0 0"),
+            velocity=None if limit is None else limit.get("velocity"),
+            acceleration=None if limit is None else limit.get(f"{{{DRAKE_NAMESPACE}}}acceleration"),
         )
     return joints
+
+
+def _float_or_nan(text: str) -> float:
+    """``text`` as a float (nan when it is not a number)."""
+    try:
+        return float(text)
+    except ValueError:
+        return math.nan
+
+
+def _mimic_number(mimic: ET.Element, key: str, default: str, joint: str) -> float:
+    """The ``<mimic>`` attribute ``key`` of ``joint`` as a finite float."""
+    text = mimic.get(key, default)
+    value = _float_or_nan(text)
+    if not math.isfinite(value):
+        raise URDFError(
+            f"joint {joint!r}: its <mimic {key}={text!r}> is not a finite number; fix the file"
+        )
+    return value
 
 
 @contextlib.contextmanager
@@ -269,6 +361,11 @@ def check_limits(limits: object, joints: Mapping[str, _Joint]) -> dict[str, dict
                 )
             positive = key in ("velocity", "acceleration")
             values[key] = checks.number(value, f"limits[{name!r}][{key!r}]", positive=positive)
+        if joints[name].kind == "continuous" and len({"lower", "upper"} & set(values)) == 1:
+            raise InputError(
+                f"limits[{name!r}]: {name} is a continuous joint (unbounded); give both 'lower' "
+                "and 'upper' to bound it, or neither"
+            )
         if "lower" in values and "upper" in values and not values["lower"] < values["upper"]:
             raise InputError(
                 f"limits[{name!r}]: lower {values['lower']} must be below upper {values['upper']}"
@@ -617,8 +714,11 @@ def build_chain(
     xml, uncoupled = _uncouple_mimics(root, joints, xml, urdf_path)
     model = _parse_model(xml, urdf_path)
 
+    _check_offsets(model, base, urdf_path)
     tip = tip or default_tip or _default_tip(model, urdf_path)
     chain = set(model.supports[model.frames[frame_id(model, tip, urdf_path)].parentJoint]) - {0}
+    _check_axes(model, joints, chain, urdf_path)
+    _check_locked_values(model, joints, locked, placeholders | continuous)
     held_root = None
     hold: set[int] = set()
     for j in sorted(chain):
@@ -671,17 +771,43 @@ def build_chain(
     order = {name: reduced.joints[reduced.getJointId(name)].idx_q for name in independent}
     for name in continuous & set(order):
         lower[order[name]], upper[order[name]] = -np.inf, np.inf
-    for name, entry in overrides.items():
-        if name in order and "acceleration" in entry:
-            acceleration[order[name]] = entry["acceleration"]
-    velocity = np.where(velocity > 0, velocity, np.inf)
-    bad = [n for n in independent if not lower[order[n]] < upper[order[n]]]
-    if bad:
-        shown = ", ".join(f"{n} [{lower[order[n]]:g}, {upper[order[n]]:g}]" for n in bad)
+    # joint → [(the limits= keys that fix it, what is unusable)]
+    problems: dict[str, list[tuple[tuple[str, ...], str]]] = {}
+    for name in independent:
+        k, joint, given = order[name], joints[name], overrides.get(name, {})
+        found = problems.setdefault(name, [])
+        if not lower[k] < upper[k]:
+            found.append((("lower", "upper"), f"range [{lower[k]:g}, {upper[k]:g}]"))
+        if "velocity" not in given and joint.has_limit:
+            if joint.velocity is None:
+                found.append((("velocity",), "no velocity in its <limit>"))
+            elif not velocity[k] > 0:  # exporters write 0 for 'unknown': not 'no limit'
+                found.append((("velocity",), f"velocity {joint.velocity}"))
+        elif not velocity[k] > 0:  # a continuous joint without <limit>: speed unknown
+            velocity[k] = np.inf
+        if "acceleration" in given:
+            acceleration[k] = given["acceleration"]
+        elif joint.acceleration is not None:
+            value = _float_or_nan(joint.acceleration)
+            if value > 0 and math.isfinite(value):
+                acceleration[k] = value
+            else:
+                found.append((("acceleration",), f"drake:acceleration {joint.acceleration}"))
+    problems = {name: found for name, found in problems.items() if found}
+    if problems:
+        shown = "; ".join(
+            f"{name} ({', '.join(what for _, what in found)})" for name, found in problems.items()
+        )
+        example = ", ".join(
+            f"{name!r}: {{"
+            + ", ".join(f"{key!r}: .." for key in LIMIT_KEYS if any(key in k for k, _ in found))
+            + "}"
+            for name, found in problems.items()
+        )
         raise URDFError(
-            f"joint(s) of {urdf_path.name} without a usable range (lower < upper): {shown}; give "
-            "them with limits={name: {'lower': .., 'upper': ..}} or lock them with "
-            "locked_joints={name: value}"
+            f"joint(s) of {urdf_path.name} without usable limits (lower < upper, velocity and "
+            f"acceleration > 0): {shown}; give them with limits={{{example}}} [rad or m, per s, "
+            "per s²] or lock them with locked_joints={name: value}"
         )
     mimic: dict[str, tuple[str, float, float]] = {}
     for n in names:
@@ -702,6 +828,72 @@ def build_chain(
         locked={n: v for n, v in locked.items()},
         held_root=held_root,
     )
+
+
+def _check_offsets(model: pin.Model, base: pin.SE3, urdf_path: Path) -> None:
+    """Refuse a base pose, joint origin or frame further than :data:`MAX_OFFSET` from where it
+    is placed (or not finite)."""
+    distance = math.hypot(*base.translation)
+    if not distance <= MAX_OFFSET:
+        raise InputError(
+            f"base_pose puts the robot {distance:.4g} m from the world origin; kinplan accepts "
+            f"base poses within {MAX_OFFSET:g} m of it (give the base's position in metres, in "
+            "the frame of the work cell)"
+        )
+    placed = [
+        (f"joint {model.names[j]!r}", model.jointPlacements[j]) for j in range(1, model.njoints)
+    ]
+    placed += [(f"frame {f.name!r}", f.placement) for f in model.frames if f.name != "universe"]
+    for what, placement in placed:
+        distance = math.hypot(*placement.translation)
+        if not distance <= MAX_OFFSET:
+            raise URDFError(
+                f"{what} of {urdf_path.name} is placed {distance:.4g} m from its parent (its "
+                f"<origin xyz>); kinplan accepts offsets up to {MAX_OFFSET:g} m: fix the file"
+            )
+
+
+def _check_axes(
+    model: pin.Model, joints: Mapping[str, _Joint], chain: set[int], urdf_path: Path
+) -> None:
+    """Refuse a joint of the chain (locked or not) whose ``<axis xyz>`` is 0 0 0: it would
+    move nothing."""
+    for j in sorted(chain):
+        joint = joints.get(model.names[j])
+        if joint is None or joint.kind not in _ONE_DOF or joint.axis is None:
+            continue
+        axis = np.array([_float_or_nan(v) for v in joint.axis.split()])
+        if axis.size == 3 and np.all(axis == 0.0):
+            raise URDFError(
+                f"joint {joint.name!r} of {urdf_path.name} has the axis 0 0 0, about or along "
+                "which nothing moves; write its direction in its <axis xyz> (e.g. "
+                '<axis xyz="0 0 1"/>)'
+            )
+
+
+def _check_locked_values(
+    model: pin.Model,
+    joints: Mapping[str, _Joint],
+    locked: Mapping[str, float],
+    unbounded: set[str],
+) -> None:
+    """Refuse a locked value outside its joint's limits (the URDF's, or ``limits=``); joints
+    without usable limits (none, lower ≥ upper, continuous: ``unbounded``) take any value."""
+    for name, value in locked.items():
+        if name in unbounded or not model.existJointName(name):
+            continue
+        joint_model = model.joints[model.getJointId(name)]
+        if joint_model.nq != 1:
+            continue
+        lower = float(model.lowerPositionLimit[joint_model.idx_q])
+        upper = float(model.upperPositionLimit[joint_model.idx_q])
+        if lower < upper and not lower <= value <= upper:
+            unit = "m" if joints[name].kind == "prismatic" else "rad"
+            raise InputError(
+                f"locked_joints[{name!r}] = {value:g} {unit} is outside the joint's limits "
+                f"[{lower:g}, {upper:g}] {unit}; lock it within them (or change them with "
+                f"limits={{{name!r}: {{'lower': .., 'upper': ..}}}})"
+            )
 
 
 def _hold_uncoupled(

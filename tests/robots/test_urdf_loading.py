@@ -275,15 +275,25 @@ def test_revolute_joint_without_limit_loads_with_limits(tmp_path):
 
 
 def test_zero_range_joints_name_the_remedy_and_load_with_limits():
+    # the pendulum's URDF says lower = upper = 0 and velocity = 0 (an exporter's "unknown")
     with pytest.raises(URDFError) as raised:
         kinplan.load_robot(PENDULUM)
     message = str(raised.value)
-    assert "joint1 [0, 0]" in message and "joint2 [0, 0]" in message
-    assert "limits={" in message and "locked_joints={" in message
-    limits = {name: {"lower": -2.0, "upper": 2.5} for name in ("joint1", "joint2")}
+    assert "joint1 (range [0, 0], velocity 0)" in message
+    assert "joint2 (range [0, 0], velocity 0)" in message
+    assert "locked_joints={" in message
+    # the remedy names every key still missing, for every joint: applied as printed, it loads
+    keys = "{'lower': .., 'upper': .., 'velocity': ..}"
+    assert f"limits={{'joint1': {keys}, 'joint2': {keys}}}" in message
+    with pytest.raises(URDFError, match=r"joint1 \(velocity 0\); joint2 \(velocity 0\)"):
+        kinplan.load_robot(
+            PENDULUM, limits={n: {"lower": -2.0, "upper": 2.5} for n in ("joint1", "joint2")}
+        )
+    limits = {name: {"lower": -2.0, "upper": 2.5, "velocity": 3.0} for name in ("joint1", "joint2")}
     robot = kinplan.load_robot(PENDULUM, limits=limits)
     np.testing.assert_array_equal(robot.lower, [-2.0, -2.0])
     np.testing.assert_array_equal(robot.upper, [2.5, 2.5])
+    np.testing.assert_array_equal(robot.velocity_limit, [3.0, 3.0])
 
 
 def test_limit_overrides_replace_the_urdf_values_and_are_checked():
