@@ -16,23 +16,33 @@ import pinocchio as pin
 
 import cartesian
 from cartesian.follow import collision_event
+from kinplan import checks
+from kinplan._profiles import round_up
 from kinplan.cell import MotionCheck, WorkCell
-from kinplan.errors import InfeasibleError, KinplanError
+from kinplan.errors import InputError, KinplanError
 from kinplan.program.checker import describe
+from kinplan.program.peaks import joint_peaks
 from kinplan.program.plan import MoveReport, ProgramPlan
-from kinplan.program.ptp import peak_speed_ratio, ptp_through_trajectory, ptp_trajectory
+from kinplan.program.ptp import (
+    PtpLimitError,
+    acceleration_limits,
+    limit_problem,
+    plan_ptp,
+    plan_ptp_through,
+)
 from kinplan.program.record import MotionRecord
 from kinplan.program.schema import (
     DEFAULT_DT,
     DEFAULT_TOOL_SPEED,
     JOIN_TOLERANCE,
+    MAX_SAMPLES,
     Program,
     TorchSpec,
     WeaveSpec,
 )
 from kinplan.robot import Robot
-from kinplan.sampling import joint_speeds, motion_step
-from kinplan.trajectory import Trajectory
+from kinplan.sampling import motion_step
+from kinplan.trajectory import Segment, Trajectory
 
 __all__ = ["Goal", "MotionBuilder", "SeamPiece"]
 
@@ -51,6 +61,8 @@ def _program_remedy(plan: cartesian.CartesianPlan) -> str:
     """What the author of a program can do about a failed move's first event (the event's own
     remedy names :func:`cartesian.follow`'s arguments)."""
     event = plan.events[0]
+    if event.kind == "acceleration_limit":  # follow's own words, without its retime= option
+        return event.remedy.split(", or retime")[0]
     if event.kind == "velocity_limit":
         factor = plan.peak_speed_ratio
         return (
@@ -70,6 +82,24 @@ def _program_remedy(plan: cartesian.CartesianPlan) -> str:
             "another configuration (a ptp to joint values before it)"
         )
     return event.remedy
+
+
+def _is_real(value: object) -> bool:
+    """Whether ``value`` is a real number (not a boolean)."""
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+
+
+def _checked_acceleration(value: object, nq: int, name: str) -> np.ndarray | None:
+    """A ``max_acceleration`` argument: None, one number > 0 or one per joint [rad/s²]."""
+    if value is None:
+        return None
+    if not isinstance(value, (list, tuple, np.ndarray)):
+        number = checks.number(value, name, positive=True, unit="rad/s²")
+        return np.full(nq, number)
+    array = checks.vector(value, name, nq, unit="rad/s²")
+    for j in np.flatnonzero(array <= 0.0):
+        raise InputError(f"{name} must be > 0 rad/s² for every joint, got {array[j]} for joint {j}")
+    return array
 
 
 def _torch_path(path: cartesian.Path, torch: TorchSpec) -> cartesian.Path:
@@ -112,10 +142,16 @@ class MotionBuilder:
         clearance: Margin [m] (≥ 0) between the robot (links and tool body) and the cell's
             obstacles: closer than this collides too. The robot's own link pairs collide only
             on contact.
+        max_acceleration: Joint acceleration limits of every move [rad/s² or m/s²], one
+            number or one per joint, on top of the robot's own (the lower one holds); a move's
+            ``max_acceleration`` replaces it. None: the robot's limits alone (joints without
+            one are not acceleration-limited: see :attr:`acceleration_limit`).
 
     Attributes:
         robot: The arm.
         dt: Sampling period [s].
+        acceleration_limit: The joint acceleration limits moves keep unless they give their
+            own [rad/s²], shape (nq,), inf where none.
         q: The current configuration (the end of the motion so far) [rad], shape (nq,).
         paths: The Cartesian paths followed, in order.
 
@@ -135,12 +171,15 @@ class MotionBuilder:
         *,
         cell: WorkCell | None = None,
         clearance: float = 0.0,
+        max_acceleration: float | Sequence[float] | np.ndarray | None = None,
     ) -> None:
-        if not (math.isfinite(dt) and dt > 0):
+        if not isinstance(robot, Robot):
+            raise InputError(f"robot must be a kinplan.Robot, got {describe(robot)}")
+        if not (_is_real(dt) and math.isfinite(dt) and dt > 0):
             raise KinplanError(f"dt must be a finite number of seconds > 0, got {dt!r}")
         if cell is not None and not isinstance(cell, WorkCell):
             raise KinplanError(f"cell must be a kinplan.WorkCell, got {describe(cell)}")
-        if not (math.isfinite(clearance) and clearance >= 0):
+        if not (_is_real(clearance) and math.isfinite(clearance) and clearance >= 0):
             raise KinplanError(f"clearance must be a number of metres >= 0, got {clearance!r}")
         if cell is not None and cell.robot is not robot:
             cell = cell.for_robot(robot)
@@ -149,6 +188,10 @@ class MotionBuilder:
         self.robot = robot
         self.dt = float(dt)
         self.q = robot.check_q(q_start, "q_start").copy()
+        self.max_acceleration = _checked_acceleration(
+            max_acceleration, robot.nq, "max_acceleration"
+        )
+        self.acceleration_limit = acceleration_limits(robot, self.max_acceleration)
         self.paths: list[cartesian.Path] = []
         self._motion = MotionRecord(self.q)
 
@@ -182,6 +225,7 @@ class MotionBuilder:
         profile: str = "trapezoid",
         label: str = "ptp",
         key: str | None = None,
+        max_acceleration: float | Sequence[float] | np.ndarray | None = None,
     ) -> MoveReport:
         """Joint-interpolated move to a Cartesian goal, solved by IK seeded from the current
         configuration (so the arm stays on its branch).
@@ -189,7 +233,7 @@ class MotionBuilder:
         Args:
             goal: Tool pose (SE3) or tool position [m] (shape (3,): keeps the current
                 orientation when nq ≥ 6, position-only otherwise).
-            duration, speed, profile, label, key: As in :meth:`ptp_joints`.
+            duration, speed, profile, label, key, max_acceleration: As in :meth:`ptp_joints`.
         """
         self._check_open()
         position, rotation = self._target(goal)
@@ -203,8 +247,9 @@ class MotionBuilder:
             )
             self._fail("ptp", label, key, status="ik", why=why)
         return self.ptp_joints(
-            result.q, duration=duration, speed=speed, profile=profile, label=label, key=key
-        )
+            result.q, duration=duration, speed=speed, profile=profile, label=label, key=key,
+            max_acceleration=max_acceleration,
+        )  # fmt: skip
 
     def ptp_joints(
         self,
@@ -215,26 +260,35 @@ class MotionBuilder:
         profile: str = "trapezoid",
         label: str = "ptp",
         key: str | None = None,
+        max_acceleration: float | Sequence[float] | np.ndarray | None = None,
     ) -> MoveReport:
         """Joint-interpolated move to joint values.
 
+        The continuous motion (not only its samples) keeps every joint within its position,
+        velocity and acceleration limits; a ``duration`` that cannot is refused with the
+        shortest one that can (``velocity_limit`` or ``acceleration_limit``).
+
         Args:
             q_goal: Joint values [rad], shape (nq,).
-            duration: Duration [s]; default the minimum time within the scaled limits. A given
-                duration must keep every joint within its velocity limit.
+            duration: Duration [s]; default the minimum time within the scaled limits.
             speed: Share of the joint velocity limits (0, 1]; default
                 :data:`~kinplan.program.DEFAULT_PTP_SPEED`.
             profile: ``trapezoid``, ``quintic``, ``cubic``, ``scurve`` or ``time_optimal``.
             label: Description for reports.
             key: Key path in a program, for messages.
+            max_acceleration: Joint acceleration limits of this move [rad/s²], one number or
+                one per joint (the robot's own still hold); default the builder's.
         """
         self._check_open()
         q_goal = self.robot.check_q(q_goal, "ptp goal")
+        limit = self._acceleration_limit(max_acceleration)
         try:
-            traj = ptp_trajectory(self.robot, self.q, q_goal, duration, speed, profile)
-        except InfeasibleError as exc:  # a duration the limits cannot meet: states the minimum
+            traj = plan_ptp(self.robot, self.q, q_goal, duration, speed, profile, limit)
+        except PtpLimitError as exc:  # states the duration that works
+            self._fail("ptp", label, key, status=exc.status, why=str(exc), ratio=exc.ratio)
+        except KinplanError as exc:
             self._fail("ptp", label, key, status="invalid", why=f"invalid: {exc}")
-        return self._joint_motion(traj, label, key)
+        return self._joint_motion(traj, label, key, limit)
 
     def ptp_through(
         self,
@@ -247,6 +301,7 @@ class MotionBuilder:
         times: Sequence[float] | None = None,
         label: str = "ptp",
         key: str | None = None,
+        max_acceleration: float | Sequence[float] | np.ndarray | None = None,
     ) -> MoveReport:
         """One joint-space motion from the current configuration through several configurations,
         without stopping at them.
@@ -263,29 +318,37 @@ class MotionBuilder:
             blend: ``time_optimal``: largest deviation from a corner [rad] (0: through the
                 points exactly, stopping at corners).
             times: ``spline``: the time [s] at which the motion passes each point, from its
-                start (then checked against the velocity limits like a ptp with a duration).
+                start (then checked against the limits like a ptp with a duration).
             label: Description for reports.
             key: Key path in a program, for messages.
+            max_acceleration: As in :meth:`ptp_joints`.
+
+        The continuous motion keeps every joint within its position, velocity and
+        acceleration limits: a spline that overshoots a joint limit between its points is
+        refused (``joint_limit``), and so are a ``duration`` or ``times`` too short, with the
+        values that work.
         """
         self._check_open()
         points = [self.q] + [
             self.robot.check_q(q, f"ptp point {k}") for k, q in enumerate(q_points)
         ]
+        limit = self._acceleration_limit(max_acceleration)
         try:
-            traj = ptp_through_trajectory(
-                self.robot, np.array(points), duration, speed, profile, blend, times
+            traj = plan_ptp_through(
+                self.robot, np.array(points), duration, speed, profile, blend, times, limit
             )
-        except InfeasibleError as exc:
-            self._fail("ptp", label, key, status="invalid", why=f"invalid: {exc}")
+        except PtpLimitError as exc:
+            self._fail("ptp", label, key, status=exc.status, why=str(exc), ratio=exc.ratio)
         except KinplanError as exc:
             self._fail("ptp", label, key, status="invalid", why=f"invalid: {exc}")
-        return self._joint_motion(traj, label, key)
+        return self._joint_motion(traj, label, key, limit)
 
     def trajectory(
         self, traj: Trajectory, *, label: str = "trajectory", key: str | None = None
     ) -> MoveReport:
         """Append a joint trajectory that starts at the current configuration (e.g. one of
-        :mod:`kinplan.trajectory`'s profiles), checked like a ptp (velocity limits, the cell).
+        :mod:`kinplan.trajectory`'s profiles), checked like a ptp (position, velocity and
+        acceleration limits over the continuous motion, the cell).
 
         Raises:
             KinplanError: the trajectory has another number of joints or does not start at the
@@ -303,34 +366,60 @@ class MotionBuilder:
                 f"the trajectory starts {gap:.3g} rad away from the current configuration; "
                 "plan it from MotionBuilder.q"
             )
-        return self._joint_motion(traj, label, key)
+        problem = limit_problem(self.robot, traj, self.acceleration_limit)
+        if problem is not None:
+            remedy = "keep it within the joint limits"
+            if math.isfinite(problem.scale):
+                factor = round_up(problem.scale * (1.0 + 1e-9), 4)
+                remedy = f"slow it down by a factor of at least {factor:g} (its time scaled)"
+            why = f"{problem.text}; {remedy}"
+            self._fail("ptp", label, key, status=problem.status, why=why, ratio=problem.speed_ratio)
+        return self._joint_motion(traj, label, key, self.acceleration_limit)
 
     def dwell(self, seconds: float, *, label: str = "dwell", key: str | None = None) -> MoveReport:
         """Stand still for ``seconds`` [s] (an arc-on or arc-off dwell of a weld)."""
         self._check_open()
-        if not (math.isfinite(seconds) and seconds >= 0):
+        if not (_is_real(seconds) and math.isfinite(seconds) and seconds >= 0):
             raise KinplanError(f"dwell must be a finite number of seconds >= 0, got {seconds!r}")
+        self._check_samples(seconds / self.dt, "dwell", label, key, f"a {seconds:g} s dwell")
         steps = max(1, math.ceil(seconds / self.dt - 1e-9))
         t = np.linspace(0.0, seconds, steps + 1)
         q = np.tile(self.q, (len(t), 1))
         zero = np.zeros_like(q)
-        return self._record("dwell", label, key, (t, q, zero, zero.copy()))
+        still = [Segment(0.0, float(seconds), self.q[:, None].copy())] if seconds > 0 else []
+        return self._record("dwell", label, key, (t, q, zero, zero.copy()), segments=still)
 
-    def _joint_motion(self, traj: Trajectory, label: str, key: str | None) -> MoveReport:
-        """Sample a joint trajectory from the current configuration, check it and record it."""
-        t = traj.time_grid(motion_step(traj.duration, self.dt))
-        q, qd, qdd = traj.sample(t)
-        ratio = peak_speed_ratio(self.robot, t, q, qd)
-        if ratio > 1.0 + 1e-6:
-            speeds = np.max(joint_speeds(q, qd, t), axis=0)
-            j = int(np.argmax(speeds / self.robot.velocity_limit))
+    def _check_samples(self, count: float, kind: str, label: str, key: str | None,
+                       what: str) -> None:  # fmt: skip
+        """Fail a move that would take the program past :data:`MAX_SAMPLES` samples at this dt
+        (before allocating them)."""
+        total = len(self._motion) + count
+        if not total <= MAX_SAMPLES:  # also NaN and inf
             why = (
-                f"velocity_limit: joint {j} ({self.robot.joint_names[j]}) would need "
-                f"{speeds[j]:.4g} rad/s, above its limit "
-                f"{self.robot.velocity_limit[j]:.3f} rad/s; give a duration of at least "
-                f"{traj.duration * ratio:.3f} s, or no duration (minimum time)"
+                f"invalid: {what} at dt = {self.dt:g} s would take the program to {total:.3g} "
+                f"samples (at most {MAX_SAMPLES:,}); shorten it or plan with a larger dt"
             )
-            self._fail("ptp", label, key, status="velocity_limit", why=why, ratio=ratio)
+            self._fail(kind, label, key, status="invalid", why=why)
+
+    def _acceleration_limit(self, max_acceleration: object) -> np.ndarray:
+        """A move's acceleration limits [rad/s²]: its own ``max_acceleration`` (on top of the
+        robot's) or the builder's."""
+        given = _checked_acceleration(max_acceleration, self.robot.nq, "max_acceleration")
+        return self.acceleration_limit if given is None else acceleration_limits(self.robot, given)
+
+    def _joint_motion(
+        self, traj: Trajectory, label: str, key: str | None, acceleration_limit: np.ndarray
+    ) -> MoveReport:
+        """Sample a joint trajectory from the current configuration (checked within the limits
+        over its continuous motion), check it against the cell and record it with its own
+        segments (the plan's interpolant between the samples is the profile itself)."""
+        step = motion_step(traj.duration, self.dt)
+        self._check_samples(traj.duration / step, "ptp", label, key, f"a {traj.duration:g} s move")
+        t = traj.time_grid(step)
+        q, qd, qdd = traj.sample(t)
+        peaks = joint_peaks(traj)
+        finite = np.isfinite(self.robot.velocity_limit)
+        ratio = float(np.max(peaks.speed[finite] / self.robot.velocity_limit[finite], initial=0.0))
         check = None
         if self.cell is not None:
             check = self.cell.check_motion(q, self.clearance)
@@ -349,7 +438,10 @@ class MotionBuilder:
                     status="collision", why=why, ratio=ratio, fraction=float(share[k]),
                     check=check,
                 )  # fmt: skip
-        return self._record("ptp", label, key, (t, q, qd, qdd), ratio=ratio, check=check)
+        return self._record(
+            "ptp", label, key, (t, q, qd, qdd), ratio=ratio, check=check,
+            segments=list(traj.segments), acceleration_limit=acceleration_limit,
+        )  # fmt: skip
 
     def lin(
         self,
@@ -362,17 +454,18 @@ class MotionBuilder:
         torch: TorchSpec | None = None,
         label: str = "lin",
         key: str | None = None,
+        max_acceleration: float | Sequence[float] | np.ndarray | None = None,
     ) -> MoveReport:
         """Straight tool line from the current pose to ``goal`` (SE3 or position [m]).
 
         A position keeps the current orientation (arms with ≥ 6 joints) or is position-only.
         ``speed`` is the tool cruise speed [m/s] (default
-        :data:`~kinplan.program.DEFAULT_TOOL_SPEED`); ``weave`` and ``torch`` as in
-        :meth:`seam`.
+        :data:`~kinplan.program.DEFAULT_TOOL_SPEED`); ``weave``, ``torch`` and
+        ``max_acceleration`` as in :meth:`seam`.
         """
         return self.seam(
             [("lin", goal, None)], duration=duration, speed=speed, profile=profile, weave=weave,
-            torch=torch, label=label, key=key, kind="lin",
+            torch=torch, label=label, key=key, kind="lin", max_acceleration=max_acceleration,
         )  # fmt: skip
 
     def circ(
@@ -387,6 +480,7 @@ class MotionBuilder:
         torch: TorchSpec | None = None,
         label: str = "circ",
         key: str | None = None,
+        max_acceleration: float | Sequence[float] | np.ndarray | None = None,
     ) -> MoveReport:
         """Arc of the circle through the current tool position, ``via`` and ``goal``.
 
@@ -395,7 +489,7 @@ class MotionBuilder:
         """
         return self.seam(
             [("circ", goal, via)], duration=duration, speed=speed, profile=profile, weave=weave,
-            torch=torch, label=label, key=key, kind="circ",
+            torch=torch, label=label, key=key, kind="circ", max_acceleration=max_acceleration,
         )  # fmt: skip
 
     def seam(
@@ -411,6 +505,7 @@ class MotionBuilder:
         label: str = "seam",
         key: str | None = None,
         kind: str = "seam",
+        max_acceleration: float | Sequence[float] | np.ndarray | None = None,
     ) -> MoveReport:
         """Lines and arcs one after the other as one Cartesian motion, corners blended.
 
@@ -428,6 +523,9 @@ class MotionBuilder:
                 (:class:`cartesian.TorchOrientation`); the seam must start with the tool at
                 that orientation.
             label, key, kind: For reports.
+            max_acceleration: Joint acceleration limits of this move [rad/s²], one number or
+                one per joint (the robot's own still hold); default the builder's. Checked at
+                every sample by :func:`cartesian.follow`.
         """
         self._check_open()
         path = self._build_path(kind, label, key, lambda: self._seam_path(pieces, blend))
@@ -445,7 +543,7 @@ class MotionBuilder:
             path = self._build_path(kind, label, key, lambda: _weave_path(path, weave, travel))
         return self.follow(
             path, duration=duration, speed=speed, profile=profile, label=label, key=key,
-            kind=kind,
+            kind=kind, max_acceleration=max_acceleration,
         )  # fmt: skip
 
     def _seam_path(
@@ -514,6 +612,7 @@ class MotionBuilder:
         label: str = "path",
         key: str | None = None,
         kind: str = "path",
+        max_acceleration: float | Sequence[float] | np.ndarray | None = None,
     ) -> MoveReport:
         """Follow a Cartesian path that starts at the current tool pose (within 0.1 mm, 1 mrad).
 
@@ -526,8 +625,10 @@ class MotionBuilder:
             label: Description for reports.
             key: Key path in a program, for messages.
             kind: Kind shown in reports.
+            max_acceleration: As in :meth:`seam`.
         """
         self._check_open()
+        limit = self._acceleration_limit(max_acceleration)
         here = self.tool_pose().translation
         gap = float(np.linalg.norm(path.start.translation - here))
         if gap > 1e-4:
@@ -552,6 +653,7 @@ class MotionBuilder:
             plan = cartesian.follow(
                 self.robot, path, duration=duration, speed=speed, profile=profile, dt=self.dt,
                 q_seed=self.q, cell=self.cell, clearance=self.clearance,
+                max_acceleration=limit if np.all(np.isfinite(limit)) else None,
             )  # fmt: skip
         except KinplanError as exc:
             self._fail(kind, label, key, status="invalid", why=f"invalid: {exc}")
@@ -571,7 +673,9 @@ class MotionBuilder:
                 kind, label, key, samples, status=plan.status, why=why, ratio=ratio,
                 fraction=plan.fraction, plan=plan,
             )  # fmt: skip
-        return self._record(kind, label, key, samples, ratio=ratio, plan=plan)
+        return self._record(
+            kind, label, key, samples, ratio=ratio, plan=plan, acceleration_limit=limit
+        )
 
     def finish(
         self, points: dict[str, np.ndarray] | None = None, program: Program | None = None
@@ -593,6 +697,7 @@ class MotionBuilder:
             program=program,
             dt=self.dt,
             cell=self.cell,
+            segments=self._motion.segments,
         )
 
     def fail_move(
@@ -633,11 +738,19 @@ class MotionBuilder:
         ratio: float = 0.0,
         plan: cartesian.CartesianPlan | None = None,
         check: MotionCheck | None = None,
+        segments: list[Segment] | None = None,
+        acceleration_limit: np.ndarray | None = None,
     ) -> MoveReport:
-        """Append a move that was done (samples in local times from 0) and its report."""
+        """Append a move that was done (samples in local times from 0) and its report
+        (``segments``: its own motion in local time, else quintic Hermite pieces through the
+        samples; ``acceleration_limit``: the limits it kept, default the builder's)."""
         if samples is not None:
             self.q = np.array(samples[1][-1])
-        return self._motion.append(kind, label, key, samples, ratio=ratio, plan=plan, check=check)
+        limit = self.acceleration_limit if acceleration_limit is None else acceleration_limit
+        return self._motion.append(
+            kind, label, key, samples, ratio=ratio, plan=plan, check=check, segments=segments,
+            acceleration_limit=limit,
+        )  # fmt: skip
 
     def _fail(
         self,

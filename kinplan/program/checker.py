@@ -17,7 +17,7 @@ import numpy as np
 import pinocchio as pin
 
 from kinplan.program.errors import Issue
-from kinplan.program.schema import MAX_COORDINATE, KeyPath
+from kinplan.program.schema import MAX_ACCELERATION, MAX_COORDINATE, KeyPath
 
 __all__ = ["Checker", "describe", "format_path", "is_number", "to_float"]
 
@@ -143,6 +143,44 @@ class Checker:
         """
         if not is_number(value) or not math.isfinite(to_float(value)) or value <= 0:
             self.error(path, f"expected a number > 0 ({what}), got {describe(value)}")
+            return None
+        return to_float(value)
+
+    def accelerations(
+        self, value: object, path: KeyPath, nq: int | None
+    ) -> float | tuple[float, ...] | None:
+        """A ``max_acceleration:``: one number > 0 for every joint, or a list of one per joint
+        [rad/s² or m/s²], each at most :data:`~kinplan.program.schema.MAX_ACCELERATION`.
+
+        Args:
+            value: The YAML value.
+            path: Its key path.
+            nq: The robot's number of joints (None when the robot could not be loaded).
+
+        Returns:
+            The number, or the numbers as a tuple; None after reporting a problem.
+        """
+        what = "joint acceleration limit [rad/s² or m/s²]"
+        expected = (
+            f"a number > 0 (every joint) or a list of {nq if nq else 'one per joint'} numbers > 0"
+        )
+        if isinstance(value, list):
+            numbers = self.numbers(value, path, nq, f"{what}, one per joint")
+            if numbers is None:
+                return None
+            bad = [k for k, v in enumerate(numbers) if not 0.0 < v <= MAX_ACCELERATION]
+            for k in bad:
+                self.error(
+                    path + (k,),
+                    f"expected a number in (0, {MAX_ACCELERATION:g}] ({what}), got {numbers[k]:g}",
+                )
+            return None if bad else tuple(float(v) for v in numbers)
+        if not is_number(value) or not 0.0 < to_float(value) <= MAX_ACCELERATION:
+            self.error(
+                path,
+                f"expected {expected} ({what}, at most {MAX_ACCELERATION:g}), got "
+                f"{describe(value)}",
+            )
             return None
         return to_float(value)
 

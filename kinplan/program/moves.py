@@ -10,6 +10,7 @@ from cartesian.paths import WEAVE_PATTERNS
 from kinplan._profiles import PROFILES, PTP_PROFILES
 from kinplan.program.checker import Checker, describe, is_number, to_float
 from kinplan.program.schema import (
+    MAX_SECONDS,
     MOVE_KINDS,
     MOVE_OPTIONS,
     THROUGH_PROFILES,
@@ -25,13 +26,16 @@ from kinplan.program.schema import (
 __all__ = ["read_moves"]
 
 
-def read_moves(checker: Checker, spec: object, points: dict[str, Point]) -> list[Move]:
+def read_moves(
+    checker: Checker, spec: object, points: dict[str, Point], nq: int | None = None
+) -> list[Move]:
     """The moves of a program.
 
     Args:
         checker: Collects the problems.
         spec: The ``moves:`` entry (None when absent).
         points: The program's points by name (the targets a move may name).
+        nq: The robot's number of joints (for ``max_acceleration:`` lists), or None.
 
     Returns:
         The valid moves, in order (an invalid move is reported and left out).
@@ -44,7 +48,7 @@ def read_moves(checker: Checker, spec: object, points: dict[str, Point]) -> list
         return []
     moves = []
     for index, item in enumerate(spec):
-        move = _read_move(checker, index, item, points)
+        move = _read_move(checker, index, item, points, nq)
         if move is not None:
             moves.append(move)
     _check_blends(checker, moves, len(spec))
@@ -97,7 +101,9 @@ def _point_name(
     return str(value)
 
 
-def _read_move(checker: Checker, index: int, spec: object, points: dict[str, Point]) -> Move | None:
+def _read_move(
+    checker: Checker, index: int, spec: object, points: dict[str, Point], nq: int | None = None
+) -> Move | None:
     path: KeyPath = ("moves", index)
     expected = "a mapping such as {ptp: a}, {lin: b, speed: 0.05} or {circ: c, via: d}"
     if not isinstance(spec, dict):
@@ -134,7 +140,8 @@ def _read_move(checker: Checker, index: int, spec: object, points: dict[str, Poi
             via = _point_name(checker, spec["via"], path + ("via",), points)
     elif "via" in spec:
         checker.error(path + ("via",), f"via only goes with circ, not {kind}")
-    options = _move_options(checker, kind, spec, path, several=len(through) + 1 if through else 0)
+    several = len(through) + 1 if through else 0
+    options = _move_options(checker, kind, spec, path, several=several, nq=nq)
     if target is None or options is None or (kind == "circ" and via is None):
         return None
     return Move(index, kind, target, via, through=through, **options)
@@ -153,14 +160,16 @@ def _point_list(
 
 
 def _move_options(
-    checker: Checker, kind: str, spec: dict, path: KeyPath, several: int = 0
-) -> dict | None:
+    checker: Checker, kind: str, spec: dict, path: KeyPath, several: int = 0,
+    nq: int | None = None,
+) -> dict | None:  # fmt: skip
     """The options of a move (``several``: the number of points of a ptp through several
-    points, else 0); None after reporting a problem."""
+    points, else 0; ``nq``: the robot's number of joints, or None); None after reporting a
+    problem."""
     ok = True
     duration = speed = None
     if "duration" in spec:
-        duration = checker.positive(spec["duration"], path + ("duration",), "duration [s]")
+        duration = _seconds(checker, spec["duration"], path + ("duration",), "duration")
         ok &= duration is not None
     if "speed" in spec:
         what = "share of the joint velocity limits, ≤ 1" if kind == "ptp" else "tool speed [m/s]"
@@ -195,7 +204,8 @@ def _move_options(
         ok = False
     blend = None
     if "blend" in spec:
-        blend = _non_negative(checker, spec["blend"], path + ("blend",), "blend")
+        unit = "[rad]" if kind == "ptp" else "[m]"
+        blend = _non_negative(checker, spec["blend"], path + ("blend",), f"blend {unit}")
         if blend is not None and kind == "ptp" and not (several and profile == "time_optimal"):
             checker.error(
                 path + ("blend",),
@@ -229,9 +239,14 @@ def _move_options(
         ok &= times is not None
     dwell = 0.0
     if "dwell" in spec:
-        value = _non_negative(checker, spec["dwell"], path + ("dwell",), "dwell [s]")
+        value = _seconds(checker, spec["dwell"], path + ("dwell",), "dwell", zero=True)
         dwell = 0.0 if value is None else value
         ok &= value is not None
+    max_acceleration = None
+    if "max_acceleration" in spec:
+        where = path + ("max_acceleration",)
+        max_acceleration = checker.accelerations(spec["max_acceleration"], where, nq)
+        ok &= max_acceleration is not None
     name = spec.get("name")
     if name is not None and not isinstance(name, str):
         checker.error(path + ("name",), f"expected text, got {describe(name)}")
@@ -241,6 +256,7 @@ def _move_options(
     return {
         "duration": duration, "speed": speed, "profile": profile, "name": name, "blend": blend,
         "weave": weave, "torch": torch, "dwell": dwell, "times": times,
+        "max_acceleration": max_acceleration,
     }  # fmt: skip
 
 
@@ -258,7 +274,7 @@ def _times(
     if duration is not None:
         checker.error(path, "give times or duration, not both (the last time is the duration)")
         return None
-    numbers = checker.numbers(value, path, count, "the time [s] at each point", bound=1e6)
+    numbers = checker.numbers(value, path, count, "the time [s] at each point", bound=MAX_SECONDS)
     if numbers is None:
         return None
     steps = np.diff(np.concatenate(([0.0], numbers)))
@@ -273,11 +289,27 @@ def _times(
 
 
 def _non_negative(checker: Checker, value: object, path: KeyPath, what: str) -> float | None:
+    """A finite number ≥ 0 (``what``: its name and unit, for messages), or None after
+    reporting."""
     if not is_number(value) or not math.isfinite(to_float(value)) or value < 0:
-        unit = "[s]" if "dwell" in what else "[m] (lin/circ) or [rad] (ptp)"
-        checker.error(path, f"expected a number >= 0 ({what} {unit}), got {describe(value)}")
+        checker.error(path, f"expected a number >= 0 ({what}), got {describe(value)}")
         return None
     return to_float(value)
+
+
+def _seconds(
+    checker: Checker, value: object, path: KeyPath, what: str, zero: bool = False
+) -> float | None:
+    """A time [s] in (0, :data:`MAX_SECONDS`] (``zero``: [0, ...]), or None after reporting."""
+    number = to_float(value) if is_number(value) else math.nan
+    if not ((number >= 0.0 if zero else number > 0.0) and number <= MAX_SECONDS):
+        checker.error(
+            path,
+            f"expected a number {'>=' if zero else '>'} 0 ({what} [s], at most "
+            f"{MAX_SECONDS:g}: more is a unit mistake), got {describe(value)}",
+        )
+        return None
+    return number
 
 
 def _mapping(checker: Checker, value: object, path: KeyPath, keys: tuple[str, ...],
@@ -313,7 +345,7 @@ def _weave(checker: Checker, value: object, path: KeyPath) -> WeaveSpec | None:
             f"unknown pattern {describe(pattern)}; expected one of {', '.join(WEAVE_PATTERNS)}",
         )
         ok = False
-    dwell = _non_negative(checker, spec.get("dwell", 0.0), path + ("dwell",), "dwell [s]")
+    dwell = _seconds(checker, spec.get("dwell", 0.0), path + ("dwell",), "dwell", zero=True)
     normal = None
     if "normal" in spec:
         normal = _direction(checker, spec["normal"], path + ("normal",))
@@ -336,8 +368,8 @@ def _torch(checker: Checker, value: object, path: KeyPath) -> TorchSpec | None:
         number = spec.get(key, 0.0)
         if not is_number(number) or not abs(to_float(number)) < bound:
             checker.error(
-                path + (key,), f"expected a number of degrees within ±{bound:g}, got "
-                f"{describe(number)}",
+                path + (key,), f"expected a number of degrees strictly between -{bound:g} and "
+                f"{bound:g} (exclusive), got {describe(number)}",
             )  # fmt: skip
             return None
         angles.append(math.radians(to_float(number)))

@@ -16,10 +16,11 @@ import numpy as np
 import cartesian
 from kinplan.cell import MotionCheck, WorkCell
 from kinplan.motion import MotionKind, PlannedPath, pose_to_track
+from kinplan.program.peaks import segment_peaks
 from kinplan.program.schema import DEFAULT_DT, Program
 from kinplan.program.segments import hermite_segments
 from kinplan.robot import Robot, manipulability_of
-from kinplan.trajectory import Trajectory, Waypoints
+from kinplan.trajectory import Segment, Trajectory, Waypoints
 
 __all__ = ["MoveReport", "ProgramPlan"]
 
@@ -53,6 +54,10 @@ class MoveReport:
         self_clearances: Smallest distance between the robot's own checked pairs at each of
             the move's samples [m], or None without a cell.
         clearance_margin: The ``clearance`` margin the move was checked with [m].
+        acceleration_limit: The joint acceleration limits the move kept [rad/s²], shape (nq,),
+            inf where none (joints not acceleration-limited), or None when not recorded.
+        peak_acceleration: Largest |q̈| of each joint over the move's continuous motion (the
+            plan's interpolant) [rad/s²], shape (nq,), or None without motion.
         collision: The failed :class:`kinplan.cell.MotionCheck` of a ``collision`` move (its
             ``bodies``, ``point``, ``q``), else None.
     """
@@ -78,6 +83,8 @@ class MoveReport:
     collision: MotionCheck | None = None
     self_clearances: np.ndarray | None = None
     clearance_margin: float = 0.0
+    acceleration_limit: np.ndarray | None = None
+    peak_acceleration: np.ndarray | None = None
 
     @property
     def ok(self) -> bool:
@@ -93,8 +100,9 @@ class MoveReport:
 class ProgramPlan(Trajectory):
     """A planned program: the whole motion as one timed joint motion, plus reports.
 
-    It is a :class:`~kinplan.trajectory.Trajectory` (quintic Hermite pieces through the samples,
-    exact in position, velocity and acceleration at every sample), so ``sample``, ``duration``
+    It is a :class:`~kinplan.trajectory.Trajectory`: a ptp move's own profile (the motion its
+    limits were checked on) and quintic Hermite pieces through the samples of the other moves
+    (exact in position, velocity and acceleration at every sample), so ``sample``, ``duration``
     and :func:`kinplan.plot.plot_trajectory` work on it; its :attr:`knots` are the move
     boundaries. The samples themselves are ``t``, ``q``, ``qd``, ``qdd``, as on a
     :class:`cartesian.CartesianPlan`.
@@ -112,6 +120,8 @@ class ProgramPlan(Trajectory):
         program: The program planned, or None for a motion built in Python.
         dt: Sampling period [s].
         cell: The work cell the moves were checked against, or None.
+        segments: The motion's polynomial pieces in program time (through the samples);
+            default quintic Hermite pieces through them.
 
     Attributes:
         robot: The robot.
@@ -144,6 +154,10 @@ class ProgramPlan(Trajectory):
             sample [m], shape (N,) (nan where no move was checked), or None without a cell.
         clearance_margin: The ``clearance`` margin the moves were checked with [m] (kept from
             the obstacles; 0: only contact fails).
+        peak_acceleration: Largest |q̈| of each joint over the plan's continuous motion
+            [rad/s²], shape (nq,).
+        notes: Remarks a reader of the plan must see, one line each: e.g. that accelerations
+            were not limited (the URDF declares none and no ``max_acceleration:`` was given).
     """
 
     def __init__(
@@ -160,6 +174,7 @@ class ProgramPlan(Trajectory):
         program: Program | None = None,
         dt: float = DEFAULT_DT,
         cell: WorkCell | None = None,
+        segments: list[Segment] | None = None,
     ) -> None:
         self.robot = robot
         self.cell = cell
@@ -175,7 +190,7 @@ class ProgramPlan(Trajectory):
         self.dt = dt
         boundaries = sorted({0} | {m.first for m in moves} | {m.last for m in moves})
         super().__init__(
-            hermite_segments(t, q, qd, qdd),
+            hermite_segments(t, q, qd, qdd) if segments is None else segments,
             waypoints=Waypoints(t[boundaries], q[boundaries]),
             end=q[-1],
             end_velocity=qd[-1],
@@ -184,6 +199,8 @@ class ProgramPlan(Trajectory):
         self._tool_states(robot)
         self._clearances(len(t))
         self.events = self._failure_events(failed[0] if failed else None)
+        self.peak_acceleration = segment_peaks(self.segments, q[0]).acceleration
+        self.notes = self._acceleration_notes()
 
     def __repr__(self) -> str:
         state = "ok" if self.ok else f"failed: {self.reason}"
@@ -268,6 +285,41 @@ class ProgramPlan(Trajectory):
                 position=self.tool_positions[move.last].copy(),
             )
         ]
+
+    def _acceleration_notes(self) -> list[str]:
+        """A note naming the joints whose accelerations no move limited, with the largest
+        acceleration they reach."""
+        limits = [m.acceleration_limit for m in self.moves if m.acceleration_limit is not None]
+        if not limits:
+            return []
+        limited = np.all(np.isfinite(np.array(limits)), axis=0)  # in every move
+        free = np.flatnonzero(~limited)
+        if free.size == 0:
+            return []
+        names = self.robot.joint_names
+        j = int(free[np.argmax(self.peak_acceleration[free])])
+        which = "accelerations" if free.size == len(names) else (
+            "accelerations of " + ", ".join(names[k] for k in free)
+        )  # fmt: skip
+        return [
+            f"{which} not limited (the URDF declares none; set max_acceleration: [rad/s²]): "
+            f"the largest is {self.peak_acceleration[j]:.4g} rad/s² ({names[j]})"
+        ]
+
+    def summary(self) -> str:
+        """A text summary: one line per move (number, label, duration [s], peak joint speed /
+        limit, status), the total, then the :attr:`notes`."""
+        lines = [
+            f"{m.number:3d}. {m.label} ({m.key or '-'}): {m.duration:.3f} s, peak speed "
+            f"{m.peak_speed_ratio:.2f} of the limit, {m.status}"
+            for m in self.moves
+        ]
+        lines.append(
+            f"total: {len(self.moves)} moves, {self.duration:.3f} s, "
+            + ("ok" if self.ok else f"failed: {self.reason}")
+        )
+        lines += [f"note: {note}" for note in self.notes]
+        return "\n".join(lines)
 
     def summary_rows(self) -> list[dict[str, object]]:
         """One dict per move: number, move, key, duration [s], min manipulability, peak joint

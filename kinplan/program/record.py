@@ -16,7 +16,10 @@ import numpy as np
 import cartesian
 from kinplan.cell import MotionCheck
 from kinplan.program.errors import MoveError
+from kinplan.program.peaks import segment_peaks
 from kinplan.program.plan import MoveReport
+from kinplan.program.segments import hermite_segments
+from kinplan.trajectory import Segment
 
 logger = logging.getLogger(__name__)
 
@@ -44,6 +47,11 @@ class MotionRecord:
         self._qdd = [np.zeros((1, nq))]
         self._time = 0.0
         self._count = 1
+        self._segments: list[Segment] = []
+
+    def __len__(self) -> int:
+        """Number of samples so far (the start included)."""
+        return self._count
 
     @property
     def time(self) -> float:
@@ -59,6 +67,15 @@ class MotionRecord:
             np.vstack(self._qdd),
         )
 
+    @property
+    def segments(self) -> list[Segment]:
+        """The motion so far as polynomial pieces in program time: each move's own segments
+        where it gave them (ptp profiles, dwells), else quintic Hermite pieces through its
+        samples; a single still piece when nothing moved."""
+        if not self._segments:
+            return [Segment(0.0, 0.0, self._q[0].T.copy())]
+        return list(self._segments)
+
     def append(
         self,
         kind: str,
@@ -69,6 +86,8 @@ class MotionRecord:
         ratio: float = 0.0,
         plan: cartesian.CartesianPlan | None = None,
         check: MotionCheck | None = None,
+        segments: list[Segment] | None = None,
+        acceleration_limit: np.ndarray | None = None,
     ) -> MoveReport:
         """Append a move that was done: its samples and its report.
 
@@ -82,11 +101,18 @@ class MotionRecord:
             plan: The move's :class:`cartesian.CartesianPlan`, if any.
             check: The move's work-cell check (:meth:`kinplan.WorkCell.check_motion` on its
                 samples), if any; a Cartesian plan's own check by default.
+            segments: The move's own motion in its local time (from 0 to its last sample
+                time), or None: quintic Hermite pieces through its samples.
+            acceleration_limit: The joint acceleration limits the move kept [rad/s²], shape
+                (nq,), inf where none; None: not recorded.
 
         Returns:
             The move's report.
         """
-        return self._add(kind, label, key, samples, "ok", "", ratio, 1.0, plan, check)
+        return self._add(
+            kind, label, key, samples, "ok", "", ratio, 1.0, plan, check, segments,
+            acceleration_limit,
+        )  # fmt: skip
 
     def fail(
         self,
@@ -131,11 +157,29 @@ class MotionRecord:
         fraction: float,
         plan: cartesian.CartesianPlan | None,
         check: MotionCheck | None = None,
+        segments: list[Segment] | None = None,
+        acceleration_limit: np.ndarray | None = None,
     ) -> MoveReport:
         if check is None and plan is not None:
             check = plan.cell_check
         number = len(self.reports) + 1
         first, t0 = self._count - 1, self._time
+        peak = None
+        if samples is not None and len(samples[0]) > 1:
+            t, q, qd, qdd = samples
+            if segments is None:  # from the end of the motion so far, as the samples join it
+                ends = (self._q[-1][-1:], self._qd[-1][-1:], self._qdd[-1][-1:])
+                segments = hermite_segments(
+                    np.asarray(t, dtype=float), *(np.vstack([e, x[1:]]) for e, x in
+                                                  zip(ends, (q, qd, qdd), strict=True))
+                )  # fmt: skip
+            offset = self._time
+            self._segments += [
+                Segment(s.t0 + offset, s.t1 + offset, s.coefficients)
+                for s in segments
+                if s.t1 > s.t0
+            ]
+            peak = segment_peaks(segments, q[0]).acceleration
         if samples is not None:
             t, q, qd, qdd = samples
             self._t.append(np.asarray(t[1:], dtype=float) + self._time)
@@ -162,6 +206,8 @@ class MotionRecord:
             fraction=fraction,
             message=message,
             cartesian_plan=plan,
+            acceleration_limit=acceleration_limit,
+            peak_acceleration=peak,
         )
         if check is not None:
             report.min_clearance = float(check.min_obstacle_clearance)

@@ -24,7 +24,11 @@ __all__ = [
     "DEFAULT_TOOL_SPEED",
     "FALLBACK_JOINT_SPEED",
     "JOIN_TOLERANCE",
+    "MAX_ACCELERATION",
     "MAX_COORDINATE",
+    "MAX_INTEGER_DIGITS",
+    "MAX_SAMPLES",
+    "MAX_SECONDS",
     "MOVE_KINDS",
     "MOVE_OPTIONS",
     "NAME_PATTERN",
@@ -64,6 +68,14 @@ JOIN_TOLERANCE = 1e-6
 MAX_COORDINATE = 1e6
 """Largest |x|, |y|, |z| of a taught tool position [m]: anything beyond is a typo in a program
 (and out of reach of any arm)."""
+MAX_SECONDS = 1e5
+"""Largest ``duration``, ``dwell`` or ``times`` entry of a program [s] (about 28 hours): beyond
+is a unit mistake."""
+MAX_SAMPLES = 1_000_000
+"""Most samples a planned program may have (a move or dwell that would take it further is
+refused, naming the dt): 10,000 s at the default dt."""
+MAX_ACCELERATION = 1e6
+"""Largest ``max_acceleration:`` accepted [rad/s² or m/s²]: beyond is a unit mistake."""
 
 TOP_KEYS = (
     "robot",
@@ -75,6 +87,7 @@ TOP_KEYS = (
     "tool",
     "obstacles",
     "clearance",
+    "max_acceleration",
     "start",
     "points",
     "moves",
@@ -87,6 +100,7 @@ POINT_KEYS = ("joints", "joints_deg", "xyz", "rpy_deg", "quat_xyzw")
 """The keys of a taught point."""
 MOVE_OPTIONS = (
     "via", "duration", "speed", "profile", "blend", "times", "weave", "torch", "dwell", "name",
+    "max_acceleration",
 )  # fmt: skip
 """The keys of a move besides its kind."""
 WEAVE_KEYS = ("pattern", "amplitude", "frequency", "dwell", "normal")
@@ -212,6 +226,8 @@ class Move:
         times: A ``spline`` ``ptp`` through several points: the time at which it passes each
             point, from the move's start [s] (strictly increasing), or None (chord-length knot
             times, the fastest timing within the limits).
+        max_acceleration: The move's joint acceleration limits [rad/s² or m/s²]: one number
+            for every joint or one per joint, or None (the program's ``max_acceleration:``).
     """
 
     index: int
@@ -228,6 +244,7 @@ class Move:
     torch: TorchSpec | None = None
     dwell: float = 0.0
     times: tuple[float, ...] | None = None
+    max_acceleration: float | tuple[float, ...] | None = None
 
     @property
     def key(self) -> str:
@@ -263,6 +280,8 @@ class Program:
         cell: The work cell every move is checked against (the ``obstacles:`` and the robot's
             own collision geometry, its ``tool:`` body included), or None.
         clearance: The ``clearance:`` margin [m] (0: only contact fails).
+        max_acceleration: The program's joint acceleration limits [rad/s² or m/s²], shape
+            (nq,), on top of the robot's own, or None (the robot's alone).
     """
 
     source: str
@@ -275,6 +294,7 @@ class Program:
     warnings: list[str] = field(default_factory=list)
     cell: WorkCell | None = None
     clearance: float = 0.0
+    max_acceleration: np.ndarray | None = None
 
 
 class ProgramLoader(yaml.SafeLoader):
@@ -295,3 +315,25 @@ ProgramLoader.add_implicit_resolver(
     ),
     list("-+0123456789."),
 )
+
+MAX_INTEGER_DIGITS = 400
+"""Most digits of an integer in a program file: a longer one (far beyond any float) is refused
+as it is read, with its line (Python refuses to convert integers of more than 4,300 digits)."""
+
+
+def _construct_int(loader: yaml.SafeLoader, node: yaml.ScalarNode) -> object:
+    """PyYAML's integer, refusing integers of more than :data:`MAX_INTEGER_DIGITS` digits."""
+    text = str(loader.construct_scalar(node))
+    digits = sum(c.isalnum() for c in text)
+    if digits > MAX_INTEGER_DIGITS:
+        raise yaml.constructor.ConstructorError(
+            None,
+            None,
+            f"an integer of {digits} digits; a number in a program has at most "
+            f"{MAX_INTEGER_DIGITS} digits (give it in scientific notation, e.g. 1e9)",
+            node.start_mark,
+        )
+    return yaml.constructor.SafeConstructor.construct_yaml_int(loader, node)
+
+
+ProgramLoader.add_constructor("tag:yaml.org,2002:int", _construct_int)

@@ -12,6 +12,7 @@ import math
 import os
 from pathlib import Path
 
+import numpy as np
 import yaml
 
 from kinplan import checks
@@ -97,6 +98,9 @@ def parse_program(
     except RecursionError:
         issue = Issue("program", "nested too deeply to read; flatten the lists and mappings")
         raise ProgramError(source, [issue]) from None
+    except (ValueError, OverflowError) as exc:  # a value PyYAML cannot build (a bad date, say)
+        issue = Issue("program", f"a value cannot be read: {exc}; write it as a number or text")
+        raise ProgramError(source, [issue]) from None
     lines: dict[KeyPath, int] = {}
     duplicates: list[tuple[KeyPath, str, int]] = []
     if node is not None:
@@ -160,7 +164,12 @@ def _read_program(checker: Checker, data: object, source: str, base_dir: Path) -
     robot, cell, clearance = read_cell(checker, data, base_dir, robot)
     start = read_start(checker, robot, data)
     points = read_points(checker, robot, data.get("points"), start)
-    moves = read_moves(checker, data.get("moves"), points)
+    nq = robot.nq if robot is not None else None
+    max_acceleration = None
+    if "max_acceleration" in data:
+        where: KeyPath = ("max_acceleration",)
+        max_acceleration = checker.accelerations(data["max_acceleration"], where, nq)
+    moves = read_moves(checker, data.get("moves"), points, nq)
     description = data.get("description", "")
     if not isinstance(description, str):
         checker.error(("description",), f"expected text, got {describe(description)}")
@@ -177,4 +186,7 @@ def _read_program(checker: Checker, data: object, source: str, base_dir: Path) -
         warnings=checker.warnings,
         cell=cell,
         clearance=clearance,
-    )
+        max_acceleration=None if max_acceleration is None else np.broadcast_to(
+            np.asarray(max_acceleration, dtype=float), (robot.nq,)
+        ).copy(),
+    )  # fmt: skip

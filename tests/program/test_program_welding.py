@@ -210,7 +210,7 @@ def test_time_optimal_blend_is_faster_and_deviates_at_most_the_blend(tmp_path):
         ("  - {ptp: c1, weave: {amplitude: 0.002, frequency: 2}}\n", "moves[0].weave",
          "not ptp"),
         ("  - {lin: c1, torch: {work_angle_deg: 95}}\n", "moves[0].torch.work_angle_deg",
-         "within ±90"),
+         "strictly between -90 and 90"),
         ("  - {lin: c1, torch: {normal: [0, 0, 0]}}\n", "moves[0].torch.normal", "non-zero"),
         ("  - {lin: c1, torch: 45}\n", "moves[0].torch", "expected a mapping"),
         ("  - {lin: c1, dwell: -0.5}\n", "moves[0].dwell", "number >= 0"),
