@@ -18,8 +18,12 @@ Moves and their options:
 
 - ``ptp``: joint-interpolated. By default a coordinated minimum-time trapezoid: every joint
   cruises within ``speed`` × its velocity limit (``speed`` is a fraction in (0, 1], default
-  :data:`DEFAULT_PTP_SPEED`) and reaches its cruise speed in :data:`PTP_RAMP_TIME`; with a
-  ``duration`` [s] the move takes that long (and must stay within the velocity limits).
+  :data:`DEFAULT_PTP_SPEED`) and reaches its cruise speed in :data:`PTP_RAMP_TIME` (sooner
+  where an acceleration limit is lower); with a ``duration`` [s] the move takes that long.
+  Every profile keeps the continuous motion (not only its samples) within the joint position,
+  velocity and acceleration limits: a ``duration`` or ``times`` too short is refused with
+  the shortest one that works (rounded up, so that it can be pasted), a ``spline`` that
+  overshoots a joint limit between its points is refused (``joint_limit``).
   ``profile``: ``trapezoid`` (default), ``quintic``, ``cubic``, ``scurve`` (jerk-limited, jerk
   ramps of :data:`PTP_JERK_TIME`) or ``time_optimal`` (fastest within the velocity and
   acceleration limits); ``scurve`` and ``time_optimal`` use the robot's acceleration limits
@@ -34,6 +38,21 @@ Moves and their options:
 A Cartesian point given by ``xyz`` alone keeps the tool orientation the move starts with (arms
 with 6 or more joints) or is position-only (arms with fewer). Every move starts from the end
 state of the previous one.
+
+``max_acceleration``: joint acceleration limits [rad/s² or m/s²], one number for every joint
+or a list of one per joint (at most :data:`~kinplan.program.schema.MAX_ACCELERATION`), at the
+top level (every move) or on a move (that move; it replaces the top-level one). They hold on
+top of the robot's own (the URDF's, or ``limits:``): the lower one wins. ``ptp`` moves are
+planned within them (or refused, as above); ``lin``/``circ`` moves are checked against them
+at every sample (``acceleration_limit``). A joint limited by neither is not
+acceleration-limited: the plan's :attr:`ProgramPlan.notes` says so, with the largest
+acceleration the plan reaches (UR URDFs declare no acceleration limits).
+
+Numbers are bounded where a larger one can only be a mistake: ``duration``, ``dwell`` and
+``times`` at most :data:`~kinplan.program.schema.MAX_SECONDS`, integers of at most
+:data:`~kinplan.program.schema.MAX_INTEGER_DIGITS` digits, and a planned program has at most
+:data:`~kinplan.program.schema.MAX_SAMPLES` samples (a move that would exceed it fails naming
+the dt).
 
 Optional robot keys, passed to :func:`kinplan.load_robot`: ``locked_joints: {name: value}``
 [rad, or m for a prismatic joint], ``limits: {joint: {lower, upper, velocity, acceleration}}``

@@ -73,7 +73,7 @@ def _check_blends(checker: Checker, moves: list[Move], count: int) -> None:
                     ("moves", move.index, "dwell"),
                     "a blended move does not stop at its end, so it cannot dwell there",
                 )
-            for key in ("speed", "profile", "weave", "torch"):
+            for key in ("speed", "profile", "weave", "torch", "max_acceleration"):
                 if getattr(after, key) != getattr(move, key):
                     checker.error(
                         ("moves", after.index, key),

@@ -24,6 +24,7 @@ class _MoveOptions(TypedDict):
     profile: str
     label: str
     key: str | None
+    max_acceleration: float | tuple[float, ...] | None
 
 
 def plan_program(
@@ -44,8 +45,9 @@ def plan_program(
     """
     robot = program.robot
     builder = MotionBuilder(
-        robot, program.start, dt=dt, cell=program.cell, clearance=program.clearance
-    )
+        robot, program.start, dt=dt, cell=program.cell, clearance=program.clearance,
+        max_acceleration=program.max_acceleration,
+    )  # fmt: skip
     total = len(program.moves)
     done = 0
     try:
@@ -103,6 +105,7 @@ def _plan_blended(builder: MotionBuilder, program: Program, group: list[Move]) -
         label=first.name or "blended " + " → ".join(f"{m.kind} {m.target}" for m in group),
         key=f"moves[{first.index}..{group[-1].index}]",
         kind="+".join(move.kind for move in group),
+        max_acceleration=first.max_acceleration,
     )
 
 
@@ -115,12 +118,14 @@ def _plan_move(builder: MotionBuilder, program: Program, move: Move) -> None:
         "profile": move.profile,
         "label": move.label,
         "key": move.key,
+        "max_acceleration": move.max_acceleration,
     }
     if move.kind == "ptp" and move.through:
         builder.ptp_through(
             _joint_points(builder, program, [*move.through, move.target], move),
             duration=move.duration, speed=move.speed, profile=move.profile,
             blend=move.blend or 0.0, times=move.times, label=move.label, key=move.key,
+            max_acceleration=move.max_acceleration,
         )  # fmt: skip
     elif move.kind == "ptp":
         if target.joints is not None:
