@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from kinplan import checks
-from kinplan.engines import Progress, open_engine, tune_allocator
+from kinplan.engines import Progress, batch_options, open_engine, tune_allocator
 from kinplan.errors import InputError, KinplanError
 
 if TYPE_CHECKING:  # type-only: imported where used (the program package loads much)
@@ -159,7 +159,9 @@ def plan_many(
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
     if not isinstance(paths, Sequence) or not paths:
-        raise InputError(f"paths must be a non-empty list of program files, got {paths!r:.80}")
+        raise InputError(
+            f"paths must be a non-empty list of program files, got {checks.describe(paths)}"
+        )
     dt = DEFAULT_DT if dt is None else checks.number(dt, "dt", positive=True, unit="s")
     items = []
     for entry in paths:
@@ -171,8 +173,7 @@ def plan_many(
             reason = getattr(exc, "strerror", None) or str(exc)
             raise KinplanError(f"cannot read the program {name}: {reason}") from None
         items.append((name, text, str(file.resolve().parent)))
-    if jobs is not None and jobs > 1 and engine == "local":
-        engine = "dask"
-    with open_engine(engine, scheduler, jobs if engine != "local" else None) as runner:
+    engine, workers, progress = batch_options(engine, jobs, progress)
+    with open_engine(engine, scheduler, workers) as runner:
         results = runner.map(_plan_item, items, {"dt": dt}, progress)
     return [PlanSummary(**result) for result in results]

@@ -32,8 +32,9 @@ import pinocchio as pin
 
 import cartesian
 import kinplan
-from kinplan import export, plot, trajectory
+from kinplan import checks, export, plot, trajectory
 from kinplan import lecture as lecture_data
+from kinplan.errors import InputError
 from kinplan.lecture import DURATION, END_XY, START_XY, VIA_TIME, VIA_XY
 from kinplan.program import (
     MotionBuilder,
@@ -49,6 +50,8 @@ logger = logging.getLogger(__name__)
 
 __all__ = ["DEMOS", "DemoResult", "demo_program", "lecture", "rounded_rectangle", "weld"]
 
+MAX_DT = 0.1
+"""Coarsest sampling period of the demos [s] (their moves last a few seconds)."""
 DEMO_PROGRAMS = "demo_programs"
 """Folder of the demo programs inside the ``kinplan`` package (package data, so they are there
 in an installed wheel too; ``examples/programs/`` holds the same files for users to read)."""
@@ -61,9 +64,15 @@ def demo_program(name: str) -> str:
         name: File name, e.g. ``"weld_unreachable.yaml"``.
 
     Raises:
-        FileNotFoundError: kinplan ships no such program.
+        InputError: kinplan ships no such program (the message lists those it ships).
     """
-    return (resources.files("kinplan") / DEMO_PROGRAMS / name).read_text(encoding="utf-8")
+    folder = resources.files("kinplan") / DEMO_PROGRAMS
+    shipped = sorted(entry.name for entry in folder.iterdir() if entry.name.endswith(".yaml"))
+    if not isinstance(name, str) or name not in shipped:
+        raise InputError(
+            f"kinplan ships no demo program {checks.describe(name)}; it ships {', '.join(shipped)}"
+        )
+    return (folder / name).read_text(encoding="utf-8")
 
 
 @dataclass
@@ -127,17 +136,26 @@ def lecture(
         out_dir: Folder for the plots and the playback (created).
         html: The HTML playback of the three strategies, one after another (default
             ``out_dir/lecture.html``).
-        dt: Sampling period [s] (default 0.005).
+        dt: Sampling period [s], at most :data:`MAX_DT` (default 0.005).
         progress: Called with a short text as each step starts (e.g. ``print``).
 
     Returns:
         The summary and files; ``ok`` when the l1 = l2 = 1 m motions were all planned (the
         short-forearm failure is the expected outcome).
+
+    Raises:
+        InputError: ``dt`` not a number in (0, :data:`MAX_DT`] s, ``out_dir`` or ``html`` not
+            a path, ``progress`` not callable.
     """
     began = time.perf_counter()
     say = progress or (lambda text: None)
-    dt = 0.005 if dt is None else float(dt)
-    out = Path(out_dir)
+    dt = 0.005 if dt is None else checks.number(dt, "dt", positive=True, maximum=MAX_DT, unit="s")
+    out = Path(checks.file_path(out_dir, "out_dir (a folder)"))
+    html = None if html is None else checks.file_path(html, "html (the playback file)")
+    if progress is not None and not callable(progress):
+        raise InputError(
+            f"progress must be None or a function of one text, got {checks.describe(progress)}"
+        )
     out.mkdir(parents=True, exist_ok=True)
     say("planning the lecture's three strategies on the 2R arm")
     robot = kinplan.load_robot("planar_2r")
@@ -415,19 +433,28 @@ def weld(
     Args:
         out_dir: Output folder (created).
         html: HTML playback file (default ``out_dir/weld.html``).
-        dt: Sampling period [s] (default 0.01).
+        dt: Sampling period [s], at most :data:`MAX_DT` (default 0.01).
         progress: Called with a short text as each step starts (e.g. ``print``).
 
     Returns:
         The summary and files; ``ok`` when the weld cell program was planned completely (and
         the two failing programs failed as expected).
+
+    Raises:
+        InputError: ``dt`` not a number in (0, :data:`MAX_DT`] s, ``out_dir`` or ``html`` not
+            a path, ``progress`` not callable.
     """
     from kinplan import viewer
 
     began = time.perf_counter()
     say = progress or (lambda text: None)
-    dt = 0.01 if dt is None else float(dt)
-    out = Path(out_dir)
+    dt = 0.01 if dt is None else checks.number(dt, "dt", positive=True, maximum=MAX_DT, unit="s")
+    out = Path(checks.file_path(out_dir, "out_dir (a folder)"))
+    html = None if html is None else checks.file_path(html, "html (the playback file)")
+    if progress is not None and not callable(progress):
+        raise InputError(
+            f"progress must be None or a function of one text, got {checks.describe(progress)}"
+        )
     out.mkdir(parents=True, exist_ok=True)
     for name in WELD_CELL_FILES:
         data = (resources.files("kinplan") / DEMO_PROGRAMS / name).read_bytes()

@@ -51,6 +51,8 @@ CONNECT_TIMEOUT = 3.0
 #: scheduler itself: its items move to another worker).
 RETRIES = 2
 ENGINES = ("local", "dask")
+#: Most worker processes of a LocalCluster started by kinplan.
+MAX_JOBS = 256
 
 Progress = Callable[[int, int], None]
 
@@ -167,13 +169,13 @@ def open_engine(
         timeout: Seconds to wait for the scheduler [s].
 
     Raises:
-        InputError: an unknown engine, ``jobs`` not an integer ≥ 1, both ``jobs`` and
-            ``scheduler``.
+        InputError: an unknown engine, ``jobs`` not an integer from 1 to :data:`MAX_JOBS`,
+            both ``jobs`` and ``scheduler``.
         EngineError: Dask is not installed, the scheduler cannot be reached in ``timeout``,
             the cluster cannot start.
     """
     if jobs is not None:
-        jobs = checks.count(jobs, "jobs (worker processes)", minimum=1)
+        jobs = _jobs(jobs)
     if scheduler is not None:
         scheduler = checks.text(scheduler, "scheduler (a Dask scheduler address)")
         if jobs is not None:
@@ -230,6 +232,41 @@ def open_engine(
     finally:
         client.close()
         cluster.close()
+
+
+def _jobs(jobs: object) -> int:
+    """``jobs`` as a number of worker processes, 1 to :data:`MAX_JOBS`."""
+    count = checks.count(jobs, "jobs (worker processes)", minimum=1)
+    if count > MAX_JOBS:
+        raise InputError(
+            f"jobs (worker processes) must be at most {MAX_JOBS}, got {count}; this machine has "
+            f"{os.cpu_count() or 1} cores (more workers than cores only wait for each other)"
+        )
+    return count
+
+
+def batch_options(
+    engine: object, jobs: object, progress: object
+) -> tuple[object, int | None, Progress | None]:
+    """The checked engine arguments of a batch job (:func:`kinplan.reach.capability_map`,
+    :func:`kinplan.placement.place`, :func:`kinplan.batch.plan_many`): ``(engine, jobs for
+    open_engine, progress)``. ``jobs > 1`` with the ``"local"`` engine means ``"dask"``; the
+    local engine takes no jobs.
+
+    Raises:
+        InputError: ``jobs`` not an integer from 1 to :data:`MAX_JOBS`, ``progress`` neither
+            None nor callable.
+    """
+    count = None if jobs is None else _jobs(jobs)
+    if progress is not None and not callable(progress):
+        raise InputError(
+            f"progress must be None or a function called as progress(done, total), got "
+            f"{checks.describe(progress)}"
+        )
+    local = isinstance(engine, str) and engine == "local"
+    if local and count is not None and count > 1:
+        engine, local = "dask", False
+    return engine, (None if local else count), cast("Progress | None", progress)
 
 
 def _ignore_interrupts():

@@ -17,15 +17,20 @@ refused (:class:`~kinplan.errors.InputError`), since a controller would run the 
 * :func:`joint_trajectory` / :func:`write_joint_trajectory`: a ROS 2
   ``trajectory_msgs/msg/JointTrajectory`` document (JSON or YAML) holding the plan's samples.
 
-Between its samples a motion is the quintic Hermite interpolation of the samples (exact in
-position, velocity and acceleration at every sample: :func:`kinplan.program.hermite_segments`),
-which is what a :class:`~kinplan.program.ProgramPlan` evaluates too.
+Between its samples a motion is its own continuous motion when it has one (a
+:class:`~kinplan.program.ProgramPlan` is a Trajectory: a ptp move's profile, the quintic Hermite
+through the samples of the other moves; a sampled joint trajectory is the trajectory), otherwise
+the quintic Hermite interpolation of the samples (exact in position, velocity and acceleration
+at every sample: :func:`kinplan.program.hermite_segments`). The servo stream resamples the
+former; a controller given the written points (a JointTrajectory, a CSV) interpolates the
+latter.
 
 Every export that writes a motion (:func:`write_csv`, :func:`servo_samples`, :func:`urscript`,
-:func:`joint_trajectory` and their writers) first checks that interpolant against the robot's
-limits, whatever built the motion (:func:`check_limits`): positions, velocities and the
-accelerations the robot declares, at the samples and between them. A motion beyond a limit is
-refused with a :class:`LimitViolationError` naming the joint, the time, the value and the limit.
+:func:`joint_trajectory` and their writers) first checks the continuous motion it stands for
+against the robot's limits, whatever built the motion (:func:`check_limits`): positions,
+velocities and the accelerations the robot declares, at the samples and between them. A motion
+beyond a limit is refused with a :class:`LimitViolationError` naming the joint, the time, the
+value and the limit.
 """
 
 from __future__ import annotations
@@ -34,7 +39,7 @@ import json
 import logging
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -44,6 +49,7 @@ import numpy as np
 from kinplan import checks, defaults
 from kinplan.errors import InputError, KinplanError
 from kinplan.motion import (
+    JointTrajectory,
     MoveSpan,
     SampledMotion,
     ToolTrack,
@@ -88,9 +94,10 @@ __all__ = [
 def csv_header(joint_names: Sequence[str]) -> list[str]:
     """Column names: ``t``, ``q_<joint>``…, ``qd_<joint>``…, ``qdd_<joint>``…, ``x y z`` (tool
     position [m]) and ``qx qy qz qw`` (tool orientation quaternion)."""
+    names = _name_list(joint_names, "joint_names")
     columns = ["t"]
     for prefix in ("q", "qd", "qdd"):
-        columns += [f"{prefix}_{name}" for name in joint_names]
+        columns += [f"{prefix}_{name}" for name in names]
     return columns + ["x", "y", "z", "qx", "qy", "qz", "qw"]
 
 
@@ -117,6 +124,7 @@ def write_csv(
     """
     target = Path(checks.file_path(path, "path"))
     track = _tool_track(plan, "write_csv")
+    header = csv_header(_joint_names(plan, joint_names, np.shape(plan.q)[-1]))
     check_limits(plan, "write_csv")
     table = np.column_stack([plan.t, plan.q, plan.qd, plan.qdd, track.positions, track.quaternions])
     try:
@@ -126,7 +134,7 @@ def write_csv(
             table,
             fmt="%.9g",
             delimiter=",",
-            header=",".join(csv_header(joint_names)),
+            header=",".join(header),
             comments="",
         )
     except OSError as exc:
@@ -191,53 +199,56 @@ class LimitViolationError(InputError):
         self.limit = limit
 
 
-def check_limits(plan: SampledMotion, what: str = "the export") -> None:
-    """Refuse a motion whose interpolant breaks its robot's position, velocity or (declared)
-    acceleration limits.
+def check_limits(
+    plan: SampledMotion, what: str = "the export", *, between: str = "samples"
+) -> None:
+    """Refuse a motion whose continuous motion breaks its robot's position, velocity or
+    (declared) acceleration limits.
 
-    What the exports write, and what a controller runs between the samples, is the quintic
-    Hermite interpolation of the samples (positions, velocities and accelerations: see
-    :func:`servo_samples`); it is checked at every sample and at :data:`CHECK_SUBDIVISIONS`
-    instants inside every interval between two samples, so a controller's own period (a
-    ``servoj`` stream's Δq / period, its second differences) stays within the same bounds.
-    Checked, in this order: positions within [lower, upper] (± :data:`POSITION_SLACK`), |q̇|
-    within the velocity limit and |q̈| within the acceleration limit where the robot declares
-    one (each with a relative slack :data:`RATE_SLACK`). A motion without a robot has no
-    limits to check.
+    The continuous motion is checked at every sample and at :data:`CHECK_SUBDIVISIONS` − 1
+    instants inside every interval between two samples (so a controller's own period — a
+    ``servoj`` stream's Δq / period and its second differences — stays within the same
+    bounds): positions within [lower, upper] (± :data:`POSITION_SLACK`), |q̇| within the
+    velocity limit and |q̈| within the acceleration limit where the robot declares one (each
+    with a relative slack :data:`RATE_SLACK`). A motion without a robot has no limits to check.
 
     Args:
         plan: A motion with samples (:class:`~kinplan.motion.SampledMotion`).
         what: The export's name, for the message.
+        between: Which continuous motion: ``"samples"``, the quintic Hermite through the
+            samples (positions, velocities and accelerations: what a controller interpolating
+            the written points runs, e.g. a ROS JointTrajectory); ``"plan"``, the plan's own
+            (``plan.sample`` of a program plan, the trajectory of a sampled joint trajectory,
+            the Hermite through the samples otherwise: what :func:`servo_samples` resamples).
 
     Raises:
-        LimitViolationError: the worst violation of the first kind found, naming the joint,
-            the time [s], the value, the limit and what to change.
-        InputError: not a motion, or samples that are not finite.
+        LimitViolationError: the worst violation of the first kind found (positions, then
+            velocities, then accelerations), naming the joint, the time [s], the value, the
+            limit and what to change.
+        InputError: not a motion, samples that are not finite, an unknown ``between``.
     """
+    between = checks.choice(between, "between", ("samples", "plan"))
     t, q, qd, qdd = _samples(plan, what)
     robot = plan.robot
     if robot is None or len(t) == 0:
         return
-    t = t - t[0]
     lower, upper = np.asarray(robot.lower, float), np.asarray(robot.upper, float)
     speed = np.asarray(robot.velocity_limit, float)
     accel = np.asarray(robot.acceleration_limit, float)
     worst: dict[str, tuple[float, int, float, float, float]] = {}  # ratio, joint, t, value, limit
-    first: dict[str, float] = {}  # the earliest instant beyond the limit [s]
+    first: dict[str, float] = {}  # the earliest instant beyond a limit of each kind [s]
 
-    def keep(quantity: str, ratio: np.ndarray, times: np.ndarray, values: np.ndarray, limit):
+    def keep(quantity: str, ratio: np.ndarray, times: np.ndarray, values: np.ndarray, bound):
         threshold = 1.0 + RATE_SLACK if quantity != "position" else 0.0
         beyond = times[(ratio > threshold).any(axis=1)]
         first[quantity] = min(first.get(quantity, math.inf), float(beyond.min()))
-        flat = int(np.argmax(ratio))
-        k, j = divmod(flat, ratio.shape[1])
+        k, j = divmod(int(np.argmax(ratio)), ratio.shape[1])
         if ratio[k, j] > worst.get(quantity, (0.0,))[0]:
-            bound = limit[j] if np.ndim(limit) == 1 else limit[k, j]
-            worst[quantity] = (float(ratio[k, j]), j, float(times[k]), float(values[k, j]), bound)
+            limit = bound[j] if np.ndim(bound) == 1 else bound[k, j]
+            worst[quantity] = (float(ratio[k, j]), j, float(times[k]), float(values[k, j]), limit)
 
-    for times, position, velocity, acceleration in _interpolant(t, q, qd, qdd):
-        below = lower - position
-        above = position - upper
+    for times, position, velocity, acceleration in _continuous(plan, t, q, qd, qdd, between):
+        below, above = lower - position, position - upper
         excess = np.maximum(below, above)
         if np.any(excess > POSITION_SLACK):
             bound = np.where(below > above, lower, upper)
@@ -256,6 +267,65 @@ def check_limits(plan: SampledMotion, what: str = "the export") -> None:
         if quantity in worst:
             ratio, j, when, value, limit = worst[quantity]
             raise _violation(plan, what, quantity, j, when, value, limit, ratio, first[quantity])
+
+
+def _continuous(
+    plan: SampledMotion,
+    t: np.ndarray,
+    q: np.ndarray,
+    qd: np.ndarray,
+    qdd: np.ndarray,
+    between: str,
+) -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
+    """The continuous motion (see :func:`check_limits`) at the samples and
+    :data:`CHECK_SUBDIVISIONS` − 1 instants inside each interval, in chunks: (times (K,) [s]
+    from the first sample, q, q̇, q̈ (K, n) each)."""
+    motion = _motion(plan, t, q, qd, qdd, between)
+    yield t - t[0], q, qd, qdd
+    if len(t) < 2:
+        return
+    u = np.arange(1, CHECK_SUBDIVISIONS) / CHECK_SUBDIVISIONS  # inside the intervals
+    chunk = max(1, 100_000 // len(u))
+    for start in range(0, len(t) - 1, chunk):
+        left, right = t[start : start + chunk + 1][:-1], t[start + 1 : start + chunk + 1]
+        times = (left[:, None] + (right - left)[:, None] * u[None, :]).reshape(-1) - t[0]
+        yield (times, *motion(times))
+
+
+def _motion(
+    plan: SampledMotion,
+    t: np.ndarray,
+    q: np.ndarray,
+    qd: np.ndarray,
+    qdd: np.ndarray,
+    between: str,
+) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """The continuous motion as a function of the time from the first sample [s]: the plan's
+    own (``between="plan"``: a program plan, a sampled joint trajectory) or the quintic
+    Hermite through the samples."""
+    if between == "plan":
+        own = plan if isinstance(plan, Trajectory) else getattr(plan, "trajectory", None)
+        if isinstance(own, JointTrajectory) and not isinstance(own, SampledMotion):
+            start = float(t[0]) if own is plan else 0.0
+            return lambda times: tuple(  # type: ignore[return-value]
+                np.asarray(x, dtype=float).reshape(len(times), -1)
+                for x in own.sample(times + start)
+            )
+        if isinstance(own, Trajectory):  # a program plan: it is itself a Trajectory
+            start = float(t[0])
+            return lambda times: own.sample(times + start)
+    if len(t) == 1:
+        return lambda times: (np.repeat(q, len(times), 0), np.zeros((len(times), q.shape[1])),
+                              np.zeros((len(times), q.shape[1])))  # fmt: skip
+    from kinplan.program.segments import hermite_segments
+
+    hermite = Trajectory(
+        hermite_segments(t - t[0], q, qd, qdd),
+        end=q[-1],
+        end_velocity=qd[-1],
+        end_acceleration=qdd[-1],
+    )
+    return hermite.sample
 
 
 def _samples(
@@ -290,42 +360,6 @@ def _samples(
             f"{what}: the plan has {q.shape[1]} joints, its robot {plan.robot.name} {plan.robot.nq}"
         )
     return t, q, qd, qdd
-
-
-def _interpolant(t: np.ndarray, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray):
-    """The quintic Hermite through the samples at the samples and :data:`CHECK_SUBDIVISIONS`
-    instants inside each interval, in chunks: (times (K,), q, q̇, q̈ (K, n) each)."""
-    from kinplan._profiles import quintic_coefficients
-
-    yield t, q, qd, qdd
-    if len(t) < 2:
-        return
-    u = np.arange(1, CHECK_SUBDIVISIONS) / CHECK_SUBDIVISIONS  # inside the intervals
-    chunk = max(1, 200_000 // (len(u) * q.shape[1]))
-    for start in range(0, len(t) - 1, chunk):
-        stop = min(start + chunk, len(t) - 1)
-        h = np.diff(t[start : stop + 1])  # (P,)
-        c = quintic_coefficients(
-            q[start:stop].T, q[start + 1 : stop + 1].T, qd[start:stop].T,
-            qd[start + 1 : stop + 1].T, qdd[start:stop].T, qdd[start + 1 : stop + 1].T, h,
-        )  # fmt: skip
-        c = np.moveaxis(c, 2, 0)[:, None, :, :]  # (P, 1, n, 6)
-        tau = (h[:, None] * u[None, :])[:, :, None]  # (P, S, 1)
-        position, velocity, acceleration = c[..., 5], 5.0 * c[..., 5], 20.0 * c[..., 5]
-        for k in (4, 3, 2):  # Horner, the three polynomials at once
-            position = position * tau + c[..., k]
-            velocity = velocity * tau + k * c[..., k]
-            acceleration = acceleration * tau + k * (k - 1) * c[..., k]
-        position = (position * tau + c[..., 1]) * tau + c[..., 0]
-        velocity = velocity * tau + c[..., 1]
-        times = (t[start:stop, None] + tau[..., 0]).reshape(-1)
-        n = q.shape[1]
-        yield (
-            times,
-            position.reshape(-1, n),
-            velocity.reshape(-1, n),
-            acceleration.reshape(-1, n),
-        )
 
 
 def _violation(
@@ -397,7 +431,10 @@ def ur_arm_problem(robot: Robot) -> str:
     A UR arm has exactly the six joints :data:`UR_JOINT_NAMES` in that order, possibly all
     with one common prefix (``left_shoulder_pan_joint``, ...).
     """
-    names = list(robot.joint_names)
+    joints = getattr(robot, "joint_names", None)
+    if isinstance(joints, (str, bytes)) or not isinstance(joints, (Sequence, np.ndarray)):
+        raise InputError(f"robot must be a kinplan.Robot, got {checks.describe(robot)}")
+    names = list(joints)
     first = UR_JOINT_NAMES[0]
     if len(names) == len(UR_JOINT_NAMES) and names[0].endswith(first):
         prefix = names[0][: len(names[0]) - len(first)]
@@ -432,6 +469,11 @@ def plan_failure(plan: SampledMotion) -> str:
     """Where and why a plan failed, one short phrase ("" when it is ok): ``the plan failed at
     move 3 (collision)`` for a program, ``the plan stopped at t = 1.250 s (unreachable)``
     otherwise."""
+    if not isinstance(plan, SampledMotion):
+        raise InputError(
+            f"plan_failure takes a planned motion (kinplan.motion.SampledMotion), got "
+            f"{checks.describe(plan)}"
+        )
     if plan.ok:
         return ""
     failed = [move for move in plan.moves if move.status != "ok"]
@@ -470,9 +512,11 @@ def servo_samples(
 
     The times are ``k · period`` from the plan's first sample, the last exactly at its end
     (:func:`kinplan.trajectory.time_grid`: ceil(duration / period) + 1 samples, a remainder
-    below 10⁻⁶ period absorbed); the positions are the quintic Hermite interpolation of the
-    plan's samples (positions, velocities and accelerations), so the first is ``plan.q[0]`` and
-    the last ``plan.q[-1]``, exactly.
+    below 10⁻⁶ period absorbed); the positions are the plan's continuous motion there (its own
+    ``sample`` for a program plan or a sampled joint trajectory, otherwise the quintic Hermite
+    interpolation of the plan's samples: positions, velocities and accelerations), the first
+    ``plan.q[0]`` and the last ``plan.q[-1]``, exactly. That motion is checked against the
+    robot's limits first (:func:`check_limits` with ``between="plan"``).
 
     Args:
         plan: A whole motion (:class:`~kinplan.motion.SampledMotion` that is ok).
@@ -492,19 +536,13 @@ def servo_samples(
 def _servo_samples(plan: SampledMotion, period: float, what: str) -> tuple[np.ndarray, np.ndarray]:
     """:func:`servo_samples`, its errors naming ``what``."""
     step = checks.number(period, "period", positive=True, unit="s")
-    t, q, qd, qdd = _whole_motion(plan, what)
+    t, q, qd, qdd = _whole_motion(plan, what, between="plan")
     times = time_grid(float(t[-1] - t[0]), step)
     if len(t) == 1:
         return times, np.repeat(q, len(times), axis=0)
-    from kinplan.program.segments import hermite_segments
-
-    motion = Trajectory(
-        hermite_segments(t - t[0], q, qd, qdd),
-        end=q[-1],
-        end_velocity=qd[-1],
-        end_acceleration=qdd[-1],
-    )
-    return times, motion.sample(times)[0]
+    targets = np.array(_motion(plan, t, q, qd, qdd, "plan")(times)[0], dtype=float)
+    targets[0], targets[-1] = q[0], q[-1]  # the motion's ends, exactly
+    return times, targets
 
 
 def urscript(
@@ -724,11 +762,12 @@ def write_joint_trajectory(
 
 
 def _whole_motion(
-    plan: SampledMotion, what: str, limits: bool = True
+    plan: SampledMotion, what: str, limits: bool = True, between: str = "samples"
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The samples (t, q, qd, qdd) of a motion a controller may run; InputError for anything
     else: not a motion, a failed plan, samples that are not finite or times that do not
-    increase, and (``limits``) a motion beyond its robot's limits (:func:`check_limits`)."""
+    increase, and (``limits``) a motion beyond its robot's limits (:func:`check_limits` of
+    the continuous motion ``between``)."""
     if not isinstance(plan, SampledMotion):
         raise InputError(
             f"{what} takes a planned motion (kinplan.motion.SampledMotion: a program or Cartesian "
@@ -743,7 +782,7 @@ def _whole_motion(
     if len(t) == 0:
         raise InputError(f"{what}: the plan has no samples")
     if limits:
-        check_limits(plan, what)
+        check_limits(plan, what, between=between)
     return t, q, qd, qdd
 
 
@@ -769,14 +808,18 @@ def _joint_names(plan: SampledMotion, joint_names: Sequence[str] | None, n: int)
                 "joint_names is needed for a motion without a robot: give one name per joint"
             )
         return list(plan.robot.joint_names)
-    if isinstance(joint_names, str) or not isinstance(joint_names, Sequence):
-        raise InputError(
-            f"joint_names must be a list of {n} names, got {checks.describe(joint_names)}"
-        )
-    names = [checks.text(name, "joint_names[...]") for name in joint_names]
+    names = _name_list(joint_names, "joint_names", n)
     if len(names) != n:
         raise InputError(f"joint_names must hold {n} names (one per joint), got {len(names)}")
     return names
+
+
+def _name_list(names: object, what: str, n: int | None = None) -> list[str]:
+    """``names`` as a list of non-empty strings; InputError otherwise."""
+    count = "names" if n is None else f"{n} names"
+    if isinstance(names, (str, bytes)) or not isinstance(names, (Sequence, np.ndarray)):
+        raise InputError(f"{what} must be a list of {count}, got {checks.describe(names)}")
+    return [checks.text(name, f"{what}[...]") for name in names]
 
 
 def _json_text(document: dict[str, Any]) -> str:
@@ -846,13 +889,22 @@ def plot_motion(
         The figure (four stacked axes; five with the clearance).
 
     Raises:
-        InputError: not a motion with a robot.
+        InputError: not a motion with a robot; ``path`` not a file path of an image type
+            Matplotlib writes; ``joint_names`` not one name per joint; ``title`` not a string.
+        KinplanError: the image cannot be written.
     """
     from matplotlib.figure import Figure
 
+    target = None if path is None else checks.file_path(path, "path (the image file to write)")
+    if title is not None and not isinstance(title, str):
+        raise InputError(f"title must be a string or None, got {checks.describe(title)}")
     track = _tool_track(plan, "plot_motion")
     n = plan.q.shape[1]
-    names = list(joint_names) if joint_names is not None else [f"joint {j}" for j in range(n)]
+    names = (
+        _joint_names(plan, joint_names, n)
+        if joint_names is not None
+        else [f"joint {j}" for j in range(n)]
+    )
     clearances = _clearances(plan)
     rows = 4 if clearances is None else 5
     figure = Figure(figsize=(9.0, 9.0 if rows == 4 else 11.0), layout="constrained")
@@ -877,10 +929,15 @@ def plot_motion(
     axes[0].legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.0, 1.0))
     if title:
         figure.suptitle(title)
-    if path is not None:
-        Path(path).parent.mkdir(parents=True, exist_ok=True)
-        figure.savefig(os.fspath(path), dpi=110)
-        logger.info("wrote %s", path)
+    if target is not None:
+        try:
+            Path(target).parent.mkdir(parents=True, exist_ok=True)
+            figure.savefig(target, dpi=110)
+        except ValueError as exc:  # an image format Matplotlib does not write
+            raise InputError(f"cannot save {target}: {exc}") from None
+        except OSError as exc:
+            raise KinplanError(f"cannot write {target}: {exc.strerror or exc}") from None
+        logger.info("wrote %s", target)
     return figure
 
 

@@ -35,7 +35,13 @@ import yaml
 
 from kinplan import checks
 from kinplan.batch import joint_margin, plan_text
-from kinplan.engines import Progress, open_engine, tune_allocator, write_atomically
+from kinplan.engines import (
+    Progress,
+    batch_options,
+    open_engine,
+    tune_allocator,
+    write_atomically,
+)
 from kinplan.errors import InputError, KinplanError
 
 __all__ = ["Placement", "PlacementSearch", "heat_map", "place", "with_base_pose"]
@@ -137,8 +143,13 @@ def with_base_pose(text: str, xyz: Sequence[float], rpy_deg: Sequence[float]) ->
     pose added on the line after ``robot:``; the rest of the file (comments too) is kept.
 
     Raises:
-        InputError: the text is not a YAML mapping with a ``robot:`` key.
+        InputError: the text is not a YAML mapping with a ``robot:`` key; ``xyz`` or
+            ``rpy_deg`` not three finite numbers.
     """
+    if not isinstance(text, str):
+        raise InputError(f"text must be the program's YAML text, got {checks.describe(text)}")
+    xyz = checks.vector(xyz, "xyz", 3, "m").tolist()
+    rpy_deg = checks.vector(rpy_deg, "rpy_deg", 3, "deg").tolist()
     try:
         root = yaml.compose(text, Loader=yaml.SafeLoader)
     except yaml.YAMLError as exc:
@@ -172,7 +183,13 @@ def _axis(values: Sequence[float] | None, default: float, step: float, what: str
         return given
     if given.size != 2 or given[1] < given[0]:
         raise InputError(f"{what} must be one value or a range START STOP with STOP ≥ START")
-    count = int(math.floor((given[1] - given[0]) / step + 1e-9)) + 1
+    steps = math.floor((given[1] - given[0]) / step + 1e-9)  # may be inf
+    if not steps < MAX_CANDIDATES:
+        raise InputError(
+            f"{what}: {given[0]:g} to {given[1]:g} in steps of {step:g} would be more than "
+            f"{MAX_CANDIDATES} values; use a larger step or a shorter range"
+        )
+    count = int(steps) + 1
     return np.round(given[0] + step * np.arange(count), 9)  # 0.1, not 0.10000000000000003
 
 
@@ -264,6 +281,7 @@ def place(
     from kinplan.program import DEFAULT_DT, ProgramError, load_program
 
     name = checks.file_path(program, "program (a YAML file)")
+    engine, workers, progress = batch_options(engine, jobs, progress)
     file = Path(name)
     try:
         text = file.read_text(encoding="utf-8")
@@ -301,9 +319,7 @@ def place(
         "pitch": float(pitch),
         "moves": len(original.moves),
     }
-    if jobs is not None and jobs > 1 and engine == "local":
-        engine = "dask"
-    with open_engine(engine, scheduler, jobs if engine != "local" else None) as runner:
+    with open_engine(engine, scheduler, workers) as runner:
         results = runner.map(_evaluate, chunks, payload, progress)
     placements = [
         Placement(**{**r, "xyz": tuple(r["xyz"]), "rpy_deg": tuple(r["rpy_deg"])})

@@ -22,7 +22,9 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 from numpy.typing import ArrayLike
 
-from kinplan.errors import InputError
+from kinplan import checks
+from kinplan.checks import describe
+from kinplan.errors import InputError, KinplanError
 from kinplan.motion import (
     DEFAULT_DT,
     JointTrajectory,
@@ -78,6 +80,8 @@ def plot_trajectory(
     Raises:
         InputError: no trajectory, not a motion, mismatched joint counts or label counts.
     """
+    _title(title)
+    show_knots = checks.flag(show_knots, "show_knots")
     single = isinstance(trajectory, (Trajectory, SampledMotion, JointTrajectory))
     items = [trajectory] if single or not isinstance(trajectory, Iterable) else list(trajectory)
     curves = [_curve(item, dt) for item in items]
@@ -161,9 +165,22 @@ def plot_tip_path(
         The figure.
 
     Raises:
-        InputError: paths of the wrong shape or of mixed dimension.
+        InputError: no path, paths that are not numbers, of the wrong shape, with NaN or inf,
+            or of mixed dimension; a ``reference`` that is not two points; a ``path`` that is
+            not an image file name Matplotlib writes.
+        KinplanError: the image cannot be written.
     """
+    _title(title)
     given: list[ArrayLike | SampledMotion]
+    if (
+        tip_paths is None
+        or isinstance(tip_paths, (str, bytes))
+        or not (isinstance(tip_paths, (Mapping, SampledMotion, Iterable)))
+    ):
+        raise InputError(
+            "tip_paths must be a path of shape (k, 2) or (k, 3) [m], a planned motion, or a "
+            f"list or dict of them, got {describe(tip_paths)}"
+        )
     if isinstance(tip_paths, Mapping):
         labels = list(tip_paths.keys())
         given = list(tip_paths.values())
@@ -172,7 +189,7 @@ def plot_tip_path(
     else:
         try:
             single = np.asarray(tip_paths, dtype=float)
-        except ValueError:  # ragged: several paths of different lengths
+        except (ValueError, TypeError):  # ragged (several paths), or motions among them
             single = None
         several = cast("Sequence[ArrayLike | SampledMotion]", tip_paths)
         given = [single] if single is not None and single.ndim == 2 else list(several)
@@ -190,12 +207,16 @@ def plot_tip_path(
         ax.plot(*xyz[:1].T, "o", color=f"C{k % 10}")
         ax.plot(*xyz[-1:].T, "s", color=f"C{k % 10}")
     if reference is not None:
-        line = np.vstack([_path_array(np.atleast_2d(p), "reference") for p in reference])
+        if not isinstance(reference, (Sequence, np.ndarray)) or len(reference) != 2:
+            raise InputError(
+                f"reference must be two points (start, end) [m], got {describe(reference)}"
+            )
+        line = np.vstack([_path_array(_rows(p, "reference"), "reference") for p in reference])
         if line.shape != (2, dimension):
             raise InputError(f"reference must be two points of dimension {dimension}")
         ax.plot(*line.T, "--", color="0.4", linewidth=1.0, label="straight line")
     if points is not None:
-        marks = _path_array(np.atleast_2d(points), "points")
+        marks = _path_array(_rows(points, "points"), "points")
         if marks.shape[1] != dimension:
             raise InputError(f"points must have dimension {dimension}, got {marks.shape[1]}")
         ax.plot(*marks.T, "x", color="k", markersize=9, label="via points")
@@ -226,6 +247,11 @@ def show(*figures: Figure) -> None:
     plt.show()
 
 
+def _title(title: object) -> None:
+    if title is not None and not isinstance(title, str):
+        raise InputError(f"title must be a string or None, got {describe(title)}")
+
+
 def _new_figure(size: tuple[float, float]) -> Figure:
     from matplotlib.figure import Figure
 
@@ -233,13 +259,28 @@ def _new_figure(size: tuple[float, float]) -> Figure:
 
 
 def _save(figure: Figure, path: str | os.PathLike[str] | None) -> None:
-    if path is not None:
-        figure.savefig(os.fspath(path), dpi=120)
+    """Save the figure to ``path`` (the format from its suffix) unless it is None.
+
+    Raises:
+        InputError: not a file path, or a suffix Matplotlib cannot write.
+        KinplanError: the file cannot be written.
+    """
+    if path is None:
+        return
+    name = checks.file_path(path, "path (the image file to write)")
+    try:
+        figure.savefig(name, dpi=120)
+    except ValueError as exc:  # an unknown image format
+        raise InputError(f"cannot save {name}: {exc}") from None
+    except OSError as exc:
+        raise KinplanError(f"cannot write {name}: {exc.strerror or exc}") from None
 
 
 def _names(names: Sequence[str] | None, count: int, what: str, default: str) -> list[str]:
     if names is None:
         return [f"{default} {k}" for k in range(count)]
+    if isinstance(names, (str, bytes)) or not isinstance(names, Iterable):
+        raise InputError(f"{what} must be a list of {count} names, got {describe(names)}")
     names = [str(name) for name in names]
     if len(names) != count:
         raise InputError(f"{what} must have {count} entries, got {len(names)}")
@@ -270,12 +311,20 @@ def _curve(item: object, dt: float | None) -> _Curve:
     return _Curve(t, (motion.q, motion.qd, motion.qdd), motion.waypoints, knots)
 
 
+def _rows(value: object, name: str) -> np.ndarray:
+    """``value`` as an at-least-2-D float array (one point a row)."""
+    return np.atleast_2d(checks.floats(value, name, "points of shape (k, 2) or (k, 3) [m]"))
+
+
 def _path_array(value: ArrayLike | SampledMotion, name: str) -> np.ndarray:
     if isinstance(value, SampledMotion):
         if value.tool_positions is None:
             raise InputError(f"{name} is a motion without a robot: it has no tool positions")
         value = value.tool_positions
-    array = np.asarray(value, dtype=float)
+    wanted = "a path of shape (k, 2) or (k, 3) [m]"
+    array = checks.floats(value, name, wanted)
     if array.ndim != 2 or array.shape[1] not in (2, 3) or array.shape[0] == 0:
-        raise InputError(f"{name} must have shape (k, 2) or (k, 3), got {array.shape}")
+        raise InputError(f"{name} must be {wanted}, got shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise InputError(f"{name} must be {wanted} of finite numbers, got NaN or inf")
     return array

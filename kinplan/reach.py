@@ -47,6 +47,7 @@ import numpy as np
 from kinplan import checks
 from kinplan.engines import (
     Progress,
+    batch_options,
     open_engine,
     robot_from_payload,
     robot_payload,
@@ -74,6 +75,14 @@ CHUNK_TARGETS = {
 }
 #: Numerical restarts per target in maps of arms without a closed form (Robot.ik uses 40).
 MAP_RESTARTS = 4
+#: Most orientations of :func:`orientation_set` (a map's orientations per voxel).
+MAX_ORIENTATIONS = 100_000
+#: Most voxels of a map's grid (its centres alone take 24 bytes each).
+MAX_VOXELS = 20_000_000
+#: Most IK targets (voxels within reach × orientations) of one map.
+MAX_POSES = 200_000_000
+#: Most numerical restarts per target of a map.
+MAX_MAP_RESTARTS = 1000
 _GOLDEN = (1.0 + 5.0**0.5) / 2.0
 
 
@@ -92,10 +101,15 @@ def orientation_set(
         cone_deg: Half-angle of the cone [deg], 0..180.
 
     Raises:
-        InputError: count not an integer ≥ 1, a zero or non-finite direction, a cone outside
-            [0, 180].
+        InputError: count not an integer from 1 to :data:`MAX_ORIENTATIONS`, a zero or
+            non-finite direction, a cone outside [0, 180].
     """
     count = checks.count(count, "orientations", minimum=1)
+    if count > MAX_ORIENTATIONS:
+        raise InputError(
+            f"orientations must be at most {MAX_ORIENTATIONS:,} (32 give a map of ±30° "
+            f"spacing, 1,000 of ±9°), got {count:,}"
+        )
     cone_deg = checks.number(cone_deg, "cone_deg", minimum=0.0, maximum=180.0, unit="deg")
     s = np.arange(count) + 0.5
     if direction is None:
@@ -442,29 +456,74 @@ def _format(path: str | os.PathLike[str]) -> str:
 
 
 # ---------------------------------------------------------------------------- computing maps
-def _grid(robot, resolution: float, region) -> tuple[np.ndarray, np.ndarray]:
-    """(first voxel centre (3,), voxels per axis (3,))."""
+def _grid(robot, resolution: float, region, per_voxel: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    """(first voxel centre (3,), voxels per axis (3,)).
+
+    Raises:
+        InputError: a malformed region, or a grid of more than :data:`MAX_VOXELS` voxels or
+            more than :data:`MAX_POSES` IK targets (``per_voxel`` orientations a voxel; the
+            message gives the finest resolution that fits).
+    """
     shoulder = np.array(robot.model.jointPlacements[1].translation)
-    if region is None:
-        reach = robot.reach()
-        count = int(math.ceil(reach / resolution - 1e-9))
-        first = shoulder - count * resolution
-        shape = np.full(3, 2 * count + 1)
-        if robot.planar_reach() is not None:  # a planar arm: one layer, in its plane
-            plane = robot.fk(robot.neutral()).translation[2]
-            first[2], shape[2] = plane, 1
-        return first, shape
-    box = checks.matrix(region, "region ((xmin, xmax), (ymin, ymax), (zmin, zmax)) [m]", (3, 2))
-    if np.any(box[:, 1] < box[:, 0]):
-        raise InputError(f"region: every max must be ≥ its min, got {box.tolist()}")
-    shape = np.maximum(1, np.ceil((box[:, 1] - box[:, 0]) / resolution - 1e-9)).astype(int)
-    first = box[:, 0] + 0.5 * resolution
-    if np.prod(shape.astype(float)) > 5e7:
-        raise InputError(
-            f"region holds {int(np.prod(shape.astype(float)))} voxels of {resolution:g} m; "
-            "use a coarser resolution or a smaller region"
+    planar = robot.planar_reach() is not None  # a planar arm: one layer, in its plane
+    box = None
+    if region is not None:
+        box = checks.matrix(region, "region ((xmin, xmax), (ymin, ymax), (zmin, zmax)) [m]", (3, 2))
+        if np.any(box[:, 1] < box[:, 0]):
+            raise InputError(f"region: every max must be ≥ its min, got {box.tolist()}")
+    reach = robot.reach()
+
+    def sizes(step: float) -> np.ndarray:
+        """Voxels along x, y, z at the voxel edge ``step`` [m] (floats: inf when huge)."""
+        with np.errstate(over="ignore", divide="ignore"):
+            if box is not None:
+                return np.maximum(1.0, np.ceil((box[:, 1] - box[:, 0]) / step - 1e-9))
+            half = np.ceil(reach / step - 1e-9)
+            return np.array([2.0 * half + 1.0] * (2 if planar else 3) + [1.0] * planar)
+
+    counts = sizes(resolution)
+    voxels = float(np.prod(counts))
+    most = min(MAX_VOXELS, MAX_POSES // per_voxel)
+    if not voxels <= most:
+        fitting = resolution
+        while not float(np.prod(sizes(fitting))) <= most:
+            ratio = float(np.prod(sizes(fitting))) / most
+            fitting *= (
+                min(max(1.01, ratio ** (1.0 / 3.0)), 1e100) if math.isfinite(ratio) else (1e100)
+            )
+        where = (
+            "the region"
+            if box is not None
+            else (f"the cube about the first joint that holds the reach {reach:.3f} m")
         )
+        count = f"{voxels:.3g}" if math.isfinite(voxels) else "more than 1e308"
+        if per_voxel > 1 and MAX_POSES // per_voxel < MAX_VOXELS:
+            what = (
+                f"{count} voxels of {resolution:g} m × {per_voxel:,} orientations = "
+                f"{voxels * per_voxel:.3g} IK targets (at most {MAX_POSES:,})"
+            )
+            fewer = ", fewer orientations"
+        else:
+            what = f"{count} voxels of {resolution:g} m (at most {MAX_VOXELS:,})"
+            fewer = ""
+        raise InputError(
+            f"{where} holds {what}; use a resolution of at least {_round_up(fitting)} m{fewer} "
+            "or a smaller region"
+        )
+    shape = counts.astype(int)
+    if box is not None:
+        return box[:, 0] + 0.5 * resolution, shape
+    first = shoulder - (shape // 2) * resolution
+    if planar:
+        first[2] = robot.fk(robot.neutral()).translation[2]
     return first, shape
+
+
+def _round_up(value: float) -> str:
+    """``value`` > 0 rounded up to 3 significant digits, as text (pasting it works)."""
+    exponent = math.floor(math.log10(value)) - 2
+    scale = 10.0**exponent
+    return f"{math.ceil(value / scale * (1 - 1e-12)) * scale:.3g}"
 
 
 def _cell_payload(cell, robot) -> dict[str, Any] | None:
@@ -531,7 +590,10 @@ def capability_map(
 
     Raises:
         InputError: a resolution that is not > 0, malformed region, direction or cone, a cell
-            of another robot.
+            of another robot; a grid of more than :data:`MAX_VOXELS` voxels or more than
+            :data:`MAX_POSES` IK targets (the message says the resolution, orientations or
+            region that fit), more than :data:`MAX_ORIENTATIONS` orientations or
+            :data:`MAX_MAP_RESTARTS` restarts; ``jobs`` or ``progress`` malformed.
         EngineError: the engine cannot start or the scheduler cannot be reached.
     """
     from kinplan import Robot, __version__
@@ -541,6 +603,11 @@ def capability_map(
     resolution = checks.number(resolution, "resolution", positive=True, unit="m")
     orientations = checks.count(orientations, "orientations", minimum=1)
     max_restarts = checks.count(max_restarts, "max_restarts", minimum=0)
+    if max_restarts > MAX_MAP_RESTARTS:
+        raise InputError(
+            f"max_restarts must be at most {MAX_MAP_RESTARTS} numerical restarts per target, "
+            f"got {max_restarts} (a map uses {MAP_RESTARTS}; Robot.ik 40)"
+        )
     position_only = robot.default_position_only()
     axis = None if direction is None else checks.vector(direction, "direction", 3)
     rotations = None
@@ -548,9 +615,8 @@ def capability_map(
         rotations = orientation_set(orientations, axis, cone_deg)
     else:
         orientations = 1
-    if jobs is not None and jobs > 1 and engine == "local":
-        engine = "dask"
-    first, shape = _grid(robot, resolution, region)
+    engine, workers, progress = batch_options(engine, jobs, progress)
+    first, shape = _grid(robot, resolution, region, orientations)
     axes = [first[a] + resolution * np.arange(shape[a]) for a in range(3)]
     centers = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
     shoulder = np.array(robot.model.jointPlacements[1].translation)
@@ -570,7 +636,7 @@ def capability_map(
         "cell": _cell_payload(cell, robot),
     }
     started = time.perf_counter()
-    with open_engine(engine, scheduler, jobs if engine != "local" else None) as runner:
+    with open_engine(engine, scheduler, workers) as runner:
         results = runner.map(_map_chunk, chunks, payload, progress)
         engine_text = runner.describe()
     seconds = time.perf_counter() - started

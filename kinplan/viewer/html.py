@@ -14,7 +14,9 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from kinplan.errors import ViewerError
+from kinplan import checks
+from kinplan.checks import describe
+from kinplan.errors import InputError, ViewerError
 from kinplan.motion import MotionLike
 from kinplan.viewer import commands as ms
 from kinplan.viewer.meshes import TRIANGLE_BUDGET
@@ -58,6 +60,10 @@ def render_html(
     Raises:
         InputError: as :func:`save_html`.
     """
+    if title is not None and not isinstance(title, str):
+        raise InputError(f"title must be a string or None, got {describe(title)}")
+    loop = checks.flag(loop, "loop")
+    autoplay = checks.flag(autoplay, "autoplay")
     visuals = visuals_for(robot, max_triangles)
     scene = build_scene(robot, visuals, motion, markers, fps, loop, autoplay)
     config = {
@@ -122,10 +128,13 @@ def save_html(
         The path of the written file.
 
     Raises:
-        InputError: the motion is not a trajectory or plan of this robot (joint count, NaN),
-            a marker is not a point, or fps or max_triangles is not positive.
+        InputError: ``robot`` is not a :class:`kinplan.Robot`, the motion is not a trajectory
+            or plan of this robot (joint count, NaN), a marker is not a point, fps is not in
+            (0, 1000] or max_triangles not positive, ``path`` is not a file path or ``title``
+            not a string.
         ViewerError: the file cannot be written.
     """
+    target = Path(checks.file_path(path, "path (the HTML file to write)"))
     text = render_html(
         robot,
         motion,
@@ -136,7 +145,6 @@ def save_html(
         title=title,
         max_triangles=max_triangles,
     )
-    target = Path(path)
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_text(text, encoding="utf-8")

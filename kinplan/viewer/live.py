@@ -253,7 +253,7 @@ class Viewer:
         Raises:
             InputError: a motion of another robot, a non-positive speed, a bad marker.
         """
-        speed = positive("speed", speed)
+        speed = positive("speed", speed, 1000.0)
         sampled = playback(self.robot, motion, fps)
         overlay, _ = overlay_commands(self._visuals, sampled, marker_points(markers), self._radius)
         self._send([ms.delete(LAYERS["path"]), ms.delete(LAYERS["markers"]), *overlay])

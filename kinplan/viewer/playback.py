@@ -23,6 +23,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike
 
+from kinplan.checks import describe, floats
 from kinplan.errors import InputError
 from kinplan.motion import (
     MotionLike,
@@ -120,16 +121,23 @@ class Playback:
         return [*self.planned, *self.failed, *extra, self.via]
 
 
-def positive(name: str, value: object) -> float:
-    """``value`` as a positive finite float.
+MAX_FPS = 1000.0
+"""Most key frames per second of an animation [1/s] (a screen shows 60 to 240)."""
+
+
+def positive(name: str, value: object, maximum: float | None = None) -> float:
+    """``value`` as a positive finite float (at most ``maximum`` when given).
 
     Raises:
-        InputError: naming ``name``, for anything else (booleans, text, 0, NaN, inf).
+        InputError: naming ``name``, for anything else (booleans, text, 0, NaN, inf, beyond
+            the maximum).
     """
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(f"{name} must be a positive number, got {value!r}")
+        raise InputError(f"{name} must be a positive number, got {describe(value)}")
     if not (math.isfinite(value) and value > 0):
         raise InputError(f"{name} must be a positive number, got {value!r}")
+    if maximum is not None and value > maximum:
+        raise InputError(f"{name} must be at most {maximum:g}, got {value!r}")
     return float(value)
 
 
@@ -145,7 +153,7 @@ def playback(robot: Robot, motion: MotionLike, fps: float) -> Playback:
     Raises:
         InputError: not a motion, or not one of this robot (joint count, NaN, times).
     """
-    fps = positive("fps", fps)
+    fps = positive("fps", fps, MAX_FPS)
     sampled = as_sampled_motion(motion, robot, 1.0 / fps, use="play")
     joint = sampled.kind == "joint"
     times = np.asarray(sampled.t, dtype=float).reshape(-1)
@@ -257,6 +265,11 @@ def marker_points(markers: Markers) -> list[tuple[str, np.ndarray]]:
     """
     if markers is None:
         return []
+    if isinstance(markers, (str, bytes)) or not isinstance(markers, (Mapping, Iterable)):
+        raise InputError(
+            "markers must be a list of positions [m] (3-vectors, SE3 or 4×4 poses) or a dict "
+            f"name -> position, got {describe(markers)}"
+        )
     if isinstance(markers, Mapping):
         items: Iterable[tuple[object, object]] = markers.items()
     elif isinstance(markers, np.ndarray) and markers.ndim == 1:
@@ -265,15 +278,13 @@ def marker_points(markers: Markers) -> list[tuple[str, np.ndarray]]:
         items = ((f"p{k}", value) for k, value in enumerate(markers))
     points = []
     for name, value in items:
+        wanted = "a position 3-vector [m] (or an SE3 / 4×4 pose)"
         if isinstance(value, pin.SE3):
             position = np.array(value.translation)
         else:
-            arr = np.asarray(value, dtype=float)
+            arr = floats(value, f"marker {name!r}", wanted)
             position = arr[:3, 3] if arr.shape == (4, 4) else arr
         if position.shape != (3,) or not np.all(np.isfinite(position)):
-            raise InputError(
-                f"marker {name!r} must be a position 3-vector [m] (or an SE3 / 4×4 pose), "
-                f"got {value!r}"
-            )
+            raise InputError(f"marker {name!r} must be {wanted}, got {describe(value)}")
         points.append((str(name).replace("/", "_"), position))
     return points

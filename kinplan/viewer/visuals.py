@@ -25,6 +25,7 @@ import numpy as np
 import pinocchio as pin
 import umsgpack
 
+from kinplan.checks import describe
 from kinplan.errors import InputError, ViewerError
 from kinplan.mesh_files import not_found_reason, resolve_mesh, search_folders
 from kinplan.viewer import commands as ms
@@ -178,8 +179,15 @@ def visuals_for(robot: Robot, max_triangles: int = TRIANGLE_BUDGET) -> RobotVisu
     Meshes take a second or more to read and simplify.
 
     Raises:
-        InputError: ``max_triangles`` is not a positive whole number.
+        InputError: ``robot`` is not a :class:`kinplan.Robot`, or ``max_triangles`` is not a
+            positive whole number.
     """
+    from kinplan.robot import Robot
+
+    if not isinstance(robot, Robot):
+        raise InputError(
+            f"robot must be a kinplan.Robot (kinplan.load_robot(...)), got {describe(robot)}"
+        )
     if isinstance(max_triangles, bool) or not isinstance(max_triangles, int) or max_triangles < 1:
         raise InputError(
             f"max_triangles must be a positive whole number of triangles, got {max_triangles!r}"
