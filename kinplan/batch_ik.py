@@ -49,6 +49,7 @@ from kinplan.ik.numeric import (
     POLISH_ITERATIONS,
     POLISH_STALL_ITERATIONS,
     STALL_ITERATIONS,
+    check_effort,
 )
 from kinplan.ik.panda import PandaIK
 from kinplan.ik.ur import URIK
@@ -538,7 +539,12 @@ class BatchSolver:
 
         Returns:
             (q (N, nq), success (N,), branch (N,) int8, mask (N,) uint16).
+
+        Raises:
+            InputError: ``max_iterations`` and ``max_restarts`` beyond the bounds of
+                :func:`kinplan.ik.numeric.check_effort` (per target).
         """
+        check_effort(max_iterations, max_restarts)
         with one_blas_thread():
             return self._solve_with_branches(
                 positions, rotations, seeds, position_tolerance, rotation_tolerance,

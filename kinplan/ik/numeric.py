@@ -44,6 +44,15 @@ POLISH_DAMPING_FLOOR = 1e-12
 POLISH_STALL_ITERATIONS = 20
 #: The polish and the solve without limits may take this many times ``max_iterations`` each.
 POLISH_ITERATIONS = 2
+#: Most iterations of one attempt (``max_iterations``) and most restarts (``max_restarts``).
+MAX_ITERATIONS = 10_000
+MAX_RESTARTS = 10_000
+#: Most iterations one solve may take: (max_restarts + 1) attempts, then (with restarts) the
+#: polish and the solve without limits (:data:`POLISH_ITERATIONS` × max_iterations each) and a
+#: last polish (max_iterations), i.e. (max_restarts + 2 + 2·POLISH_ITERATIONS) ×
+#: max_iterations, or max_iterations without restarts. The defaults (40 and 40) take at most
+#: 1,840; this bound keeps one solve within seconds.
+MAX_SOLVE_ITERATIONS = 50_000
 _SQRT8 = math.sqrt(8.0)
 _PRIMES = (2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61, 67, 71)
 
@@ -178,6 +187,40 @@ def halton(index: int, dim: int) -> np.ndarray:
             i //= base
         out[k] = r
     return out
+
+
+def check_effort(max_iterations: int, max_restarts: int) -> None:
+    """Refuse iteration counts that would let one solve run for minutes.
+
+    Args:
+        max_iterations: Iterations per attempt (an int ≥ 1, already checked).
+        max_restarts: Restarts after the seeded attempt (an int ≥ 0, already checked).
+
+    Raises:
+        InputError: ``max_iterations`` above :data:`MAX_ITERATIONS`, ``max_restarts`` above
+            :data:`MAX_RESTARTS`, or together more than :data:`MAX_SOLVE_ITERATIONS`
+            iterations per solve; the message says what fits.
+    """
+    if max_iterations > MAX_ITERATIONS:
+        raise InputError(
+            f"max_iterations must be at most {MAX_ITERATIONS:,} iterations per attempt (the "
+            f"default 40 converges or stalls well before), got {max_iterations:,}"
+        )
+    if max_restarts > MAX_RESTARTS:
+        raise InputError(
+            f"max_restarts must be at most {MAX_RESTARTS:,} (the default is 40), got "
+            f"{max_restarts:,}"
+        )
+    extra = 2 + 2 * POLISH_ITERATIONS  # the seed's attempt, the rescue (polish, no limits, polish)
+    rounds = max_restarts + extra if max_restarts > 0 else 1  # 0 restarts: no rescue either
+    if rounds * max_iterations > MAX_SOLVE_ITERATIONS:
+        restarts = MAX_SOLVE_ITERATIONS // max_iterations - extra
+        raise InputError(
+            f"max_iterations {max_iterations:,} with max_restarts {max_restarts:,} would allow "
+            f"{rounds * max_iterations:,} iterations per solve (({max_restarts:,} + {extra}) × "
+            f"{max_iterations:,}; at most {MAX_SOLVE_ITERATIONS:,}); use max_iterations ≤ "
+            f"{MAX_SOLVE_ITERATIONS // rounds:,} or max_restarts ≤ {max(restarts, 0):,}"
+        )
 
 
 class IKSolver:
@@ -382,14 +425,17 @@ class IKSolver:
             q_seed: Start configuration.
             position_tolerance: Accepted position error [m].
             rotation_tolerance: Accepted rotation error [rad].
-            max_iterations: Iterations per attempt.
-            max_restarts: Restarts after the seeded attempt fails.
+            max_iterations: Iterations per attempt, at most :data:`MAX_ITERATIONS`.
+            max_restarts: Restarts after the seeded attempt fails, at most
+                :data:`MAX_RESTARTS`.
             closed_form: Optional closed-form solver with ``nearest(position, rotation, q)``.
 
         Raises:
             InputError: a target or seed of the wrong size or not finite, a rotation that is
                 not 3×3, tolerances that are not finite numbers > 0, ``max_iterations`` not an
-                integer ≥ 1, ``max_restarts`` not an integer ≥ 0.
+                integer from 1 to :data:`MAX_ITERATIONS`, ``max_restarts`` not an integer from 0
+                to :data:`MAX_RESTARTS`, or together more than :data:`MAX_SOLVE_ITERATIONS`
+                iterations per solve (:func:`check_effort`).
         """
         position = checks.vector(position, "position", 3, "m")
         if rotation is not None:
@@ -427,7 +473,13 @@ class IKSolver:
     ) -> IKResult:
         """:meth:`solve` for arguments already checked (float arrays of the right shapes, finite;
         tolerances finite floats > 0; counts ints in range): what :meth:`kinplan.Robot.ik`
-        calls after its own checks, so a single IK does not pay for them twice."""
+        calls after its own checks, so a single IK does not pay for them twice.
+
+        Raises:
+            InputError: counts beyond :func:`check_effort`'s bounds.
+        """
+        if max_iterations > 40 or max_restarts > 40:  # the defaults need no check
+            check_effort(max_iterations, max_restarts)
         best: tuple[float, np.ndarray, float, float] | None = None
         total = 0
         if closed_form is not None:
