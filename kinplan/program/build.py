@@ -52,6 +52,13 @@ SeamPiece: TypeAlias = tuple[str, Goal, Goal | None]
 """One piece of a seam: (``"lin"``, goal, None) or (``"circ"``, goal, via)."""
 
 
+TORCH_START_TOLERANCE = 1e-6
+"""Largest angle between the tool and a torch seam's start orientation [rad] (the seam's first
+configuration must then join the current one within :data:`JOIN_TOLERANCE`)."""
+SMALL_GAP = 1e-2
+"""A join gap below this [rad] is a start pose not quite reached, not another branch."""
+
+
 def _where(position: np.ndarray) -> str:
     text = ", ".join(f"{x:.3f}" for x in position).replace("-0.000", "0.000")
     return f"({text}) m"
@@ -77,6 +84,12 @@ def _program_remedy(plan: cartesian.CartesianPlan) -> str:
     if event.kind == "unreachable":
         return "move the move's points into the arm's workspace"
     if event.kind == "collision":
+        check = plan.cell_check
+        if check is not None and check.kind == "self":  # no obstacle is involved
+            return (
+                "the arm would hit itself: move the move's points, or reach the move's start in "
+                "another configuration (a ptp to joint values before it)"
+            )
         return (
             "move the move's points or the obstacle (obstacles:), or reach the move's start in "
             "another configuration (a ptp to joint values before it)"
@@ -428,10 +441,14 @@ class MotionBuilder:
                 share = t / t[-1] if t[-1] > 0 else np.ones_like(t)
                 position = self.robot.fk(q[k]).translation
                 event = collision_event(check, t, share, position)
-                why = (
-                    f"collision at s = {share[k]:.2f}: {event.message}; move a point of the move, "
-                    "add a via point around the obstacle, or use lin moves"
+                fix = (
+                    "move a point of the move, or go through joint values that keep the arm "
+                    "clear of itself (a ptp through several points)"
+                    if check.kind == "self"
+                    else "move a point of the move, add a via point around the obstacle, or "
+                    "use lin moves"
                 )
+                why = f"collision at s = {share[k]:.2f}: {event.message}; {fix}"
                 kept = max(k, 1)
                 self._fail(
                     "ptp", label, key, (t[:kept], q[:kept], qd[:kept], qdd[:kept]),
@@ -591,13 +608,16 @@ class MotionBuilder:
     def _check_torch_start(
         self, path: cartesian.Path, kind: str, label: str, key: str | None
     ) -> None:
+        """Refuse a torch seam whose start orientation is not the tool's (within
+        :data:`TORCH_START_TOLERANCE`, as tight as the joint join check the seam then meets),
+        printing the orientation with the digits that make pasting it work."""
         turn = _start_turn(path, self.tool_pose(), False)
-        if turn > 1e-3:
+        if turn > TORCH_START_TOLERANCE:
             rpy = np.degrees(pin.rpy.matrixToRpy(path.start.rotation))
-            text = ", ".join(f"{a:.2f}" for a in rpy)
+            text = ", ".join(f"{a:.6f}" for a in rpy).replace("-0.000000", "0.000000")
             why = (
                 f"invalid: the torch angles put the tool at rpy_deg [{text}] at the seam start, "
-                f"{np.degrees(turn):.1f}° away from the tool's orientation; reach the seam start "
+                f"{np.degrees(turn):.3g}° away from the tool's orientation; reach the seam start "
                 f"with that orientation first (rpy_deg: [{text}] on the approach point)"
             )
             self._fail(kind, label, key, status="invalid", why=why)
@@ -660,11 +680,20 @@ class MotionBuilder:
         self.paths.append(path)
         ratio = plan.peak_speed_ratio
         samples = (plan.t, plan.q, plan.qd, plan.qdd) if len(plan.t) else None
-        if samples and np.max(np.abs(plan.q[0] - self.q)) > JOIN_TOLERANCE:
+        gap = float(np.max(np.abs(plan.q[0] - self.q))) if samples else 0.0
+        if gap > JOIN_TOLERANCE:
             why = (
                 "jump: the path's first configuration is on another branch than the current "
                 "one; move to the path start with a lin move first"
             )
+            if gap < SMALL_GAP:  # not another branch: the tool is not quite at the path start
+                offset = np.linalg.norm(path.start.translation - self.tool_pose().translation)
+                why = (
+                    f"jump: the path's first configuration is {gap:.3g} rad from the current one "
+                    f"(at most {JOIN_TOLERANCE:g} rad): the tool is {offset:.3g} m and "
+                    f"{turn:.3g} rad from the path's start pose; reach that pose exactly first "
+                    "(its xyz and orientation, e.g. with a lin move to it)"
+                )
             self._fail(kind, label, key, status="jump", why=why, ratio=ratio, plan=plan)
         if not plan.ok:
             event = plan.events[0]
