@@ -33,6 +33,7 @@ import sys
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
 import pinocchio as pin
@@ -70,7 +71,13 @@ def _fail(message: str) -> int:
 
 
 def _fmt(values: Sequence[float] | np.ndarray, digits: int = 4) -> str:
-    return "[" + ", ".join(f"{v:.{digits}f}" for v in values) + "]"
+    """Numbers in fixed point (beyond 10⁶ in exponent notation: one short line whatever the
+    value)."""
+    return (
+        "["
+        + ", ".join(f"{v:.{digits}f}" if abs(v) < 1e6 else f"{v:.{digits}g}" for v in values)
+        + "]"
+    )
 
 
 def _joint_values(robot: kinplan.Robot, values: Sequence[float], degrees: bool, what: str):
@@ -133,10 +140,45 @@ def _joint_kind(robot: kinplan.Robot, name: str) -> str:
     return "prismatic" if shortname.startswith("JointModelP") else "revolute"
 
 
-def _limit_text(value: float, prismatic: bool) -> str:
+def _limit_text(value: float, prismatic: bool, units: bool = False) -> str:
+    """A position limit: m for a prismatic joint, deg otherwise (``units``: with its unit)."""
     if not math.isfinite(value):
         return "none"
-    return f"{value:.3f} m" if prismatic else f"{math.degrees(value):.1f}"
+    return f"{value:.3f} m" if prismatic else f"{math.degrees(value):.1f}" + " deg" * units
+
+
+def _urdf_joint_types(robot: kinplan.Robot) -> dict[str, str]:
+    """The URDF type of every joint of the robot's file ({} when it cannot be read)."""
+    from kinplan.urdf_model import read_urdf
+
+    try:
+        root = read_urdf(Path(robot.urdf_path))
+    except (KinplanError, OSError):
+        return {}
+    return {
+        str(joint.get("name")): str(joint.get("type"))
+        for joint in root.findall("joint")
+        if joint.get("name") is not None
+    }
+
+
+def _held_unit(name: str, types: dict[str, str]) -> str:
+    """The unit of a held joint's value: m for a prismatic joint, rad otherwise."""
+    return "m" if types.get(name) == "prismatic" else "rad"
+
+
+def _acceleration_lines(robot: kinplan.Robot) -> list[str]:
+    """Which joints have acceleration limits (the URDF or ``limits=`` declares them)."""
+    limited = np.isfinite(robot.acceleration_limit)
+    if not limited.any():
+        return [
+            "accelerations: not limited (the URDF declares none; a program's max_acceleration: "
+            "or limits= on load_robot sets them)"
+        ]
+    if limited.all():
+        return ["accelerations: limited on every joint (table above)"]
+    free = [name for name, known in zip(robot.joint_names, limited) if not known]
+    return [f"accelerations: not limited on {', '.join(free)} (the URDF declares none for them)"]
 
 
 def _cmd_info(args: argparse.Namespace) -> int:
@@ -156,9 +198,14 @@ def _cmd_info(args: argparse.Namespace) -> int:
     print(f"base frame: {robot.base_frame}    tip frame: {robot.tip_frame}")
     accelerations = bool(np.isfinite(robot.acceleration_limit).any())
     table = Table(title="joints")
-    columns = ["#", "name", "type", "lower [deg]", "upper [deg]", "velocity [rad/s]", "[deg/s]"]
+    mixed = bool(np.any(robot.prismatic))  # units in the cells: deg or m, rad/s or m/s
+    columns = ["#", "name", "type"] + (
+        ["lower", "upper", "velocity", "[deg/s]"]
+        if mixed
+        else ["lower [deg]", "upper [deg]", "velocity [rad/s]", "[deg/s]"]
+    )
     if accelerations:
-        columns.append("acceleration [rad/s²]")
+        columns.append("acceleration" if mixed else "acceleration [rad/s²]")
     for column in columns:
         table.add_column(column, justify="left" if column in ("name", "type") else "right")
     for j, name in enumerate(robot.joint_names):
@@ -169,17 +216,20 @@ def _cmd_info(args: argparse.Namespace) -> int:
             str(j),
             name,
             "continuous (unbounded)" if kind == "continuous" else kind,
-            _limit_text(robot.lower[j], prismatic),
-            _limit_text(robot.upper[j], prismatic),
-            "none" if not math.isfinite(speed) else f"{speed:.3f}" + (" m/s" if prismatic else ""),
+            _limit_text(robot.lower[j], prismatic, mixed),
+            _limit_text(robot.upper[j], prismatic, mixed),
+            "none"
+            if not math.isfinite(speed)
+            else f"{speed:.3f}" + (" m/s" if prismatic else " rad/s" * mixed),
             "-" if prismatic or not math.isfinite(speed) else f"{math.degrees(speed):.1f}",
         ]
         if accelerations:
             unknown = not math.isfinite(accel)
-            row.append("none" if unknown else f"{accel:.3f}" + (" m/s²" if prismatic else ""))
+            unit = " m/s²" if prismatic else " rad/s²" * mixed
+            row.append("none" if unknown else f"{accel:.3f}{unit}")
         table.add_row(*row)
     _console().print(table)
-    for line in _held_joint_lines(robot):
+    for line in _acceleration_lines(robot) + _held_joint_lines(robot):
         print(line)
     print(_reach_text(robot))
     return 0
@@ -188,12 +238,14 @@ def _cmd_info(args: argparse.Namespace) -> int:
 def _held_joint_lines(robot: kinplan.Robot) -> list[str]:
     """Mimic and locked joints and a held root, one line each (none when there are none)."""
     lines = []
+    types = _urdf_joint_types(robot) if robot.mimic_joints or robot.locked_joints else {}
     for name, (master, multiplier, offset) in robot.mimic_joints.items():
         lines.append(
-            f"mimic joint (not in q): {name} = {multiplier:g} × {master} {offset:+g} [rad or m]"
+            f"mimic joint (not in q): {name} = {multiplier:g} × {master} {offset:+g} "
+            f"[{_held_unit(name, types)}]"
         )
     for name, value in robot.locked_joints.items():
-        lines.append(f"locked joint (not in q): {name} = {value:g} [rad or m]")
+        lines.append(f"locked joint (not in q): {name} = {value:g} {_held_unit(name, types)}")
     if robot.held_root is not None:
         pose = robot.base_pose
         rpy = np.degrees(pin.rpy.matrixToRpy(pose.rotation))
@@ -596,13 +648,8 @@ def _engine_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _jobs(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a number of worker processes ≥ 1, got {text}")
-    return value
+    """A number of worker processes ≥ 1."""
+    return _whole("worker processes")(text)
 
 
 @contextlib.contextmanager
@@ -793,7 +840,7 @@ def _cmd_place(args: argparse.Namespace) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``kinplan`` command."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="kinplan",
         description="Motion planning for URDF robot arms: robots, programs, demos.",
         epilog="ROBOT is a bundled name (planar_2r), an example-robot-data arm (ur3, ur5, ur10, "
@@ -814,19 +861,51 @@ def build_parser() -> argparse.ArgumentParser:
 
     fk = commands.add_parser("fk", help="tool pose of a joint configuration")
     _robot_arguments(fk)
-    fk.add_argument("--q", type=float, nargs="+", required=True, help="joint values [rad]")
+    fk.add_argument(
+        "--q", type=_number, nargs="+", required=True, help="joint values [rad, m if prismatic]"
+    )
     fk.add_argument("--deg", action="store_true", help="joint values in degrees")
     fk.set_defaults(handler=_cmd_fk)
 
     ik = commands.add_parser("ik", help="joint configuration that puts the tool at a pose")
     _robot_arguments(ik)
-    ik.add_argument("--xyz", type=float, nargs=3, required=True, metavar=("X", "Y", "Z"))
+    ik.add_argument(
+        "--xyz",
+        type=_number,
+        nargs=3,
+        required=True,
+        metavar=("X", "Y", "Z"),
+        help="tool position [m] in the robot's base frame",
+    )
     orientation = ik.add_mutually_exclusive_group()
-    orientation.add_argument("--rpy-deg", type=float, nargs=3, metavar=("R", "P", "Y"))
-    orientation.add_argument("--quat-xyzw", type=float, nargs=4, metavar=("X", "Y", "Z", "W"))
-    ik.add_argument("--seed", type=float, nargs="+", help="start configuration [rad]")
+    orientation.add_argument(
+        "--rpy-deg",
+        type=_number,
+        nargs=3,
+        metavar=("R", "P", "Y"),
+        help="tool orientation: roll, pitch, yaw [deg] about the base frame's fixed x, y, z "
+        "(default: position only)",
+    )
+    orientation.add_argument(
+        "--quat-xyzw",
+        type=_number,
+        nargs=4,
+        metavar=("X", "Y", "Z", "W"),
+        help="tool orientation as a quaternion x y z w (normalised here)",
+    )
+    ik.add_argument(
+        "--seed",
+        type=_number,
+        nargs="+",
+        help="start configuration [rad, m if prismatic]: the solution nearest it on its branch "
+        "(default: the robot's neutral configuration)",
+    )
     ik.add_argument("--deg", action="store_true", help="--seed in degrees")
-    ik.add_argument("--position-only", action="store_true", help="ignore the orientation")
+    ik.add_argument(
+        "--position-only",
+        action="store_true",
+        help="ignore the orientation (implied without --rpy-deg / --quat-xyzw)",
+    )
     ik.set_defaults(handler=_cmd_ik)
 
     run = commands.add_parser("run", help="validate and plan a YAML motion program")
@@ -876,7 +955,9 @@ def build_parser() -> argparse.ArgumentParser:
     teach.add_argument(
         "-o", "--output", metavar="PROGRAM.yaml", required=True, help="program file to write"
     )
-    teach.add_argument("--start", type=float, nargs="+", help="start configuration [rad]")
+    teach.add_argument(
+        "--start", type=_number, nargs="+", help="start configuration [rad, m if prismatic]"
+    )
     teach.add_argument("--deg", action="store_true", help="--start in degrees")
     teach.add_argument("--view", action="store_true", help="live MeshCat view in the browser")
     teach.set_defaults(handler=_cmd_teach)
@@ -886,19 +967,22 @@ def build_parser() -> argparse.ArgumentParser:
     reach.add_argument("-o", "--output", metavar="MAP.npz", required=True, help="map file")
     reach.add_argument("--resolution", type=_positive, default=0.05, help="voxel edge [m] (0.05)")
     reach.add_argument(
-        "--orientations", type=_jobs, default=32, help="tool orientations per voxel (32)"
+        "--orientations",
+        type=_whole("orientations"),
+        default=32,
+        help="tool orientations per voxel (32)",
     )
     reach.add_argument(
         "--direction",
-        type=float,
+        type=_number,
         nargs=3,
         metavar=("X", "Y", "Z"),
         help="only orientations whose tool z axis is within --cone-deg of this direction",
     )
-    reach.add_argument("--cone-deg", type=float, help="cone half-angle around --direction [deg]")
+    reach.add_argument("--cone-deg", type=_number, help="cone half-angle around --direction [deg]")
     reach.add_argument(
         "--region",
-        type=float,
+        type=_number,
         nargs=6,
         metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"),
         help="box to map [m] (default: a cube about the first joint holding the reach)",
@@ -910,11 +994,15 @@ def build_parser() -> argparse.ArgumentParser:
 
     place = commands.add_parser("place", help="rank base poses of a robot for a program")
     place.add_argument("program", metavar="PROGRAM.yaml", help="the program file (YAML)")
-    place.add_argument("--x", type=float, nargs="+", required=True, metavar="X", help="X [X1] [m]")
-    place.add_argument("--y", type=float, nargs="+", required=True, metavar="Y", help="Y [Y1] [m]")
-    place.add_argument("--z", type=float, nargs="+", metavar="Z", help="Z [Z1] [m] (program's)")
     place.add_argument(
-        "--yaw-deg", type=float, nargs="+", metavar="YAW", help="YAW [YAW1] [deg] (program's)"
+        "--x", type=_number, nargs="+", required=True, metavar="X", help="X [X1] [m]"
+    )
+    place.add_argument(
+        "--y", type=_number, nargs="+", required=True, metavar="Y", help="Y [Y1] [m]"
+    )
+    place.add_argument("--z", type=_number, nargs="+", metavar="Z", help="Z [Z1] [m] (program's)")
+    place.add_argument(
+        "--yaw-deg", type=_number, nargs="+", metavar="YAW", help="YAW [YAW1] [deg] (program's)"
     )
     place.add_argument("--step", type=_positive, default=0.05, help="x, y, z grid step [m]")
     place.add_argument("--yaw-step-deg", type=_positive, default=30.0, help="yaw step [deg]")
@@ -922,7 +1010,7 @@ def build_parser() -> argparse.ArgumentParser:
         "-o", "--output", metavar="BEST.yaml", required=True, help="the program, best base pose"
     )
     place.add_argument("--png", metavar="FILE", help="write the heat map of the margins")
-    place.add_argument("--top", type=_jobs, default=5, help="placements listed (5)")
+    place.add_argument("--top", type=_whole("placements"), default=5, help="placements listed (5)")
     place.add_argument(
         "--dt", type=_positive, default=DEFAULT_DT, help=f"sampling period [s] ({DEFAULT_DT})"
     )
@@ -943,11 +1031,50 @@ def _robot_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def _positive(text: str) -> float:
-    value = float(text)
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text}")
+def _number(text: str) -> float:
+    """A finite number (a command-line type: its error is one line in user words)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
     return value
+
+
+def _positive(text: str) -> float:
+    """A finite number > 0."""
+    value = _number(text)
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text!r}")
+    return value
+
+
+def _whole(what: str):
+    """A type for a whole number ≥ 1 of ``what`` (its error names it)."""
+
+    def whole(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = 0
+        if value < 1:
+            raise argparse.ArgumentTypeError(f"expected a whole number of {what} ≥ 1, got {text!r}")
+        return value
+
+    return whole
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one ``kinplan: error:`` line (exit 2)."""
+
+    def error(self, message: str) -> NoReturn:
+        command = self.prog.removeprefix("kinplan").strip()
+        text = " ".join(message.split())
+        where = f"{command}: " if command else ""
+        self.exit(
+            2, f"kinplan: error: {where}{text} (see kinplan {command + ' ' if command else ''}-h)\n"
+        )
 
 
 def main(argv: Sequence[str] | None = None) -> int:

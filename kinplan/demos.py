@@ -52,6 +52,8 @@ __all__ = ["DEMOS", "DemoResult", "demo_program", "lecture", "rounded_rectangle"
 
 MAX_DT = 0.1
 """Coarsest sampling period of the demos [s] (their moves last a few seconds)."""
+MIN_DT = 1e-4
+"""Finest sampling period of the demos [s]."""
 DEMO_PROGRAMS = "demo_programs"
 """Folder of the demo programs inside the ``kinplan`` package (package data, so they are there
 in an installed wheel too; ``examples/programs/`` holds the same files for users to read)."""
@@ -136,7 +138,7 @@ def lecture(
         out_dir: Folder for the plots and the playback (created).
         html: The HTML playback of the three strategies, one after another (default
             ``out_dir/lecture.html``).
-        dt: Sampling period [s], at most :data:`MAX_DT` (default 0.005).
+        dt: Sampling period [s], :data:`MIN_DT` to :data:`MAX_DT` (default 0.005).
         progress: Called with a short text as each step starts (e.g. ``print``).
 
     Returns:
@@ -144,12 +146,12 @@ def lecture(
         short-forearm failure is the expected outcome).
 
     Raises:
-        InputError: ``dt`` not a number in (0, :data:`MAX_DT`] s, ``out_dir`` or ``html`` not
-            a path, ``progress`` not callable.
+        InputError: ``dt`` not a number in [:data:`MIN_DT`, :data:`MAX_DT`] s, ``out_dir``
+            or ``html`` not a path, ``progress`` not callable.
     """
     began = time.perf_counter()
     say = progress or (lambda text: None)
-    dt = 0.005 if dt is None else checks.number(dt, "dt", positive=True, maximum=MAX_DT, unit="s")
+    dt = 0.005 if dt is None else checks.number(dt, "dt", minimum=MIN_DT, maximum=MAX_DT, unit="s")
     out = Path(checks.file_path(out_dir, "out_dir (a folder)"))
     html = None if html is None else checks.file_path(html, "html (the playback file)")
     if progress is not None and not callable(progress):
@@ -433,7 +435,7 @@ def weld(
     Args:
         out_dir: Output folder (created).
         html: HTML playback file (default ``out_dir/weld.html``).
-        dt: Sampling period [s], at most :data:`MAX_DT` (default 0.01).
+        dt: Sampling period [s], :data:`MIN_DT` to :data:`MAX_DT` (default 0.01).
         progress: Called with a short text as each step starts (e.g. ``print``).
 
     Returns:
@@ -441,14 +443,14 @@ def weld(
         the two failing programs failed as expected).
 
     Raises:
-        InputError: ``dt`` not a number in (0, :data:`MAX_DT`] s, ``out_dir`` or ``html`` not
-            a path, ``progress`` not callable.
+        InputError: ``dt`` not a number in [:data:`MIN_DT`, :data:`MAX_DT`] s, ``out_dir``
+            or ``html`` not a path, ``progress`` not callable.
     """
     from kinplan import viewer
 
     began = time.perf_counter()
     say = progress or (lambda text: None)
-    dt = 0.01 if dt is None else checks.number(dt, "dt", positive=True, maximum=MAX_DT, unit="s")
+    dt = 0.01 if dt is None else checks.number(dt, "dt", minimum=MIN_DT, maximum=MAX_DT, unit="s")
     out = Path(checks.file_path(out_dir, "out_dir (a folder)"))
     html = None if html is None else checks.file_path(html, "html (the playback file)")
     if progress is not None and not callable(progress):

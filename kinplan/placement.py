@@ -183,13 +183,13 @@ def _axis(values: Sequence[float] | None, default: float, step: float, what: str
         return given
     if given.size != 2 or given[1] < given[0]:
         raise InputError(f"{what} must be one value or a range START STOP with STOP ≥ START")
-    steps = math.floor((given[1] - given[0]) / step + 1e-9)  # may be inf
+    steps = (given[1] - given[0]) / step + 1e-9  # may be inf
     if not steps < MAX_CANDIDATES:
         raise InputError(
             f"{what}: {given[0]:g} to {given[1]:g} in steps of {step:g} would be more than "
             f"{MAX_CANDIDATES} values; use a larger step or a shorter range"
         )
-    count = int(steps) + 1
+    count = math.floor(steps) + 1
     return np.round(given[0] + step * np.arange(count), 9)  # 0.1, not 0.10000000000000003
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 import contextlib
 import io
 import math
+import re
 import sys
 import warnings
 from pathlib import Path
@@ -308,3 +309,124 @@ def test_soak_cli_run(workdir, content):
 
 if __name__ == "__main__":  # a quick manual run: python tests/test_fuzz_cli.py
     sys.exit(pytest.main([__file__, "-q"]))
+
+
+# ----------------------------------------------------------------------------------------------
+# Command lines (issue 26): every command given malformed and extreme arguments
+# ----------------------------------------------------------------------------------------------
+
+LECTURE = str(EXAMPLES / "lecture_2r.yaml")
+#: Command lines with one value marked ``{}``: each is run with every token of TOKENS there.
+TEMPLATES = [
+    ["info", "{}"],
+    ["info", "ur5", "--lock", "{}"],
+    ["info", "ur5", "--lock", "elbow_joint={}"],
+    ["info", "ur5", "--tip", "{}"],
+    ["fk", "ur5", "--q", "{}", "0", "0", "0", "0", "0"],
+    ["fk", "planar_2r", "--q", "{}", "{}", "--deg"],
+    ["ik", "ur5", "--xyz", "{}", "0", "0.3"],
+    ["ik", "ur5", "--xyz", "0.4", "0", "0.3", "--rpy-deg", "180", "{}", "0"],
+    ["ik", "ur5", "--xyz", "0.4", "0", "0.3", "--quat-xyzw", "{}", "0", "0", "1"],
+    ["ik", "ur5", "--xyz", "0.4", "0", "0.3", "--seed", "{}", "0", "0", "0", "0", "0"],
+    ["run", LECTURE, "--dt", "{}"],
+    ["run", "{}"],
+    ["run", LECTURE, "--jobs", "{}"],
+    ["run", LECTURE, "--servo-period", "{}", "--trajectory", "{out}/t.json"],
+    ["run", LECTURE, "--plot", "{out}/{}"],
+    ["reach", "planar_2r", "-o", "{out}/m.npz", "--resolution", "{}"],
+    ["reach", "ur5", "-o", "{out}/m.npz", "--resolution", "0.5", "--orientations", "{}"],
+    ["reach", "ur5", "-o", "{out}/m.npz", "--resolution", "0.5", "--direction", "0", "0", "{}",
+     "--cone-deg", "20"],
+    ["reach", "ur5", "-o", "{out}/m.npz", "--resolution", "0.5", "--region", "0", "{}", "0", "1",
+     "0", "1"],
+    ["reach", "ur5", "-o", "{out}/m.npz", "--resolution", "{}", "--jobs", "{}"],
+    ["place", LECTURE, "--x", "0", "{}", "--y", "0", "-o", "{out}/b.yaml"],
+    ["place", LECTURE, "--x", "0", "--y", "0", "--step", "{}", "--yaw-deg", "0", "90",
+     "-o", "{out}/b.yaml"],
+    ["place", LECTURE, "--x", "0", "--y", "0", "--top", "{}", "--dt", "{}", "-o", "{out}/b.yaml"],
+    ["demo", "lecture", "--dt", "{}"],
+    ["demo", "{}"],
+    ["teach", "ur5", "--start", "{}"],
+    ["{}"],
+]  # fmt: skip
+#: Values that break naive parsing: non-finite, signs, tiny, huge, empty, words, digit strings.
+TOKENS = [
+    "nan", "inf", "-inf", "-1", "0", "1e-300", "1e308", "1e400", "", "abc", "-", "1e9",
+    "999999999999999999999", "0x10", "=", "/nonexistent/file.yaml",
+]  # fmt: skip
+
+
+def _command(template: list[str], token: str, out: Path) -> list[str]:
+    return [part.replace("{out}", str(out)).replace("{}", token) for part in template]
+
+
+def _run_command(argv: list[str]) -> None:
+    """``kinplan ARGV``: 0 (its stderr lines only notes and warnings), or exactly one
+    ``kinplan: error: ...`` line with exit 1 (a failure) or 2 (a malformed command line); never
+    argparse's usage block, a traceback, an internal error or a Python name."""
+    out, err = io.StringIO(), io.StringIO()
+    with warnings.catch_warnings(record=True):
+        warnings.simplefilter("always")
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            code = main(argv)
+    text = err.getvalue()
+    lines = text.splitlines()
+    assert "Traceback" not in text + out.getvalue(), (argv, text)
+    if code == 0:
+        assert all(line.startswith(("note: ", "kinplan: warning: ")) for line in lines), text
+        return
+    assert code in (1, 2), (argv, code, text)
+    assert len(lines) == 1 and lines[0].startswith("kinplan: error: "), (argv, text)
+    assert "internal error" not in text and "usage:" not in text, (argv, text)
+    assert not re.search(r"invalid _?\w+ value|_positive|_number|_whole", text), (argv, text)
+
+
+def _quick(index: int) -> bool:
+    """The command lines make test runs: a quarter of the grid, every template and token."""
+    return index % 4 == 0
+
+
+GRID = [(t, token) for t in TEMPLATES for token in TOKENS]
+
+
+@pytest.mark.parametrize(
+    ("template", "token"), [case for k, case in enumerate(GRID) if _quick(k)], ids=str
+)
+def test_malformed_command_lines_are_one_error_line(tmp_path, monkeypatch, template, token):
+    monkeypatch.setattr(sys, "stdin", io.StringIO(""))  # teach: no session
+    _run_command(_command(template, token, tmp_path))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("template", "token"), [case for k, case in enumerate(GRID) if not _quick(k)], ids=str
+)
+def test_soak_malformed_command_lines(tmp_path, monkeypatch, template, token):
+    monkeypatch.setattr(sys, "stdin", io.StringIO(""))
+    _run_command(_command(template, token, tmp_path))
+
+
+@pytest.mark.parametrize(
+    ("argv", "fragment"),
+    [
+        (["run", LECTURE, "--dt", "x"], "run: argument --dt: expected a number, got 'x'"),
+        (["run", LECTURE, "--dt", "0"], "run: argument --dt: expected a number > 0, got '0'"),
+        (["fk", "ur5"], "fk: the following arguments are required: --q"),
+        (["info"], "info: the following arguments are required: ROBOT"),
+        (["demo", "nope"], "demo: argument name: invalid choice: 'nope'"),
+        (["place", LECTURE, "--x", "0", "--y", "0", "--top", "0", "-o", "b.yaml"],
+         "place: argument --top: expected a whole number of placements ≥ 1, got '0'"),
+        (["reach", "ur5", "-o", "m.npz", "--orientations", "1.5"],
+         "reach: argument --orientations: expected a whole number of orientations ≥ 1"),
+        (["reach", "ur5", "-o", "m.npz", "--resolution", "1e-5"],
+         "use a resolution of at least"),
+        (["place", LECTURE, "--x", "0", "1e308", "--y", "0", "-o", "b.yaml"],
+         "would be more than 100000 values; use a larger step"),
+    ],
+)  # fmt: skip
+def test_usage_errors_say_what_was_wrong(argv, fragment):
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        code = main(argv)
+    assert code in (1, 2)
+    assert err.getvalue().count("\n") == 1 and fragment in err.getvalue(), err.getvalue()
