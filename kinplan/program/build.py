@@ -52,9 +52,11 @@ SeamPiece: TypeAlias = tuple[str, Goal, Goal | None]
 """One piece of a seam: (``"lin"``, goal, None) or (``"circ"``, goal, via)."""
 
 
-TORCH_START_TOLERANCE = 1e-6
-"""Largest angle between the tool and a torch seam's start orientation [rad] (the seam's first
-configuration must then join the current one within :data:`JOIN_TOLERANCE`)."""
+TORCH_START_TOLERANCE = 1e-5
+"""Largest angle between the tool and a torch seam's start orientation [rad]: an approach
+orientation typed to 2 decimals of a degree (1e-4 rad off) is refused with the 6-decimal one
+that joins; below it, the seam's first configuration must still join the current one within
+:data:`JOIN_TOLERANCE` (else a ``jump`` that says the start pose is not quite reached)."""
 SMALL_GAP = 1e-2
 """A join gap below this [rad] is a start pose not quite reached, not another branch."""
 
@@ -609,7 +611,7 @@ class MotionBuilder:
         self, path: cartesian.Path, kind: str, label: str, key: str | None
     ) -> None:
         """Refuse a torch seam whose start orientation is not the tool's (within
-        :data:`TORCH_START_TOLERANCE`, as tight as the joint join check the seam then meets),
+        :data:`TORCH_START_TOLERANCE`),
         printing the orientation with the digits that make pasting it work."""
         turn = _start_turn(path, self.tool_pose(), False)
         if turn > TORCH_START_TOLERANCE:
