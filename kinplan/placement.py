@@ -183,7 +183,7 @@ def _axis(values: Sequence[float] | None, default: float, step: float, what: str
         return given
     if given.size != 2 or given[1] < given[0]:
         raise InputError(f"{what} must be one value or a range START STOP with STOP ≥ START")
-    steps = (given[1] - given[0]) / step + 1e-9  # may be inf
+    steps = (float(given[1]) - float(given[0])) / step + 1e-9  # may be inf
     if not steps < MAX_CANDIDATES:
         raise InputError(
             f"{what}: {given[0]:g} to {given[1]:g} in steps of {step:g} would be more than "

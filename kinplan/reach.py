@@ -482,12 +482,12 @@ def _grid(robot, resolution: float, region, per_voxel: int = 1) -> tuple[np.ndar
             return np.array([2.0 * half + 1.0] * (2 if planar else 3) + [1.0] * planar)
 
     counts = sizes(resolution)
-    voxels = float(np.prod(counts))
+    voxels = math.prod(counts.tolist())
     most = min(MAX_VOXELS, MAX_POSES // per_voxel)
     if not voxels <= most:
         fitting = resolution
-        while not float(np.prod(sizes(fitting))) <= most:
-            ratio = float(np.prod(sizes(fitting))) / most
+        while not math.prod(sizes(fitting).tolist()) <= most:
+            ratio = math.prod(sizes(fitting).tolist()) / most
             fitting *= (
                 min(max(1.01, ratio ** (1.0 / 3.0)), 1e100) if math.isfinite(ratio) else (1e100)
             )

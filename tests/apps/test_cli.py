@@ -388,3 +388,62 @@ def test_numeric_warnings_stay_off_the_terminal(capfd, tmp_path):
     _, err = capfd.readouterr()
     assert code == 1
     assert_one_line_error(err, "points.b.xyz (line 5): expected numbers within ±1e+06")
+
+
+# ----------------------------------------------------------------------------------------------
+# info: units of prismatic joints and acceleration limits (issue 26)
+# ----------------------------------------------------------------------------------------------
+
+
+def test_info_says_accelerations_are_not_limited(capsys):
+    code, out, _ = run(capsys, "info", "ur5")
+    assert code == 0
+    assert "accelerations: not limited (the URDF declares none" in out
+    assert "acceleration [" not in out  # no column of "none"
+
+
+def test_info_names_the_joints_without_acceleration_limits(capsys, tmp_path):
+    text = (REPOSITORY / "tests" / "urdf" / "prismatic_gantry.urdf").read_text()
+    first = text.index('velocity="', text.index('<joint name="rail"'))
+    edited = text[:first] + 'drake:acceleration="2.0" ' + text[first:]  # Drake's key
+    (tmp_path / "gantry.urdf").write_text(edited)
+    code, out, _ = run(capsys, "info", str(tmp_path / "gantry.urdf"))
+    assert code == 0
+    line = next(line for line in out.splitlines() if line.startswith("accelerations:"))
+    assert "not limited on lift, shoulder" in line and "rail" not in line
+
+
+def test_info_prints_metres_for_prismatic_joints(capsys):
+    code, out, _ = run(capsys, "info", str(REPOSITORY / "tests" / "urdf" / "prismatic_gantry.urdf"))
+    assert code == 0
+    rail = next(line for line in out.splitlines() if " rail " in line)
+    assert "-0.500 m" in rail and "0.500 m/s" in rail and "deg" not in rail
+    shoulder = next(line for line in out.splitlines() if " shoulder " in line)
+    assert "-180.0 deg" in shoulder and "rad/s" in shoulder
+    assert "[rad or m]" not in out
+
+
+def test_info_prints_the_unit_of_a_locked_prismatic_joint(capsys):
+    from kinplan.sources import example_robot_data_dir
+
+    tiago = example_robot_data_dir() / "example-robot-data/robots/tiago_description/robots"
+    code, out, _ = run(
+        capsys, "info", str(tiago / "tiago.urdf"), "--tip", "arm_tool_link",
+        "--lock", "torso_lift_joint=0.15",
+    )  # fmt: skip
+    assert code == 0
+    assert "locked joint (not in q): torso_lift_joint = 0.15 m" in out
+    assert "[rad or m]" not in out
+
+
+def test_ik_options_have_help(capsys):
+    assert main(["ik", "--help"]) == 0
+    out = capsys.readouterr().out
+    for option, words in (
+        ("--xyz", "tool position [m]"),
+        ("--rpy-deg", "roll, pitch, yaw [deg]"),
+        ("--quat-xyzw", "quaternion x y z w"),
+        ("--seed", "start configuration"),
+        ("--position-only", "ignore the orientation"),
+    ):
+        assert option in out and words in " ".join(out.split()), option
