@@ -244,7 +244,7 @@ def check_limits(
         first[quantity] = min(first.get(quantity, math.inf), float(beyond.min()))
         k, j = divmod(int(np.argmax(ratio)), ratio.shape[1])
         if ratio[k, j] > worst.get(quantity, (0.0,))[0]:
-            limit = bound[j] if np.ndim(bound) == 1 else bound[k, j]
+            limit = float(bound[j] if np.ndim(bound) == 1 else bound[k, j])
             worst[quantity] = (float(ratio[k, j]), j, float(times[k]), float(values[k, j]), limit)
 
     for times, position, velocity, acceleration in _continuous(plan, t, q, qd, qdd, between):
@@ -265,8 +265,8 @@ def check_limits(
                     keep(quantity, ratio, times, values, limit)
     for quantity in ("position", "velocity", "acceleration"):
         if quantity in worst:
-            ratio, j, when, value, limit = worst[quantity]
-            raise _violation(plan, what, quantity, j, when, value, limit, ratio, first[quantity])
+            peak, j, when, value, edge = worst[quantity]
+            raise _violation(plan, what, quantity, j, when, value, edge, peak, first[quantity])
 
 
 def _continuous(
