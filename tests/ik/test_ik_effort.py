@@ -66,7 +66,8 @@ def test_counts_within_the_bounds_work_and_finish(kinova):
     started = time.perf_counter()
     result = kinova.ik(UNREACHABLE, max_iterations=1000, max_restarts=40)
     assert not result.success
-    middle = np.where(np.isfinite(kinova.lower), 0.5 * (kinova.lower + kinova.upper), 0.3)
+    low, high = numeric.finite_bounds(kinova.lower, kinova.upper)
+    middle = np.where(np.isfinite(kinova.lower), 0.5 * (low + high), 0.3)
     target, seed = kinova.fk(middle), middle + 0.05
     assert kinova.ik(target, seed, max_iterations=numeric.MAX_ITERATIONS, max_restarts=0).success
     q, ok = kinova.ik_batch(UNREACHABLE[None, :], max_iterations=1000, max_restarts=40)
