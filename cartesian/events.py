@@ -8,6 +8,7 @@ facts every event states: a position, a joint's unit, why a point is out of reac
 from __future__ import annotations
 
 import enum
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -27,6 +28,7 @@ class Status(str, enum.Enum):
     JUMP = "jump"
     ACCELERATION_LIMIT = "acceleration_limit"
     COLLISION = "collision"
+    SAMPLING = "sampling"  # the sampling period cannot represent the motion
 
     def __str__(self) -> str:
         return self.value
@@ -37,8 +39,10 @@ class Event:
     """Why a plan stopped.
 
     Attributes:
-        kind: "unreachable", "joint_limit", "jump", "singular", "velocity_limit" or
-            "acceleration_limit" or "collision" (a :class:`Status`).
+        kind: "unreachable", "joint_limit", "jump", "singular", "velocity_limit",
+            "acceleration_limit", "collision" or "sampling" (the samples are within every
+            limit, but the sampling period cannot represent the motion between them: the
+            interpolant leaves the path or a limit) (a :class:`Status`).
         t: Time of the offending sample [s] (0 for a geometric check).
         s: Path fraction of the offending sample [-].
         index: Index of the offending sample.
@@ -95,3 +99,25 @@ def joint_units(robot: Robot) -> list[str]:
 def where(position: np.ndarray) -> str:
     """A position [m] as text: "(x, y, z) m" to 0.1 mm."""
     return "(" + ", ".join(f"{x:.4f}" for x in position) + ") m"
+
+
+def round_down(value: float, digits: int = 3) -> str:
+    """``value`` > 0 to ``digits`` significant digits, rounded down (a speed the caller must
+    stay below)."""
+    if not (math.isfinite(value) and value > 0):
+        return f"{value:g}"
+    exponent = math.floor(math.log10(value)) - digits + 1
+    step = 10.0**exponent
+    rounded = math.floor(value / step * (1 + 1e-12)) * step
+    return f"{rounded:.{max(0, -exponent)}f}" if exponent < 0 else f"{rounded:.0f}"
+
+
+def round_up(value: float, digits: int = 3) -> str:
+    """``value`` to ``digits`` significant digits, rounded up (a factor the caller must reach
+    at least: the printed value, applied literally, is enough)."""
+    if not (math.isfinite(value) and value > 0):
+        return f"{value:g}"
+    exponent = math.floor(math.log10(value)) - digits + 1
+    step = 10.0**exponent
+    rounded = math.ceil(value / step * (1 - 1e-12)) * step
+    return f"{rounded:.{max(0, -exponent)}f}" if exponent < 0 else f"{rounded:.0f}"

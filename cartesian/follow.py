@@ -15,16 +15,19 @@ every other path, and every one that comes near a flag, goes through the per-sam
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import dataclasses
+import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import pinocchio as pin
 
 from cartesian import batch_track, lean_track
-from cartesian.events import Event, Status, where
+from cartesian.events import Event, Status, round_down, round_up, where
 from cartesian.geometry import trace_between, trace_geometry
 from cartesian.paths import Path
-from cartesian.retime import grid_points, optimal_speeds, timing_from_speeds
+from cartesian.retime import grid_points, optimal_speeds, path_feature, timing_from_speeds
 from cartesian.timing import PathTiming, time_path
 from cartesian.tracker import (
     SINGULAR_FRACTION,
@@ -39,7 +42,7 @@ from kinplan.cell import MotionCheck, WorkCell
 from kinplan.errors import InputError
 from kinplan.motion import MotionKind, MoveSpan, PlannedPath, no_waypoints
 from kinplan.robot import Robot
-from kinplan.sampling import joint_speeds
+from kinplan.sampling import MIN_INTERVALS, hermite_between, joint_speeds
 from kinplan.trajectory import Waypoints
 
 
@@ -75,6 +78,22 @@ class CartesianPlan:
             obstacles over the samples achieved [m] (inf without a cell or obstacles).
         min_self_clearance: Smallest distance between the robot's own checked link pairs [m]
             (inf without a cell).
+        peak_acceleration_ratio: Largest joint acceleration over its limit, where limited, at
+            the samples and between them (0 where no joint is limited).
+        max_interpolation_deviation: Largest tool distance from the path between the samples
+            returned, of the motion a controller runs between them (the quintic Hermite
+            interpolant through (q, q̇, q̈) at the samples, :func:`kinplan.sampling.
+            hermite_between`) [m]; checked against ``interpolation_tolerance``.
+        interpolation_tolerance: The tolerance of that deviation [m] the plan was checked with.
+        slowdown: For a plan stopped by a speed or acceleration limit: a factor by which the
+            law was slowed down and then planned without breaking those limits (the factor its
+            remedy names), or None when none was found.
+        accelerations_limited: Whether every joint's acceleration was limited (declared by the
+            robot or given as ``max_acceleration``); when not, the plan's accelerations were
+            not checked for those joints.
+        check_step: The largest step of the grid every check ran on [s]: the caller's ``dt``,
+            or a fraction of it for a motion shorter than 16 periods (the samples returned are
+            always the caller's grid).
     """
 
     t: np.ndarray
@@ -99,6 +118,12 @@ class CartesianPlan:
     peak_speed_ratio: float = 0.0
     min_clearance: float = np.inf
     min_self_clearance: float = np.inf
+    peak_acceleration_ratio: float = 0.0
+    max_interpolation_deviation: float = 0.0
+    interpolation_tolerance: float = 0.0
+    check_step: float = 0.0
+    accelerations_limited: bool = True
+    slowdown: float | None = None
     robot: Robot | None = None  # the robot it was planned for
     cell: WorkCell | None = None  # the work cell it was checked against (issue 16)
     cell_check: MotionCheck | None = None  # that check: pairs, per-sample distances
@@ -137,9 +162,16 @@ class CartesianPlan:
         return text + (f": {self.events[0].message})" if self.events else ")")
 
     def summary(self) -> str:
-        """One line: status, and the first event's message when there is one."""
+        """One line: status, and the first event's message when there is one; an ok plan
+        says when joint accelerations were not limited (no limit declared or given)."""
         if self.ok:
-            return f"ok: {len(self.t)} samples, {self.duration:.3f} s"
+            text = f"ok: {len(self.t)} samples, {self.duration:.3f} s"
+            if not self.accelerations_limited:
+                text += (
+                    "; joint accelerations not limited (the robot declares no acceleration "
+                    "limit for some joints: give max_acceleration=)"
+                )
+            return text
         return f"{self.status} at s = {self.events[0].s:.3f}: {self.events[0].message}"
 
 
@@ -164,6 +196,7 @@ def follow(
     max_acceleration: float | np.ndarray | None = None,
     cell: WorkCell | None = None,
     clearance: float | None = None,
+    interpolation_tolerance: float = 1e-4,
 ) -> CartesianPlan:
     """Plan the tool along ``path``: timed, IK at every sample, monitored.
 
@@ -173,7 +206,12 @@ def follow(
         duration: Motion duration [s]; or
         speed: Tool cruise speed [m/s].
         profile: 1-D time law: "trapezoid" (default), "quintic" or "cubic".
-        dt: Sampling period [s]; samples at 0, dt, ..., the last exactly at the end.
+        dt: Sampling period [s]; the samples returned are at 0, dt, ..., the last exactly at
+            the end (the caller's grid, whatever the motion). A motion shorter than 16 periods
+            is checked on a finer grid; between the samples the motion a controller runs (the
+            quintic Hermite interpolant through q, q̇, q̈) is checked too: when the period
+            cannot represent the motion (a weave faster than the sampling, a corner), the plan
+            is refused as "sampling" with the largest period that works in its remedy.
         q_seed: Start configuration guess (the IK of the path start stays on its branch).
         position_only: Ignore the tool orientation; default: when the arm has fewer than 6
             joints. On an arm with 6 or more joints a path built from 3-vectors keeps the tool
@@ -203,6 +241,11 @@ def follow(
             cell's obstacles: a robot–obstacle distance below it is a "collision" too. The
             robot's own link pairs fail only on contact (neighbouring links of real arms sit
             millimetres apart all the time).
+        interpolation_tolerance: Largest tool distance [m] from where the path has it at the
+            same time, allowed between the samples for the interpolant through them (default
+            0.1 mm), or 1 % of the tool's travel between the two samples when that is more (a
+            coarse grid asks for a coarse motion); a rotation counts as the displacement it
+            causes 0.1 m from the tool frame.
 
     Returns:
         CartesianPlan; an event stops it at the first offending sample.
@@ -247,47 +290,484 @@ def follow(
         velocity_scale, jump_tolerance, accel_limit,
     )  # fmt: skip
     tracker.cell, tracker.clearance = cell, clearance
-    timing = time_path(path.length, duration, speed, acceleration, profile, dt)
-    if retime:
-        return _retimed_plan(tracker, path, timing, seed, dt)
-    plan = _track(tracker, path, timing, seed)
-    if plan.status in (Status.VELOCITY_LIMIT, Status.ACCELERATION_LIMIT):
+    interpolation_tolerance = checks.number(
+        interpolation_tolerance, "interpolation_tolerance", positive=True, unit="m"
+    )
+    if interpolation_tolerance < tolerance:
+        raise InputError(
+            f"interpolation_tolerance ({interpolation_tolerance:g} m) must be at least the "
+            f"tolerance of the samples ({tolerance:g} m): between samples the tool cannot be "
+            "closer to the path than at them"
+        )
+
+    def plan_at(
+        step: float, law: tuple[float | None, float | None, float | None] | None = None
+    ) -> CartesianPlan:
+        """The plan at sampling period ``step``, with the law's (duration, speed, acceleration)
+        (default the caller's)."""
+        length_law = (duration, speed, acceleration) if law is None else law
+        timing = time_path(path.length, *length_law, profile, step)
+        if retime:
+            plan = _retimed_plan(tracker, path, timing, seed, step, interpolation_tolerance)
+        else:
+            plan = _planned(tracker, path, timing, seed, interpolation_tolerance)
+        plan.accelerations_limited = bool(np.isfinite(accel_limit).all())
+        return plan
+
+    plan = plan_at(dt)
+    if plan.status == Status.SAMPLING:
+        _offer_finer_sampling(plan, dt, plan_at)
+    elif not retime and plan.status in (Status.VELOCITY_LIMIT, Status.ACCELERATION_LIMIT):
+        _offer_slower(plan, lambda law: plan_at(dt, law), (duration, speed, acceleration))
         # offer retiming only when it would pass: try it
-        retimed = _retimed_plan(tracker, path, timing, seed, dt)
+        timing = time_path(path.length, duration, speed, acceleration, profile, dt)
+        retimed = _retimed_plan(tracker, path, timing, seed, dt, interpolation_tolerance)
         if retimed.ok:
             plan.retime_duration = retimed.duration
             plan.events[0].remedy += (
-                f", or retime (retime=True: the exact path in {retimed.duration:.3f} s instead "
-                f"of {plan.duration:.3f} s)"
+                f", or retime (retime=True: the exact path in {retimed.duration:.4g} s instead "
+                f"of {plan.duration:.4g} s)"
             )
     return plan
 
 
+#: How many slower laws :func:`follow` plans to find one that a speed refusal can offer.
+SLOWER_ATTEMPTS = 4
+
+LengthLaw = tuple[float | None, float | None, float | None]
+
+
+def _offer_slower(
+    plan: CartesianPlan, plan_with: Callable[[LengthLaw], CartesianPlan], law: LengthLaw
+) -> None:
+    """Complete the remedy of a "velocity_limit" or "acceleration_limit" refusal with a slower
+    law that was planned and passes these limits (or fails for another reason): the factor, and
+    the duration or speed (and acceleration) to give, rounded so that pasting them works.
+    Sets :attr:`CartesianPlan.slowdown`."""
+    duration, speed, acceleration = law
+    event = plan.events[0]
+    accel = plan.status == Status.ACCELERATION_LIMIT
+    ratio = abs(event.value or 0.0) / abs(event.limit or 1.0)
+    factor = max(plan.peak_speed_ratio, math.sqrt(ratio) if accel else ratio, 1.0 + 1e-3)
+    for _ in range(SLOWER_ATTEMPTS):
+        text = round_up(factor)
+        factor = float(text)
+        if duration is not None:
+            slower: LengthLaw = (float(round_up(duration * factor, 4)), None, None)
+            if acceleration is not None:
+                slower = (slower[0], None, float(round_down(acceleration / factor**2, 4)))
+        else:
+            assert speed is not None  # a law has a duration or a speed
+            slower = (None, float(round_down(speed / factor, 4)), None)
+            if acceleration is not None:
+                slower = (None, slower[1], float(round_down(acceleration / factor**2, 4)))
+        trial = plan_with(slower)
+        if trial.status not in (Status.VELOCITY_LIMIT, Status.ACCELERATION_LIMIT):
+            names = ("duration", "speed", "acceleration")
+            given = ", ".join(f"{n}={v:g}" for n, v in zip(names, slower) if v is not None)
+            after = (
+                "" if trial.ok else f"; the motion then stops for another reason: {trial.status}"
+            )
+            event.remedy = f"slow the tool down by a factor of at least {text} ({given}{after})"
+            plan.slowdown = factor
+            return
+        trial_event = trial.events[0]
+        excess = abs(trial_event.value or 0.0) / abs(trial_event.limit or 1.0)
+        if trial.status == Status.ACCELERATION_LIMIT:
+            excess = math.sqrt(excess)
+        factor *= max(excess, 1.0 + 1e-3)
+
+
+#: Finest sampling period :func:`follow` tries when the caller's cannot represent the motion,
+#: as a fraction of it.
+FINEST_TRIED = 1e-3
+
+
+def finer_periods(dt: float) -> list[float]:
+    """Sampling periods below ``dt`` [s] a refusal may offer: 5, 2, 1 × a power of ten (exact
+    decimals, so that the value printed is the value tried), down to ``dt`` · FINEST_TRIED."""
+    top = math.floor(math.log10(dt)) + 1
+    periods = [
+        float(f"{mantissa}e{exponent}")
+        for exponent in range(top, top - 6, -1)
+        for mantissa in (5, 2, 1)
+    ]
+    return [p for p in periods if FINEST_TRIED * dt <= p < dt * (1 - 1e-9)]
+
+
+def _offer_finer_sampling(
+    plan: CartesianPlan, dt: float, plan_at: Callable[[float], CartesianPlan]
+) -> None:
+    """Complete the remedy of a "sampling" refusal with the largest period that represents the
+    motion, found by planning at it: the value printed is the one that was tried."""
+    event = plan.events[0]
+    for period in finer_periods(dt):
+        trial = plan_at(period)
+        if trial.status != Status.SAMPLING:
+            after = (
+                "" if trial.ok else f" (the motion then stops for another reason: {trial.status})"
+            )
+            event.remedy = f"sample more finely: dt = {period:g} s represents the motion{after}"
+            return
+    event.remedy = (
+        f"no sampling period down to {FINEST_TRIED * dt:g} s represents the motion: slow it "
+        "down, or smooth the path (rounded corners, a longer weave wavelength)"
+    )
+
+
+def _planned(
+    tracker: Tracker,
+    path: Path,
+    timing: PathTiming,
+    seed: np.ndarray,
+    interpolation_tolerance: float,
+) -> CartesianPlan:
+    """The plan on the caller's grid ``timing.t``: tracked and monitored on a check grid (the
+    caller's, or finer for a short motion: :func:`check_parts`), then checked between the
+    samples returned (:func:`_between_samples`)."""
+    parts = check_parts(timing)
+    fine = _track(tracker, path, timing.refined(parts), seed)
+    plan = _on_caller_grid(fine, parts)
+    plan.check_step = float(np.diff(timing.t).max(initial=0.0)) / parts
+    plan.interpolation_tolerance = interpolation_tolerance
+    if plan.ok:
+        if np.isfinite(tracker.acceleration_limit).any() and plan.max_deviation > POLISHED:
+            _polish(tracker, plan)
+        _between_samples(tracker, plan, timing)
+    return plan
+
+
+#: Tool error [m] below which samples are exact enough for the interpolant's accelerations.
+POLISHED = 1e-11
+
+
+def _polish(tracker: Tracker, plan: CartesianPlan) -> None:
+    """Newton steps at every sample down to the last digits: the interpolant's acceleration
+    between samples amplifies the samples' position errors by ~60 / Δt² (1e-7 m at 1 kHz:
+    several rad/s²), so a plan whose accelerations are checked between samples is solved to
+    rounding first (the tool position moves by less than the tolerance it already met)."""
+    targets = path_targets(plan.path, plan.s, tracker.position_only, tracker.rows)
+    rotations = targets.rotations
+    for k, q in enumerate(plan.q):
+        rotation = None if rotations is None else rotations[k]
+        solved = tracker.solver.descend(
+            q, targets.positions[k], rotation, 1e-14, 1e-14, 3, clamp=False
+        )
+        plan.q[k] = solved[0]
+    plan.tool_positions = tracker.robot.tool_positions(plan.q)
+    plan.max_deviation = min(
+        plan.max_deviation,
+        float(np.linalg.norm(plan.tool_positions - targets.positions, axis=1).max()),
+    )
+
+
+def check_parts(timing: PathTiming) -> int:
+    """Into how many parts every interval of the caller's grid is split for the checks: 1,
+    or enough that the motion has :data:`~kinplan.sampling.MIN_INTERVALS` check intervals
+    (a 1 ms move is not checked at its two resting ends only)."""
+    intervals = len(timing.t) - 1
+    if intervals < 1:
+        return 1
+    return max(1, math.ceil(MIN_INTERVALS / intervals))
+
+
+def _on_caller_grid(fine: CartesianPlan, parts: int) -> CartesianPlan:
+    """The plan ``fine`` (tracked on a grid splitting every caller interval into ``parts``) on
+    the caller's grid: every ``parts``-th sample; an event's index is the first caller sample
+    at or after it; the extremes (deviation, manipulability, speeds, clearances) stay those of
+    the check grid."""
+    if parts == 1:
+        return fine
+    done = len(fine.t)
+    keep = np.arange(math.ceil(done / parts)) * parts
+    for event in fine.events:
+        event.index = math.ceil(event.index / parts)
+    check = fine.cell_check
+    if check is not None:
+        check = dataclasses.replace(
+            check,
+            index=None if check.index is None else math.ceil(check.index / parts),
+            distances=check.distances[keep],
+            obstacle_distances=check.obstacle_distances[keep],
+            self_distances=check.self_distances[keep],
+        )
+    return dataclasses.replace(
+        fine,
+        t=fine.t[keep],
+        q=fine.q[keep],
+        qd=fine.qd[keep],
+        qdd=fine.qdd[keep],
+        s=fine.s[keep],
+        tool_positions=fine.tool_positions[keep],
+        manipulability=fine.manipulability[keep],
+        fraction=1.0 if fine.ok else (float(fine.s[keep[-1]]) if len(keep) else 0.0),
+        cell_check=check,
+    )
+
+
+#: Where, inside every interval between two samples, the interpolant is checked against the
+#: joint limits (fractions of the interval).
+LIMIT_FRACTIONS = np.arange(1, 16) / 16
+#: Of those, where its tool pose is compared with the path (one forward kinematics each).
+POSE_FRACTIONS = np.array([3, 8, 13]) - 1
+#: Largest difference between a joint's mean speed over an interval and what its rates at the
+#: ends explain, as a share of the joint's top speed in the plan (plus :data:`RATE_FLOOR`).
+RATE_CONSISTENCY = 0.05
+#: Speed [rad/s or m/s] added to a joint's top speed for :data:`RATE_CONSISTENCY` (a joint at
+#: rest is not held to a share of zero).
+RATE_FLOOR = 1e-3
+#: Lever [m] that turns the interpolation tolerance into a rotation tolerance (rad): the
+#: same displacement at a point this far from the tool frame.
+ROTATION_LEVER = 0.1
+
+
+def _between_samples(tracker: Tracker, plan: CartesianPlan, timing: PathTiming) -> None:
+    """Check the motion between the samples of an ok ``plan``: its quintic Hermite interpolant
+    (what viewers, :meth:`ProgramPlan.sample` and the exports play) within the joint limits,
+    speed limits and (where limited) acceleration limits at :data:`LIMIT_FRACTIONS` of every
+    interval, and its tool near the path at the same times at :data:`POSE_FRACTIONS`.
+
+    Where the interpolant stays on the path, it is the motion: a speed or acceleration above
+    its limit there is a "velocity_limit" or "acceleration_limit" event like one at a sample
+    (the peak fell between samples). Where it leaves the path, the period is too coarse for the
+    motion: a "sampling" event (:func:`follow` then offers a period that works). Sets
+    :attr:`CartesianPlan.max_interpolation_deviation` and raises
+    :attr:`CartesianPlan.peak_speed_ratio` to the interpolant's peak."""
+    if len(plan.t) < 2:
+        return
+    robot = tracker.robot
+    times, q, qd, qdd = hermite_between(plan.t, plan.q, plan.qd, plan.qdd, LIMIT_FRACTIONS)
+    intervals = len(plan.t) - 1
+    # the tool against the path at the same times
+    pose_times = times[:, POSE_FRACTIONS].ravel()
+    s, _, _ = timing.law(pose_times)
+    s = np.clip(s, 0.0, 1.0)
+    rows = q[:, POSE_FRACTIONS].reshape(-1, robot.nq)
+    positions, rotations = _tool_poses(robot, rows, not tracker.position_only)
+    distance = np.linalg.norm(positions - plan.path.position(s), axis=1)
+    if rotations is not None:
+        targets = plan.path.rotation(s)
+        assert targets is not None  # a pose task follows an oriented path
+        distance = np.maximum(distance, ROTATION_LEVER * _rotation_angles(rotations, targets))
+    distance = distance.reshape(intervals, len(POSE_FRACTIONS)).max(axis=1)
+    plan.max_interpolation_deviation = float(distance.max())
+    allowed = np.maximum(plan.interpolation_tolerance, CHORD_SHARE * _chords(plan))
+    off_path = distance > allowed
+
+    events: list[tuple[int, Event]] = []
+
+    def add(k: int, kind: str, what: str, value: float | None, limit: float | None,
+            joint: str | None, remedy: str) -> None:  # fmt: skip
+        if off_path[k]:
+            kind, remedy = Status.SAMPLING, "sample more finely"
+            what += (
+                f", leaving the path by {1e3 * distance[k]:.3g} mm (it may by "
+                f"{1e3 * allowed[k]:.3g} mm there: the interpolation tolerance, or "
+                f"{100 * CHORD_SHARE:g} % of the tool's travel between the samples): the "
+                "sampling period is too coarse for the motion"
+            )
+        message = (
+            f"between samples {k} and {k + 1} (t = {plan.t[k]:.4f}–{plan.t[k + 1]:.4f} s) the "
+            f"motion interpolated through the samples {what}"
+        )
+        position = plan.path.position(plan.s[k + 1 : k + 2])[0]
+        events.append((k, Event(
+            kind, float(plan.t[k + 1]), float(plan.s[k + 1]), k + 1, message, position,
+            joint, value, limit, remedy=remedy,
+        )))  # fmt: skip
+
+    below, above = (robot.lower - q) > 1e-9, (q - robot.upper) > 1e-9
+    beyond = (below | above).any(axis=2)
+    if beyond.any():
+        k, f = (int(x) for x in np.argwhere(beyond)[0])
+        j = int(np.argmax(np.maximum(robot.lower - q[k, f], q[k, f] - robot.upper)))
+        side = "lower" if below[k, f, j] else "upper"
+        bound = float(robot.lower[j] if side == "lower" else robot.upper[j])
+        add(
+            k, Status.JOINT_LIMIT, f"takes joint {robot.joint_names[j]} to "
+            f"{q[k, f, j]:.6g} {tracker.units[j]}, beyond its {side} limit {bound:.6g}",
+            float(q[k, f, j]), bound, robot.joint_names[j],
+            "keep the path away from the joint limits, or start from another configuration "
+            "(q_seed)",
+        )  # fmt: skip
+    speed = np.abs(qd) / tracker.speed_limit
+    peak = max(plan.peak_speed_ratio, float(speed.max(initial=0.0)))
+    plan.peak_speed_ratio = peak
+    fast = (speed > 1.0 + 1e-9).any(axis=2)
+    if fast.any():
+        k = int(np.argwhere(fast)[0][0])
+        j = int(np.argmax(speed[k].max(axis=0)))
+        limit = float(tracker.speed_limit[j])
+        add(
+            k, Status.VELOCITY_LIMIT, f"moves joint {robot.joint_names[j]} at "
+            f"{speed[k, :, j].max() * limit:.4g} {tracker.units[j]}/s, above its limit "
+            f"{limit:.4g} {tracker.units[j]}/s (the motion needs up to {peak:.4g}× the joint "
+            "speed limits)", float(speed[k, :, j].max() * limit), limit,
+            robot.joint_names[j], f"slow the tool down by a factor of at least "
+            f"{round_up(peak)} (a lower speed or a longer duration)",
+        )  # fmt: skip
+    limited = np.isfinite(tracker.acceleration_limit)
+    if limited.any():
+        accel = np.abs(qdd[:, :, limited]) / tracker.acceleration_limit[limited]
+        plan.peak_acceleration_ratio = max(plan.peak_acceleration_ratio, float(accel.max()))
+        hard = (accel > 1.0 + 1e-9).any(axis=2)
+        if hard.any():
+            k = int(np.argwhere(hard)[0][0])
+            j = int(np.flatnonzero(limited)[np.argmax(accel[k].max(axis=0))])
+            worst = float(accel.max())
+            plan.peak_acceleration_ratio = max(plan.peak_acceleration_ratio, worst)
+            limit = float(tracker.acceleration_limit[j])
+            value = float(np.abs(qdd[k, :, j]).max())
+            add(
+                k, Status.ACCELERATION_LIMIT, f"accelerates joint {robot.joint_names[j]} at "
+                f"{value:.4g} {tracker.units[j]}/s², above its limit {limit:.4g} "
+                f"{tracker.units[j]}/s²", value, limit,
+                robot.joint_names[j], f"slow the tool down by a factor of at least "
+                f"{round_up(math.sqrt(worst))} (a lower speed or a longer duration)",
+            )  # fmt: skip
+    # the rates at the samples explain the step between them (the mean speed over an interval
+    # is the mean of the rates, with the Hermite quadrature's correction h (q̈0 − q̈1) / 12):
+    # where they do not, the motion between the samples is not the one the rates describe
+    h = np.diff(plan.t)[:, None]
+    mean = np.diff(plan.q, axis=0) / h
+    rates = 0.5 * (plan.qd[1:] + plan.qd[:-1]) + h * (plan.qdd[:-1] - plan.qdd[1:]) / 12.0
+    scale = np.abs(plan.qd).max(axis=0) + RATE_FLOOR
+    mismatch = np.abs(mean - rates) / scale
+    unexplained = np.flatnonzero((mismatch > RATE_CONSISTENCY).any(axis=1))
+    if unexplained.size:
+        k = int(unexplained[0])
+        j = int(np.argmax(mismatch[k]))
+        events.append((k, Event(
+            Status.SAMPLING, float(plan.t[k + 1]), float(plan.s[k + 1]), k + 1,
+            f"between samples {k} and {k + 1} (t = {plan.t[k]:.4f}–{plan.t[k + 1]:.4f} s) joint "
+            f"{robot.joint_names[j]} moves at a mean {mean[k, j]:.4g} {tracker.units[j]}/s, "
+            f"which its rates at the samples ({plan.qd[k, j]:.4g}, {plan.qd[k + 1, j]:.4g}) do "
+            f"not explain (off by {100 * mismatch[k, j]:.3g} % of its top speed): the sampling "
+            "period is too coarse for the motion",
+            plan.path.position(plan.s[k + 1 : k + 2])[0], robot.joint_names[j],
+            remedy="sample more finely",
+        )))  # fmt: skip
+    off = np.flatnonzero(off_path)
+    if off.size:
+        k = int(off[0])
+        events.append((k, Event(
+            Status.SAMPLING, float(plan.t[k + 1]), float(plan.s[k + 1]), k + 1,
+            f"between samples {k} and {k + 1} (t = {plan.t[k]:.4f}–{plan.t[k + 1]:.4f} s) the "
+            f"motion interpolated through the samples leaves the path by "
+            f"{1e3 * distance[k]:.3g} mm (it may by {1e3 * allowed[k]:.3g} mm there: the "
+            f"interpolation tolerance, or {100 * CHORD_SHARE:g} % of the tool's travel between "
+            "the samples): the sampling period is too coarse for the motion",
+            plan.path.position(plan.s[k + 1 : k + 2])[0], remedy="sample more finely",
+        )))  # fmt: skip
+    if not events:
+        return
+    k, event = min(events, key=lambda item: item[0])
+    keep = k + 1
+    plan.ok, plan.status, plan.events = False, event.kind, [event]
+    plan.t, plan.q, plan.qd, plan.qdd = (
+        plan.t[:keep],
+        plan.q[:keep],
+        plan.qd[:keep],
+        plan.qdd[:keep],
+    )
+    plan.s, plan.tool_positions = plan.s[:keep], plan.tool_positions[:keep]
+    plan.manipulability = plan.manipulability[:keep]
+    plan.fraction = float(plan.s[-1])
+
+
+#: Share of the tool's travel between two samples it may leave the path by between them (a
+#: coarse grid asks for a coarse motion), when that is more than the interpolation tolerance.
+CHORD_SHARE = 0.01
+
+
+def _chords(plan: CartesianPlan) -> np.ndarray:
+    """The tool's travel [m] over each interval between samples (N−1,): the larger of the
+    straight distances of the interval and its neighbours (a sample at rest is no measure)."""
+    chord = np.linalg.norm(np.diff(plan.tool_positions, axis=0), axis=1)
+    wider = chord.copy()
+    wider[1:] = np.maximum(wider[1:], chord[:-1])
+    wider[:-1] = np.maximum(wider[:-1], chord[1:])
+    return wider
+
+
+def _tool_poses(
+    robot: Robot, rows: np.ndarray, with_rotation: bool
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """Tool positions (N, 3) [m] and, when asked, rotations (N, 3, 3) of joint ``rows``."""
+    model, data, tip = robot.model, robot.data, robot.tip_id
+    positions = np.empty((len(rows), 3))
+    rotations = np.empty((len(rows), 3, 3)) if with_rotation else None
+    for k, row in enumerate(rows):
+        pin.forwardKinematics(model, data, row)
+        placement = pin.updateFramePlacement(model, data, tip)
+        positions[k] = placement.translation
+        if rotations is not None:
+            rotations[k] = placement.rotation
+    return positions, rotations
+
+
+def _rotation_angles(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Angles [rad] of the rotations a_k b_kᵀ (N,), from their traces (to ~1e-8 rad)."""
+    cosine = 0.5 * (np.einsum("kij,kij->k", a, b) - 1.0)
+    return np.arccos(np.clip(cosine, -1.0, 1.0))
+
+
 def _retimed_plan(
-    tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray, dt: float
+    tracker: Tracker,
+    path: Path,
+    timing: PathTiming,
+    seed: np.ndarray,
+    dt: float,
+    interpolation_tolerance: float,
 ) -> CartesianPlan:
     """The plan of ``path`` with its time-optimal law (:mod:`cartesian.retime`) under the joint
     velocity and acceleration limits and the nominal law's top path speed (the nominal law's
     path acceleration too where no joint acceleration is limited); the nominal plan when the
-    geometric pass fails or no finite timing exists (the plan then reports why)."""
-    grid = np.linspace(0.0, 1.0, grid_points(path.length))
+    geometric pass fails or no finite timing exists (the plan then reports why).
+
+    The law keeps the limits on its geometric grid; between grid points and between the samples
+    the motion may exceed them slightly (the law's acceleration jumps at every grid point): when
+    the checks find that, the law is planned again with the limits lowered by the excess, up
+    to :data:`RETIME_ATTEMPTS` times."""
+    grid = np.linspace(0.0, 1.0, grid_points(path.length, path_feature(path)))
     geometry = trace_geometry(tracker, path, grid, seed)
     if geometry.events:
-        return _track(tracker, path, timing, seed)
+        return _planned(tracker, path, timing, seed, interpolation_tolerance)
     targets = path_targets(path, geometry.s, tracker.position_only, tracker.rows)
     d2q = tracker.accelerations(geometry.q, geometry.jacobians, geometry.dq_ds, targets.curvature)
     accel = tracker.acceleration_limit
     path_accel = float(np.abs(timing.sdd).max()) if not np.isfinite(accel).any() else np.inf
-    speeds = optimal_speeds(
-        geometry.s, geometry.dq_ds, d2q, tracker.speed_limit, accel,
-        float(timing.sd.max()), path_accel,
-    )  # fmt: skip
-    retimed = timing_from_speeds(geometry.s, speeds, dt)
-    if retimed is None:  # stopped for good at a singular point: the nominal plan says where
-        return _track(tracker, path, timing, seed)
-    plan = _track(tracker, path, retimed, seed)
-    plan.retimed = True
+    scale = 1.0
+    plan: CartesianPlan | None = None
+    for _ in range(RETIME_ATTEMPTS):
+        speeds = optimal_speeds(
+            geometry.s, geometry.dq_ds, d2q, tracker.speed_limit * scale, accel * scale,
+            float(timing.sd.max()), path_accel,
+        )  # fmt: skip
+        retimed = timing_from_speeds(geometry.s, speeds, dt)
+        if retimed is None:  # stopped for good at a singular point: the nominal plan says why
+            return _planned(tracker, path, timing, seed, interpolation_tolerance)
+        plan = _planned(tracker, path, retimed, seed, interpolation_tolerance)
+        plan.retimed = True
+        excess = _limit_excess(plan)
+        if excess is None:
+            return plan
+        scale *= (1.0 - 1e-3) / excess
+    assert plan is not None  # at least one attempt
     return plan
+
+
+#: How many times a retimed law is planned again with lowered limits.
+RETIME_ATTEMPTS = 6
+
+
+def _limit_excess(plan: CartesianPlan) -> float | None:
+    """By how much a retimed plan broke a speed or acceleration limit (the event's ratio), or
+    None when it did not (ok, or stopped for another reason)."""
+    if plan.ok or plan.status not in (Status.VELOCITY_LIMIT, Status.ACCELERATION_LIMIT):
+        return None
+    ratio = max(plan.peak_speed_ratio, plan.peak_acceleration_ratio)
+    return ratio if ratio > 1.0 else None
 
 
 def collision_event(
@@ -439,14 +919,15 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
     q_out, qd_out = q_out[:done], qd_out[:done]
     jacobian_stack = np.array(jacobians[:done]).reshape(done, 6, nq)
     qdd_out = tracker.accelerations(q_out, jacobian_stack, qd_out, xdd[:done])
+    peak_accel = 0.0
     if np.isfinite(tracker.acceleration_limit).any() and done:
         # accelerations are checked where they are limited; q̈ is exact at every sample (the
         # profiles' s̈ jumps at their knots: a knot's sample carries the later segment's)
         accel_ratios = np.abs(qdd_out) / tracker.acceleration_limit
+        peak_accel = float(accel_ratios.max())
         hard = np.flatnonzero((accel_ratios > 1.0 + 1e-9).any(axis=1))
         if len(hard):
             k = int(hard[0])
-            peak_accel = float(accel_ratios.max())
             events = [
                 tracker.acceleration_event(k, t[k], s[k], qdd_out[k], peak_accel, positions[k])
             ]
@@ -476,6 +957,7 @@ def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -
         ok=ok,
         status=Status.OK if ok else events[0].kind,
         peak_speed_ratio=peak,
+        peak_acceleration_ratio=peak_accel,
         fraction=1.0 if ok else (float(s[done - 1]) if done else 0.0),
         events=events,
         max_deviation=float(deviation.max()) if done else 0.0,
@@ -517,6 +999,9 @@ def _clean_plan(
         ok=True,
         status=Status.OK,
         peak_speed_ratio=clean.peak_speed_ratio,
+        peak_acceleration_ratio=float(
+            (np.abs(clean.qdd) / tracker.acceleration_limit).max(initial=0.0)
+        ),
         fraction=1.0,
         events=[],
         max_deviation=float(deviation.max()),

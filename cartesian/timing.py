@@ -7,6 +7,7 @@ speed), a quintic or a cubic, given a duration or a tool speed. The path fractio
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -14,7 +15,9 @@ import numpy as np
 from kinplan import trajectory
 from kinplan._profiles import PROFILES, REST_TO_REST_PEAKS
 from kinplan.errors import InputError
-from kinplan.sampling import motion_step
+
+#: A time law: times t [s] (N,) ↦ (s, ṡ, s̈), each (N,), s ∈ [0, 1].
+TimeLaw = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 
 #: Default time to reach the cruise speed when only a tool speed is given [s].
 DEFAULT_RAMP_TIME = 0.25
@@ -25,13 +28,13 @@ class PathTiming:
     """Samples of a time law s(t) along a path.
 
     Attributes:
-        t: Sample times [s], 0, dt, ..., duration (the last exactly at the end); a motion
-            shorter than MIN_INTERVALS · dt is sampled more finely
-            (:func:`kinplan.sampling.motion_step`).
+        t: Sample times [s]: the caller's grid 0, dt, ..., duration (the last exactly at the
+            end), or a finer check grid made from it (:meth:`refined`).
         s: Path fractions [-].
         sd: ds/dt [1/s].
         sdd: d²s/dt² [1/s²].
         duration: Motion duration [s].
+        law: The law itself, to sample it at other times.
     """
 
     t: np.ndarray
@@ -39,6 +42,29 @@ class PathTiming:
     sd: np.ndarray
     sdd: np.ndarray
     duration: float
+    law: TimeLaw
+
+    def refined(self, parts: int) -> PathTiming:
+        """The same law on a grid that splits every interval of :attr:`t` into ``parts`` equal
+        ones: sample k of this grid is sample ``k * parts`` of the refined one."""
+        if parts == 1 or len(self.t) < 2:
+            return self
+        steps = np.diff(self.t)
+        inner = self.t[:-1, None] + steps[:, None] * (np.arange(parts) / parts)
+        return at_times(self.law, np.append(inner.ravel(), self.t[-1]), self.duration)
+
+    @property
+    def peak_speed(self) -> float:
+        """Largest ṡ over the samples [1/s]."""
+        return float(np.abs(self.sd).max(initial=0.0))
+
+
+def at_times(law: TimeLaw, t: np.ndarray, duration: float) -> PathTiming:
+    """Sample ``law`` at the times ``t`` [s] (the last the end: s = 1 exactly there)."""
+    s, sd, sdd = law(t)
+    s = np.clip(s, 0.0, 1.0)
+    s[-1] = 1.0
+    return PathTiming(t, s, sd, sdd, float(duration), law)
 
 
 def path_law(
@@ -104,11 +130,12 @@ def time_path(
 
 
 def sample_law(law: trajectory.Trajectory, scale: float, dt: float) -> PathTiming:
-    """Sample a 1-D law u(t) every ``dt`` seconds (or finer for a short motion:
-    :func:`kinplan.sampling.motion_step`) as path fractions s = scale · u, the last exactly 1
-    (``scale``: 1 / path length [1/m], or 1 for a law of s itself)."""
-    t = trajectory.time_grid(law.duration, motion_step(law.duration, dt))
-    u, ud, udd = law.sample(t)
-    s = np.clip(u[:, 0] * scale, 0.0, 1.0)
-    s[-1] = 1.0
-    return PathTiming(t, s, ud[:, 0] * scale, udd[:, 0] * scale, float(law.duration))
+    """Sample a 1-D law u(t) every ``dt`` seconds (t = 0, dt, ..., the last exactly at the end:
+    the caller's grid) as path fractions s = scale · u, the last exactly 1 (``scale``: 1 / path
+    length [1/m], or 1 for a law of s itself)."""
+
+    def fractions(t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        u, ud, udd = law.sample(t)
+        return u[:, 0] * scale, ud[:, 0] * scale, udd[:, 0] * scale
+
+    return at_times(fractions, trajectory.time_grid(law.duration, dt), float(law.duration))

@@ -16,7 +16,7 @@ import eigenpy
 import numpy as np
 import pinocchio as pin
 
-from cartesian.events import Event, Status, joint_units, out_of_reach, where
+from cartesian.events import Event, Status, joint_units, out_of_reach, round_up, where
 from cartesian.paths import HeldOrientation, Path
 from kinplan.cell import WorkCell
 from kinplan.errors import InputError
@@ -321,7 +321,7 @@ class Tracker:
             why = "a branch flip"
             remedy = "start from another configuration (q_seed) or split the path there"
         return Event(
-            Status.JUMP, float(t), float(s), k,
+            Status.SAMPLING if continuous else Status.JUMP, float(t), float(s), k,
             f"joint {name} moves {q[j] - q_prev[j]:.4f} {unit} in {h:.3g} s at "
             f"{where(position)}, {step[j]:.4f} {unit} more than its rates explain: {why}",
             position, name, float(q[j] - q_prev[j]), self.jump_tolerance, remedy=remedy,
@@ -348,8 +348,8 @@ class Tracker:
             f"{unit}/s{scaled}, at {where(position)} (the motion needs up to {peak:.3g}× the "
             "joint speed limits)",
             position, name, speed, limit,
-            remedy=f"slow the tool down by a factor of at least {peak:.3g} (a lower speed or a "
-            "longer duration)",
+            remedy=f"slow the tool down by a factor of at least {round_up(peak)} (a lower speed "
+            "or a longer duration)",
         )  # fmt: skip
 
     def acceleration_event(
@@ -367,8 +367,8 @@ class Tracker:
             f"{unit}/s², at {where(position)} (the motion needs up to {peak:.3g}× the joint "
             "acceleration limits)",
             position, name, float(qdd[j]), limit,
-            remedy=f"slow the tool down by a factor of at least {math.sqrt(peak):.3g} (a lower "
-            "speed or a longer duration)",
+            remedy=f"slow the tool down by a factor of at least {round_up(math.sqrt(peak))} (a "
+            "lower speed or a longer duration)",
         )  # fmt: skip
 
     def start(

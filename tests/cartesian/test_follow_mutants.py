@@ -89,19 +89,27 @@ def fine_step(planar_2r, line, t0: float, t1: float) -> np.ndarray:
     return q_at[1] - q_at[0]
 
 
-def test_a_step_too_coarse_for_a_continuous_swing_is_a_sampling_jump(planar_2r):
+def test_a_step_too_coarse_for_a_continuous_swing_is_a_sampling_refusal(planar_2r):
     line = cartesian.Line(*BESIDE_AXIS)
     plan = cartesian.follow(
         planar_2r, line, duration=2.0, dt=0.08, q_seed=ELBOW_UP, singular_threshold=0.0
     )
-    assert plan.status == "jump", plan
+    assert plan.status == "sampling", plan
     event = plan.events[0]
     k = event.index
     step = fine_step(planar_2r, line, event.t - 0.08, event.t)
     assert event.joint == "joint1" and event.limit == 0.05
     assert event.value == pytest.approx(step[0], abs=1e-4)  # the continuous solution's step
-    assert "sampling is too coarse" in event.message and "a dt well below 0.08 s" in event.remedy
+    assert "sampling is too coarse" in event.message
     assert len(plan.q) == k and np.all(plan.q[:, 1] > 0)
+    # the remedy names the largest period that was planned and represents the swing
+    assert event.remedy.startswith("sample more finely: dt = ")
+    dt = float(event.remedy.split("dt = ")[1].split(" s")[0])
+    assert dt < 0.08
+    finer = cartesian.follow(
+        planar_2r, line, duration=2.0, dt=dt, q_seed=ELBOW_UP, singular_threshold=0.0
+    )
+    assert finer.status != "sampling", finer
 
 
 def test_a_coarse_step_faster_than_the_joint_allows_is_a_velocity_event(planar_2r):

@@ -42,12 +42,15 @@ def test_offsets_stay_within_the_amplitude_and_oscillate_once_per_wavelength(ur5
 
 def test_dwell_holds_the_torch_at_each_side(ur5):
     """A trapezoid with 2 mm dwell in a 10 mm wavelength: the torch is at +A or −A for
-    (quarter wavelength of the moving part + dwell) on each side: 2·(2 + 2) of every 10 mm."""
+    (quarter wavelength of the moving part + dwell) on each side, less the half rounding of the
+    corner at each end of the side (λ/16 by default): 2·(1.5 + 2 − 0.625) of every 10 mm."""
     seam = _seam(ur5, UR5_START)
     weave = cartesian.Weave(seam, 0.002, 0.01, pattern="trapezoid", dwell=0.002)
+    assert weave.rounding == 0.01 / 16
     s = np.linspace(0.0, 1.0, 200001)
     at_side = np.isclose(np.abs(weave.offset(s)), 0.002, rtol=0, atol=1e-12)
-    assert np.mean(at_side) == pytest.approx(2 * (0.25 * (0.01 - 0.004) + 0.002) / 0.01, abs=2e-3)
+    side = 0.25 * (0.01 - 0.004) + 0.002 - weave.rounding
+    assert np.mean(at_side) == pytest.approx(2 * side / 0.01, abs=2e-3)
 
 
 def test_a_woven_seam_is_followed_at_constant_travel_speed(ur5):
