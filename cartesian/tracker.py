@@ -153,8 +153,8 @@ class Tracker:
         """J⁺ b for the last factored J: the solution (square), least squares (tall) or minimum
         norm (wide)."""
         J, lu, shape = self._J, self._lu, self._shape
-        if lu is None:
-            return np.linalg.pinv(J) @ b
+        if lu is None:  # a task of deficient rank: its `rank` directions only
+            return truncated_pinv(J, self.rank) @ b
         if shape == 0:
             return lu.solve(b)
         return lu.solve(b).dot(J) if shape < 0 else lu.solve(b.dot(J))
@@ -397,9 +397,13 @@ class Tracker:
         found by a longer search (the caller checks it for limits and jumps), or the event that
         says why there is none: jump (reachable only on another branch) or unreachable."""
         robot = self.robot
-        q, converged, *_ = self.solve(guess, position, rotation, iterations=60)
+        q, converged, *_, evaluation = self.solve(guess, position, rotation, iterations=60)
         if converged:
             return q
+        if self.rank < len(self.rows):  # the arm cannot move the tool in every task direction
+            event = self.rank_event(k, t, s, evaluation, position, rotation)
+            if event is not None:
+                return event
         target = position if rotation is None else pin.SE3(rotation, position)
         only = rotation is None
         here = where(position)
@@ -429,6 +433,71 @@ class Tracker:
             remedy="shorten or move the path, or move the robot's base",
         )  # fmt: skip
 
+    def rank_event(
+        self,
+        k: int,
+        t: float,
+        s: float,
+        evaluation: Evaluation,
+        position: np.ndarray,
+        rotation: np.ndarray | None,
+    ) -> Event | None:
+        """The "unreachable" event of a task of deficient rank (fewer independent tool motions
+        than task rows: parallel prismatic joints, a 5-joint arm asked for a full pose) when
+        what the Newton steps left of the error at ``evaluation`` lies in the directions the
+        arm cannot move the tool in (beyond the tolerances, and more than in the others);
+        else None (the target is out of reach for another reason)."""
+        error = np.zeros(6)  # target minus tool: [m; rad], world-aligned
+        error[:3] = evaluation.differences[:3]
+        if rotation is not None:
+            error[3:] = pin.log3(rotation @ np.array(evaluation.tool_pose)[:3, :3].T)
+        J, e = evaluation.jacobian[self.rows], error[self.rows]
+        missing = np.linalg.svd(J)[0][:, self.rank :]  # task directions the arm cannot move in
+        off = missing @ (missing.T @ e)
+        linear = self.rows < 3
+        off_m, off_rad = float(np.linalg.norm(off[linear])), float(np.linalg.norm(off[~linear]))
+        if off_m <= self.tolerance and off_rad <= self.rotation_tolerance:
+            return None
+        if np.linalg.norm(e - off) > np.linalg.norm(off):  # mostly where the arm can move
+            return None
+        robot, rows = self.robot, len(self.rows)
+        task = "position" if self.position_only else "pose"
+        axes = ("x", "y", "z", "rx", "ry", "rz")
+        direction = off / np.linalg.norm(off)
+        along = ", ".join(f"{axes[r]} {v:+.3f}" for r, v in zip(self.rows.tolist(), direction))
+        remedy = "keep the path in the directions the arm can move the tool in"
+        if not self.position_only and robot.task_rank(True) == len(robot.task_rows(True)):
+            remedy = (
+                f"follow the position only (position_only=True: {robot.name} can move its tool "
+                f"position in every direction), or {remedy}"
+            )
+        return Event(
+            Status.UNREACHABLE, float(t), float(s), k,
+            f"{where(position)} is out of reach along the path: the {robot.nq} joints of "
+            f"{robot.name} move its tool {task} in only {self.rank} independent directions (rank "
+            f"{self.rank} of the {rows}-D task), and the path leaves them: the tool would have to "
+            f"move along ({along}) [m, rad; unit vector], {off_m:.3g} m and {off_rad:.3g} rad "
+            f"beyond what its joints can do (tolerances {self.tolerance:g} m, "
+            f"{self.rotation_tolerance:g} rad)",
+            position, value=float(np.linalg.norm(off)),
+            remedy=f"{remedy} (a path whose tangent the arm's joints can produce)",
+        )  # fmt: skip
+
+
+def truncated_pinv(J: np.ndarray, rank: int) -> np.ndarray:
+    """Pseudo-inverse (..., c, r) of J (..., r, c), or of a stack, from its ``rank`` largest
+    singular values only (a rank-revealing pseudo-inverse).
+
+    A task of structurally deficient rank (four telescoping segments along one axis; a 5-joint
+    arm asked for a full pose) has singular values beyond its rank that are rounding noise
+    (1e-16 ‖J‖) or come from axes parallel only to the digits the URDF writes (1e-6 ‖J‖):
+    inverting them would turn a path's rounding into joint speeds without bound.
+    """
+    U, S, Vt = np.linalg.svd(J, full_matrices=False)
+    inverse = np.zeros_like(S)
+    np.divide(1.0, S[..., :rank], out=inverse[..., :rank], where=S[..., :rank] > 0.0)
+    return (Vt.swapaxes(-1, -2) * inverse[..., None, :]) @ U.swapaxes(-1, -2)
+
 
 def matvec(A: np.ndarray, x: np.ndarray) -> np.ndarray:
     """A x for stacks of matrices (N, r, c) and vectors (N, c)."""
@@ -446,7 +515,7 @@ def pseudo_inverses(J: np.ndarray, rank: int) -> np.ndarray:
         return J_t @ np.linalg.inv(J @ J_t)
     if rank == cols:
         return np.linalg.inv(J_t @ J) @ J_t
-    return np.linalg.pinv(J)
+    return truncated_pinv(J, rank)
 
 
 def adams_bashforth_weights(steps: np.ndarray) -> list[tuple[float, float]]:
