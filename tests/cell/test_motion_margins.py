@@ -154,6 +154,26 @@ def test_dip_off_the_middle_of_a_segment_is_found(tmp_path, before, after):
     assert result.distance < CLEARANCE
 
 
+@pytest.mark.parametrize("side", [1.0, -1.0], ids=["dip-in-the-second-half", "in-the-first"])
+def test_dip_found_after_several_bisections(tmp_path, side):
+    """A 15 cm step whose ends and first midpoint are far outside a 5 mm margin, passing 4 mm
+    from a ball at x = 0 (head and ball 1 mm in radius: the distance falls at nearly the full
+    motion bound, a V): only halves bounded by half their parent's motion are certified
+    correctly; a half bounded by less (a quarter) is certified with the dip inside it."""
+    robot = slider(tmp_path, 0.001)
+    clearance, offset, spheres = 0.005, 0.006, 0.002
+    cell = ball_cell(robot, offset, 0.001)
+    x = side * np.array([-0.1, 0.05])
+    ends = ball_distance(x, offset, spheres)
+    middle = float(ball_distance(x.mean(), offset, spheres))
+    assert ends.min() > 0.04 and middle > 0.02  # the first bisection finds nothing
+    result = cell.check_motion(joints(x), clearance=clearance)
+    assert result.index == 1 and result.between and result.bodies == ("head", "ball")
+    assert result.distance == pytest.approx(ball_distance(result.q[0], offset, spheres), abs=EXACT)
+    assert 0.004 - EXACT <= result.distance < clearance
+    assert result.evaluations >= 5  # several levels of bisection
+
+
 def test_check_agrees_with_the_closed_form_on_random_gantry_motions(tmp_path):
     """300 seeded motions (radii, clearance, offset, samples all random): ``ok`` exactly when the
     closed-form minimum over every straight segment keeps the clearance; a failure at the
