@@ -471,14 +471,20 @@ class Tracker:
                 f"follow the position only (position_only=True: {robot.name} can move its tool "
                 f"position in every direction), or {remedy}"
             )
+        angular = bool((~linear).any())
+        beyond = f"{off_m:.3g} m and {off_rad:.3g} rad" if angular else f"{off_m:.3g} m"
+        tolerances = f"{self.tolerance:g} m" + (
+            f", {self.rotation_tolerance:g} rad" if angular else ""
+        )
         return Event(
             Status.UNREACHABLE, float(t), float(s), k,
             f"{where(position)} is out of reach along the path: the {robot.nq} joints of "
-            f"{robot.name} move its tool {task} in only {self.rank} independent directions (rank "
-            f"{self.rank} of the {rows}-D task), and the path leaves them: the tool would have to "
-            f"move along ({along}) [m, rad; unit vector], {off_m:.3g} m and {off_rad:.3g} rad "
-            f"beyond what its joints can do (tolerances {self.tolerance:g} m, "
-            f"{self.rotation_tolerance:g} rad)",
+            f"{robot.name} move its tool {task} in only {self.rank} independent "
+            f"direction{'s' if self.rank != 1 else ''} (rank {self.rank} of the {rows}-D task), "
+            f"and the path leaves {'them' if self.rank != 1 else 'it'}: the tool would have to "
+            f"move along ({along}) "
+            f"[{'m, rad' if angular else 'm'}; unit vector], {beyond} beyond what its joints can "
+            f"do (tolerance{'s' if angular else ''} {tolerances})",
             position, value=float(np.linalg.norm(off)),
             remedy=f"{remedy} (a path whose tangent the arm's joints can produce)",
         )  # fmt: skip

@@ -20,6 +20,7 @@ from conftest import TESTS
 import cartesian
 import kinplan
 from cartesian.tracker import truncated_pinv
+from kinplan.sources import example_robot_data_dir
 
 ARM = TESTS / "urdf" / "rank_deficient_arm.urdf"
 #: lift 0.6 m, each segment 5 cm out, wrist yaw, pitch, roll (rad)
@@ -159,6 +160,29 @@ def test_line_off_the_arm_axis_by_its_rounding_is_refused_for_its_rank(arm):
     assert TOLERANCE <= plan.events[0].s * drift <= 2 * TOLERANCE
     along = cartesian.follow(arm, held_line(arm, segment, 0.1), speed=0.1, q_seed=Q0)
     assert along.ok
+
+
+def test_position_task_of_rank_1_is_refused_for_its_rank():
+    """example-robot-data's double pendulum: its only tool frame, link2, lies on joint2's axis,
+    so the tool moves on a circle (rank 1 of the 2 position rows it uses); a straight line is
+    refused for that reason, in metres only (a position task)."""
+    robots = example_robot_data_dir() / "example-robot-data" / "robots"
+    limits = {j: {"lower": -3.14, "upper": 3.14, "velocity": 5.0} for j in ("joint1", "joint2")}
+    pendulum = kinplan.load_robot(
+        robots / "double_pendulum_description/urdf/double_pendulum.urdf", limits=limits
+    )
+    assert pendulum.task_rank(True) == 1 and len(pendulum.task_rows(True)) == 2
+    q0 = np.array([0.3, 0.4])
+    start = pendulum.fk(q0).translation
+    plan = cartesian.follow(pendulum, cartesian.Line(start, start + [0.0, 0.02, 0.0]),
+                            duration=1.0, q_seed=q0)  # fmt: skip
+    assert plan.status == "unreachable" and plan.fraction < 0.05
+    message = plan.events[0].message
+    assert "in only 1 independent direction (rank 1 of the 2-D task), and the path leaves it" in (
+        message
+    )
+    assert "[m; unit vector]" in message and "rad" not in message
+    assert "(tolerance 1e-07 m)" in message
 
 
 def test_retimed_line_of_the_rank_deficient_arm_is_ok(arm):
