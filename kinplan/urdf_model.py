@@ -50,9 +50,10 @@ logger = logging.getLogger(__name__)
 #: Joint limits written into the URDF for continuous joints read as revolute [rad]; kinplan's own
 #: limits for them are ±inf.
 UNBOUNDED = 1e9
-#: Largest distance [m] of a base pose from the world origin, and of a joint or frame from its
-#: parent: 10 km. Positions there carry a rounding of 2e-12 m, far below every tolerance; no
-#: robot cell is larger (a base at 1e300 m overflows the kinematics).
+#: Largest distance [m] of a base pose from the world origin, of a joint or frame from its
+#: parent, and of a prismatic joint's limits from 0: 10 km. Positions there carry a rounding
+#: of 2e-12 m, far below every tolerance; no robot cell is larger (a base at 1e300 m
+#: overflows the kinematics).
 MAX_OFFSET = 1e4
 #: Keys of a ``limits=`` entry.
 LIMIT_KEYS = ("lower", "upper", "velocity", "acceleration")
@@ -778,6 +779,9 @@ def build_chain(
         found = problems.setdefault(name, [])
         if not lower[k] < upper[k]:
             found.append((("lower", "upper"), f"range [{lower[k]:g}, {upper[k]:g}]"))
+        elif joint.kind == "prismatic" and not max(-lower[k], upper[k]) <= MAX_OFFSET:
+            travel = f"travel [{lower[k]:g}, {upper[k]:g}] m beyond ±{MAX_OFFSET:g} m"
+            found.append((("lower", "upper"), travel))
         if "velocity" not in given and joint.has_limit:
             if joint.velocity is None:
                 found.append((("velocity",), "no velocity in its <limit>"))
@@ -805,9 +809,10 @@ def build_chain(
             for name, found in problems.items()
         )
         raise URDFError(
-            f"joint(s) of {urdf_path.name} without usable limits (lower < upper, velocity and "
-            f"acceleration > 0): {shown}; give them with limits={{{example}}} [rad or m, per s, "
-            "per s²] or lock them with locked_joints={name: value}"
+            f"joint(s) of {urdf_path.name} without usable limits (lower < upper, a prismatic "
+            f"joint's within ±{MAX_OFFSET:g} m, velocity and acceleration > 0): {shown}; give them "
+            f"with limits={{{example}}} [rad or m, per s, per s²] or lock them with "
+            "locked_joints={name: value}"
         )
     mimic: dict[str, tuple[str, float, float]] = {}
     for n in names:

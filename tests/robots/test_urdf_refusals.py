@@ -356,6 +356,22 @@ def test_limit_overrides_that_are_no_limits_are_refused(entry, text):
         kinplan.load_robot("ur5", limits={"elbow_joint": entry})
 
 
+@pytest.mark.parametrize("upper", [1e300, 2e4])
+def test_prismatic_travel_beyond_the_bound_is_refused(upper):
+    tiago = ROBOTS / "tiago_description/robots/tiago.urdf"
+    with pytest.raises(URDFError) as raised:
+        kinplan.load_robot(
+            tiago, tip="arm_tool_link", limits={"torso_lift_joint": {"upper": upper}}
+        )
+    message = str(raised.value)
+    assert f"torso_lift_joint (travel [0, {upper:g}] m beyond ±10000 m)" in message
+    assert "limits={'torso_lift_joint': {'lower': .., 'upper': ..}}" in message
+    robot = kinplan.load_robot(
+        tiago, tip="arm_tool_link", limits={"torso_lift_joint": {"upper": 0.5}}
+    )
+    assert robot.upper[0] == 0.5
+
+
 def test_one_sided_override_against_the_urdf_range_is_refused():
     with pytest.raises(URDFError, match=r"elbow_joint \(range \[4, 3.14159\]\)"):
         kinplan.load_robot("ur5", limits={"elbow_joint": {"lower": 4.0}})
