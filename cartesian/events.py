@@ -8,7 +8,6 @@ facts every event states: a position, a joint's unit, why a point is out of reac
 from __future__ import annotations
 
 import enum
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -101,23 +100,20 @@ def where(position: np.ndarray) -> str:
     return "(" + ", ".join(f"{x:.4f}" for x in position) + ") m"
 
 
-def round_down(value: float, digits: int = 3) -> str:
-    """``value`` > 0 to ``digits`` significant digits, rounded down (a speed the caller must
-    stay below)."""
-    if not (math.isfinite(value) and value > 0):
-        return f"{value:g}"
-    exponent = math.floor(math.log10(value)) - digits + 1
-    step = 10.0**exponent
-    rounded = math.floor(value / step * (1 + 1e-12)) * step
-    return f"{rounded:.{max(0, -exponent)}f}" if exponent < 0 else f"{rounded:.0f}"
+def distinct(value: float, limit: float, decimals: int = 4) -> tuple[str, str]:
+    """``value`` and ``limit`` printed with the fewest decimals (at least ``decimals``, at most
+    12) that tell them apart: "-1.04723 beyond -1.04720", never "-1.0472 beyond -1.0472"."""
+    for places in range(decimals, 13):
+        a, b = f"{value:.{places}f}", f"{limit:.{places}f}"
+        if a != b:
+            return a, b
+    return f"{value:.12g}", f"{limit:.12g}"
 
 
-def round_up(value: float, digits: int = 3) -> str:
-    """``value`` to ``digits`` significant digits, rounded up (a factor the caller must reach
-    at least: the printed value, applied literally, is enough)."""
-    if not (math.isfinite(value) and value > 0):
-        return f"{value:g}"
-    exponent = math.floor(math.log10(value)) - digits + 1
-    step = 10.0**exponent
-    rounded = math.ceil(value / step * (1 - 1e-12)) * step
-    return f"{rounded:.{max(0, -exponent)}f}" if exponent < 0 else f"{rounded:.0f}"
+def small_length(metres: float) -> str:
+    """A small distance [m] in mm with the digits it needs (never "0.0 mm" for a non-zero
+    one): 1 decimal from 0.1 mm up, 2 significant digits below."""
+    millimetres = 1e3 * metres
+    if millimetres == 0 or abs(millimetres) >= 0.1:
+        return f"{millimetres:.1f} mm"
+    return f"{millimetres:.2g} mm"

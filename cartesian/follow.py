@@ -24,7 +24,7 @@ import numpy as np
 import pinocchio as pin
 
 from cartesian import batch_track, lean_track
-from cartesian.events import Event, Status, round_down, round_up, where
+from cartesian.events import Event, Status, small_length, where
 from cartesian.geometry import trace_between, trace_geometry
 from cartesian.paths import Path
 from cartesian.retime import grid_points, optimal_speeds, path_feature, timing_from_speeds
@@ -37,9 +37,9 @@ from cartesian.tracker import (
     resolve_task,
 )
 from kinplan import checks
-from kinplan._profiles import PROFILES
+from kinplan._profiles import PROFILES, round_down, round_up
 from kinplan.cell import MotionCheck, WorkCell
-from kinplan.errors import InputError
+from kinplan.errors import InputError, KinplanError
 from kinplan.motion import MotionKind, MoveSpan, PlannedPath, no_waypoints
 from kinplan.robot import Robot
 from kinplan.sampling import MIN_INTERVALS, hermite_between, joint_speeds
@@ -350,8 +350,8 @@ def _offer_slower(
     ratio = abs(event.value or 0.0) / abs(event.limit or 1.0)
     factor = max(plan.peak_speed_ratio, math.sqrt(ratio) if accel else ratio, 1.0 + 1e-3)
     for _ in range(SLOWER_ATTEMPTS):
-        text = round_up(factor)
-        factor = float(text)
+        factor = round_up(factor, 3)
+        text = f"{factor:g}"
         if duration is not None:
             slower: LengthLaw = (float(round_up(duration * factor, 4)), None, None)
             if acceleration is not None:
@@ -361,7 +361,10 @@ def _offer_slower(
             slower = (None, float(round_down(speed / factor, 4)), None)
             if acceleration is not None:
                 slower = (None, slower[1], float(round_down(acceleration / factor**2, 4)))
-        trial = plan_with(slower)
+        try:
+            trial = plan_with(slower)
+        except KinplanError:  # a law too slow to sample (more samples than allowed)
+            return
         if trial.status not in (Status.VELOCITY_LIMIT, Status.ACCELERATION_LIMIT):
             names = ("duration", "speed", "acceleration")
             given = ", ".join(f"{n}={v:g}" for n, v in zip(names, slower) if v is not None)
@@ -402,7 +405,10 @@ def _offer_finer_sampling(
     motion, found by planning at it: the value printed is the one that was tried."""
     event = plan.events[0]
     for period in finer_periods(dt):
-        trial = plan_at(period)
+        try:
+            trial = plan_at(period)
+        except KinplanError:  # more samples than allowed: no finer period can be offered
+            break
         if trial.status != Status.SAMPLING:
             after = (
                 "" if trial.ok else f" (the motion then stops for another reason: {trial.status})"
@@ -604,7 +610,7 @@ def _between_samples(tracker: Tracker, plan: CartesianPlan, timing: PathTiming) 
             f"{limit:.4g} {tracker.units[j]}/s (the motion needs up to {peak:.4g}× the joint "
             "speed limits)", float(speed[k, :, j].max() * limit), limit,
             robot.joint_names[j], f"slow the tool down by a factor of at least "
-            f"{round_up(peak)} (a lower speed or a longer duration)",
+            f"{round_up(peak, 3):g} (a lower speed or a longer duration)",
         )  # fmt: skip
     limited = np.isfinite(tracker.acceleration_limit)
     if limited.any():
@@ -623,16 +629,20 @@ def _between_samples(tracker: Tracker, plan: CartesianPlan, timing: PathTiming) 
                 f"{value:.4g} {tracker.units[j]}/s², above its limit {limit:.4g} "
                 f"{tracker.units[j]}/s²", value, limit,
                 robot.joint_names[j], f"slow the tool down by a factor of at least "
-                f"{round_up(math.sqrt(worst))} (a lower speed or a longer duration)",
+                f"{round_up(math.sqrt(worst), 3):g} (a lower speed or a longer duration)",
             )  # fmt: skip
     # the rates at the samples explain the step between them (the mean speed over an interval
     # is the mean of the rates, with the Hermite quadrature's correction h (q̈0 − q̈1) / 12):
     # where they do not, the motion between the samples is not the one the rates describe
+    # (on a grid that resolves the motion: with fewer than MIN_INTERVALS intervals the samples
+    # are waypoints of a coarse motion, held to the path by the interpolant instead)
     h = np.diff(plan.t)[:, None]
     mean = np.diff(plan.q, axis=0) / h
     rates = 0.5 * (plan.qd[1:] + plan.qd[:-1]) + h * (plan.qdd[:-1] - plan.qdd[1:]) / 12.0
-    scale = np.abs(plan.qd).max(axis=0) + RATE_FLOOR
+    scale = np.maximum(np.abs(plan.qd).max(axis=0), np.abs(mean).max(axis=0)) + RATE_FLOOR
     mismatch = np.abs(mean - rates) / scale
+    if intervals < MIN_INTERVALS:
+        mismatch[:] = 0.0
     unexplained = np.flatnonzero((mismatch > RATE_CONSISTENCY).any(axis=1))
     if unexplained.size:
         k = int(unexplained[0])
@@ -778,14 +788,19 @@ def collision_event(
     k = check.index
     assert k is not None and check.bodies is not None  # a failed check: its sample and bodies
     first, second = check.bodies
-    when = f"between samples {k - 1} and {k}" if check.between else f"at sample {k}"
+    when = (
+        f"between samples at t = {t[k - 1]:.4f} and {t[k]:.4f} s"
+        if check.between
+        else f"at the sample at t = {t[k]:.4f} s"
+    )
     if check.kind == "obstacle" and check.clearance > 0 and check.distance > 0:
         what = (
-            f"{first} comes within {1e3 * check.distance:.1f} mm of {second}, "
-            f"{1e3 * check.penetration:.1f} mm inside the clearance {1e3 * check.clearance:.1f} mm"
+            f"{first} comes within {small_length(check.distance)} of {second}, "
+            f"{small_length(check.penetration)} inside the clearance "
+            f"{small_length(check.clearance)}"
         )
     else:
-        what = f"{first} collides with {second} ({1e3 * check.penetration:.1f} mm deep)"
+        what = f"{first} collides with {second} ({small_length(check.penetration)} deep)"
     point = "" if check.point is None else f" near {where(check.point)}"
     return Event(
         Status.COLLISION, float(t[k]), float(s[k]), k, f"{what} {when}{point}", position,

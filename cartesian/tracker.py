@@ -16,8 +16,9 @@ import eigenpy
 import numpy as np
 import pinocchio as pin
 
-from cartesian.events import Event, Status, joint_units, out_of_reach, round_up, where
+from cartesian.events import Event, Status, distinct, joint_units, out_of_reach, where
 from cartesian.paths import HeldOrientation, Path
+from kinplan._profiles import round_up
 from kinplan.cell import WorkCell
 from kinplan.errors import InputError
 from kinplan.ik import Evaluation, frobenius_tolerance
@@ -121,10 +122,11 @@ class Tracker:
         name, unit = robot.joint_names[j], self.units[j]
         upper = q[j] > robot.upper[j]
         bound = robot.upper[j] if upper else robot.lower[j]
+        value, limit = distinct(float(q[j]), float(bound))
         return Event(
             Status.JOINT_LIMIT, float(t), float(s), k,
-            f"joint {name} would need {q[j]:.4f} {unit}, beyond its {'upper' if upper else 'lower'}"
-            f" limit {bound:.4f} {unit}, to keep the tool on the path at {where(position)}",
+            f"joint {name} would need {value} {unit}, beyond its {'upper' if upper else 'lower'}"
+            f" limit {limit} {unit}, to keep the tool on the path at {where(position)}",
             position, name, float(q[j]), float(bound),
             remedy=f"start from a configuration with joint {name} further from that limit "
             "(another q_seed), or move the path",
@@ -348,7 +350,8 @@ class Tracker:
             f"{unit}/s{scaled}, at {where(position)} (the motion needs up to {peak:.3g}× the "
             "joint speed limits)",
             position, name, speed, limit,
-            remedy=f"slow the tool down by a factor of at least {round_up(peak)} (a lower speed "
+            remedy=f"slow the tool down by a factor of at least {round_up(peak, 3):g} (a lower "
+            "speed "
             "or a longer duration)",
         )  # fmt: skip
 
@@ -367,7 +370,8 @@ class Tracker:
             f"{unit}/s², at {where(position)} (the motion needs up to {peak:.3g}× the joint "
             "acceleration limits)",
             position, name, float(qdd[j]), limit,
-            remedy=f"slow the tool down by a factor of at least {round_up(math.sqrt(peak))} (a "
+            remedy="slow the tool down by a factor of at least "
+            f"{round_up(math.sqrt(peak), 3):g} (a "
             "lower speed or a longer duration)",
         )  # fmt: skip
 

@@ -64,6 +64,16 @@ def round_up(value: float, digits: int = 6) -> float:
     return float(f"{rounded + unit:.{digits}g}")
 
 
+def round_down(value: float, digits: int = 6) -> float:
+    """``value`` > 0 rounded down to ``digits`` significant digits (a largest speed stated in a
+    message: copied, it is still within what was planned)."""
+    rounded = float(f"{value:.{digits}g}")
+    if rounded <= value:
+        return rounded
+    unit = 10.0 ** (math.floor(math.log10(value)) - digits + 1)
+    return float(f"{rounded - unit:.{digits}g}")
+
+
 # ----------------------------------------------------------------------------------------------
 # Polynomials fixed by boundary conditions
 # ----------------------------------------------------------------------------------------------

@@ -7,6 +7,7 @@ end state of the previous one; :meth:`MotionBuilder.finish` returns the whole mo
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Sequence
 from typing import NoReturn, TypeAlias
@@ -430,14 +431,27 @@ class MotionBuilder:
         segments (the plan's interpolant between the samples is the profile itself)."""
         step = motion_step(traj.duration, self.dt)
         self._check_samples(traj.duration / step, "ptp", label, key, f"a {traj.duration:g} s move")
-        t = traj.time_grid(step)
+        # the samples recorded are the caller's grid; the cell is checked on a grid fine enough
+        # for a short move (at least MIN_INTERVALS intervals), which contains it when finer
+        t = traj.time_grid(self.dt)
         q, qd, qdd = traj.sample(t)
         peaks = joint_peaks(traj)
         finite = np.isfinite(self.robot.velocity_limit)
         ratio = float(np.max(peaks.speed[finite] / self.robot.velocity_limit[finite], initial=0.0))
         check = None
         if self.cell is not None:
-            check = self.cell.check_motion(q, self.clearance)
+            fine_t = t if step >= self.dt else traj.time_grid(step)
+            fine_q = q if step >= self.dt else traj.sample(fine_t)[0]
+            check = self.cell.check_motion(fine_q, self.clearance)
+            if check.index is not None and step < self.dt:  # the first caller sample at/after
+                at = float(fine_t[check.index])
+                index = int(np.searchsorted(t, at - 1e-12))
+                check = dataclasses.replace(
+                    check, index=index, between=check.between or not np.isclose(t[index], at),
+                    distances=np.interp(t, fine_t, check.distances),
+                    obstacle_distances=np.interp(t, fine_t, check.obstacle_distances),
+                    self_distances=np.interp(t, fine_t, check.self_distances),
+                )  # fmt: skip
             if check.index is not None:
                 k = check.index
                 share = t / t[-1] if t[-1] > 0 else np.ones_like(t)

@@ -540,7 +540,7 @@ def test_a_path_within_the_jump_margin_falls_back(monkeypatch):
     rule on q̇) is above JUMP_SHARE of it: declined, although the loop (which tests jumps only
     where Newton corrected a sample, against the whole tolerance) plans it ok."""
     robot = cached_robot("planar_2r")
-    options = {"duration": 0.6, "q_seed": PLANAR_START, "dt": 0.05}
+    options = {"duration": 0.6, "q_seed": PLANAR_START, "dt": 0.0375}  # 16 intervals: one grid
     loop = loop_plan(robot, PLANAR_LINE, monkeypatch, **options)
     h = np.diff(loop.t)[:, None]
     unexplained = np.abs(np.diff(loop.q, axis=0) - 0.5 * h * (loop.qd[1:] + loop.qd[:-1])).max()
@@ -557,7 +557,7 @@ def test_a_poor_prediction_falls_back(monkeypatch):
     solutions: a coarse fast sampling whose predictions miss by more than JUMP_SHARE of the
     jump tolerance is declined; the check of the second sample alone too."""
     robot = cached_robot("planar_2r")
-    options = {"duration": 0.6, "q_seed": PLANAR_START, "dt": 0.05}
+    options = {"duration": 0.6, "q_seed": PLANAR_START, "dt": 0.0375}  # 16 intervals: one grid
     tracker, targets, timing, xd, xdd, seed = inputs(robot, PLANAR_LINE, monkeypatch, **options)
     result = batch_track.track(tracker, targets, timing, xd, xdd, seed)
     assert result is not None

@@ -105,7 +105,9 @@ def test_random_lines_match_the_loop(name, count, monkeypatch):
     for what, path, q0, options in _lines(robot, count, seed=18):
         fast, loop, lean = _plans(robot, path, monkeypatch, q_seed=q0, **options)
         _assert_same(fast, loop, what)
-        assert not lean or fast.ok, what  # only clean plans are made by the lean loop
+        # only clean plans are made by the fast engine (the check between the samples
+        # that follows every engine may still refuse them)
+        assert not lean or fast.ok or _between(fast), what
         statuses[loop.status] += 1
         answered += lean
     # both outcomes, and the failures the loop keeps, are exercised
@@ -177,3 +179,8 @@ def test_geometric_traces_and_retimed_plans_match_the_loop(name, count, monkeypa
         _assert_same(fast_plan, loop_plan, f"{what}, retimed")
         assert fast_plan.retimed == loop_plan.retimed, what
     assert statuses["ok"] and len(statuses) > 1, statuses
+
+
+def _between(plan) -> bool:
+    """Whether a plan was refused by the check between its samples (after the engine)."""
+    return bool(plan.events) and plan.events[0].message.startswith("between samples")

@@ -152,7 +152,7 @@ def test_motion_shorter_than_a_sample_is_checked(ur5, duration):
     assert plan.peak_speed_ratio > 10 and f"{plan.peak_speed_ratio:.3g}×" in event.message
     # the remedy names a duration that was planned: pasted as printed, it passes
     assert plan.slowdown is not None and plan.slowdown >= plan.peak_speed_ratio
-    slower = float(event.remedy.split("duration=")[1].split(")")[0])
+    slower = float(event.remedy.split("duration=")[1].split(")")[0].split(";")[0])
     assert slower == pytest.approx(duration * plan.slowdown, rel=1e-3)
     assert cartesian.follow(ur5, line, duration=slower, dt=0.01, q_seed=q0).ok
 

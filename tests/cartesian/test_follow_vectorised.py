@@ -159,7 +159,9 @@ def test_random_lines_match_the_loop(name, count, monkeypatch):
     for what, path, q0, options in lines(robot, count, seed=18):
         fast, loop, vectorised = _plans(robot, path, monkeypatch, q_seed=q0, **options)
         _assert_same(fast, loop, what)
-        assert not vectorised or fast.ok, what  # only clean plans are made whole
+        # only clean plans are made by the fast engine (the check between the samples
+        # that follows every engine may still refuse them)
+        assert not vectorised or fast.ok or _between(fast), what
         statuses[loop.status] += 1
         answered += vectorised
     # both outcomes, and the failures the loop keeps, are exercised
@@ -228,3 +230,8 @@ def test_tasks_without_a_vectorised_closed_form_use_the_loop(ur5, panda, monkeyp
         )
         assert not vectorised and fast.ok
         _assert_same(fast, loop, f"{robot.name} {options}")
+
+
+def _between(plan) -> bool:
+    """Whether a plan was refused by the check between its samples (after the engine)."""
+    return bool(plan.events) and plan.events[0].message.startswith("between samples")
