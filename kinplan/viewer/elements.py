@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from kinplan.errors import URDFError
+from kinplan.urdf_model import read_urdf
 from kinplan.viewer.meshes import DEFAULT_RGBA
 
 __all__ = ["Geometry", "LinkElement", "read_urdf_elements"]
@@ -121,10 +121,7 @@ def read_urdf_elements(
     Raises:
         URDFError: the file cannot be read or is not XML.
     """
-    try:
-        root = ET.parse(urdf_path).getroot()
-    except (OSError, ET.ParseError) as exc:
-        raise URDFError(f"cannot read the visuals of {urdf_path}: {exc}; fix the file") from exc
+    root = read_urdf(urdf_path)  # the loader's reader: undeclared prefixes load here too
     named = _material_colours(root)
     visuals: list[LinkElement] = []
     collisions: dict[str, list[LinkElement]] = {}
