@@ -111,7 +111,16 @@ def timing_from_speeds(s: np.ndarray, speed: np.ndarray, dt: float) -> PathTimin
         h=durations, piece=np.zeros(len(ds), dtype=int),
     )  # fmt: skip
     fractions, duration = smoothed(law, SMOOTHING_PERIODS * dt)
-    return at_times(fractions, time_grid(duration, dt), duration)
+    timing = at_times(fractions, time_grid(duration, dt), duration)
+    # the averaged law's s is a second difference of double integrals (exact to ~1e-12): the
+    # mean speed between two samples never exceeds the law's top speed but for that rounding,
+    # which a step capped at top speed × Δt removes
+    top = float(speed.max()) * np.diff(timing.t)
+    capped = timing.s.copy()
+    for k in range(1, len(capped) - 1):
+        capped[k] = min(capped[k], capped[k - 1] + top[k - 1])
+    timing.s = capped
+    return timing
 
 
 #: Width of each of the two moving averages of a retimed law, in sampling periods: its path
