@@ -48,7 +48,7 @@ from kinplan.robot import Robot
 from kinplan.sampling import joint_speeds
 from kinplan.trajectory import Trajectory
 
-logger = logging.getLogger(__name__)
+logger = logging.getLogger("kinplan.teach")
 
 __all__ = [
     "COMMANDS",
