@@ -23,9 +23,9 @@ from cartesian.paths import (
     Path,
     PathSequence,
     Polyline,
-    Weave,
 )
 from cartesian.torch import TorchOrientation, torch_rotations
+from cartesian.weave import Weave
 
 __all__ = [
     "Arc",

@@ -17,16 +17,17 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from collections.abc import Sequence
 
 import numpy as np
-import pinocchio as pin
 
 from cartesian import batch_track, lean_track
+from cartesian.between import check_between
 from cartesian.events import Event, Status, small_length, where
 from cartesian.geometry import trace_between, trace_geometry
 from cartesian.paths import Path
+from cartesian.plan import CartesianPlan
+from cartesian.remedies import offer_finer_sampling, offer_slower
 from cartesian.retime import grid_points, optimal_speeds, path_feature, timing_from_speeds
 from cartesian.timing import PathTiming, time_path
 from cartesian.tracker import (
@@ -37,145 +38,13 @@ from cartesian.tracker import (
     resolve_task,
 )
 from kinplan import checks
-from kinplan._profiles import PROFILES, round_down, round_up
+from kinplan._profiles import PROFILES
 from kinplan.cell import MotionCheck, WorkCell
-from kinplan.errors import InputError, KinplanError
-from kinplan.motion import MotionKind, MoveSpan, PlannedPath, no_waypoints
+from kinplan.errors import InputError
 from kinplan.robot import Robot
-from kinplan.sampling import MIN_INTERVALS, hermite_between, joint_speeds
-from kinplan.trajectory import Waypoints
+from kinplan.sampling import MIN_INTERVALS, joint_speeds
 
 
-@dataclass
-class CartesianPlan:
-    """A timed, monitored Cartesian motion.
-
-    Attributes:
-        t: Sample times [s], shape (N,) (only the samples achieved before a failure).
-        q: Joint positions, shape (N, nq).
-        qd: Joint velocities [rad/s], shape (N, nq).
-        qdd: Joint accelerations [rad/s²], shape (N, nq).
-        s: Path fraction of each sample.
-        ok: True when the whole path was planned without event.
-        status: "ok" or the kind of the first event.
-        fraction: Path fraction achieved before the first failure (1.0 when ok).
-        events: The events at the offending sample (empty when ok).
-        max_deviation: Largest tool distance from the path over the samples [m].
-        min_manipulability: Smallest manipulability over the samples.
-        duration: Duration of the planned (timed) motion [s].
-        path: The Cartesian path.
-        position_only: Whether the tool orientation was ignored.
-        singular_threshold: Manipulability below which a sample counts as singular.
-        tool_positions: Achieved tool positions (FK of q) [m], shape (N, 3).
-        manipulability: Manipulability of each sample, shape (N,).
-        retimed: Whether the time law was slowed down to respect the joint speed limits.
-        retime_duration: For a plan stopped by a velocity limit: the duration of the retimed
-            plan (``retime=True``) when that one is ok, else None.
-        peak_speed_ratio: Largest joint speed over its (scaled) limit among the samples solved
-            (:func:`kinplan.sampling.joint_speeds`), including those past a velocity event: the
-            factor by which the motion is too fast (> 1) or has margin (< 1).
-        min_clearance: Smallest distance between the robot (and its tool body) and the cell's
-            obstacles over the samples achieved [m] (inf without a cell or obstacles).
-        min_self_clearance: Smallest distance between the robot's own checked link pairs [m]
-            (inf without a cell).
-        peak_acceleration_ratio: Largest joint acceleration over its limit, where limited, at
-            the samples and between them (0 where no joint is limited).
-        max_interpolation_deviation: Largest tool distance from the path between the samples
-            returned, of the motion a controller runs between them (the quintic Hermite
-            interpolant through (q, q̇, q̈) at the samples, :func:`kinplan.sampling.
-            hermite_between`) [m]; checked against ``interpolation_tolerance``.
-        interpolation_tolerance: The tolerance of that deviation [m] the plan was checked with.
-        slowdown: For a plan stopped by a speed or acceleration limit: a factor by which the
-            law was slowed down and then planned without breaking those limits (the factor its
-            remedy names), or None when none was found.
-        accelerations_limited: Whether every joint's acceleration was limited (declared by the
-            robot or given as ``max_acceleration``); when not, the plan's accelerations were
-            not checked for those joints.
-        check_step: The largest step of the grid every check ran on [s]: the caller's ``dt``,
-            or a fraction of it for a motion shorter than 16 periods (the samples returned are
-            always the caller's grid).
-    """
-
-    t: np.ndarray
-    q: np.ndarray
-    qd: np.ndarray
-    qdd: np.ndarray
-    s: np.ndarray
-    ok: bool
-    status: str
-    fraction: float
-    events: list[Event]
-    max_deviation: float
-    min_manipulability: float
-    duration: float
-    path: Path
-    position_only: bool
-    singular_threshold: float
-    tool_positions: np.ndarray
-    manipulability: np.ndarray
-    retimed: bool = False
-    retime_duration: float | None = None
-    peak_speed_ratio: float = 0.0
-    min_clearance: float = np.inf
-    min_self_clearance: float = np.inf
-    peak_acceleration_ratio: float = 0.0
-    max_interpolation_deviation: float = 0.0
-    interpolation_tolerance: float = 0.0
-    check_step: float = 0.0
-    accelerations_limited: bool = True
-    slowdown: float | None = None
-    robot: Robot | None = None  # the robot it was planned for
-    cell: WorkCell | None = None  # the work cell it was checked against (issue 16)
-    cell_check: MotionCheck | None = None  # that check: pairs, per-sample distances
-
-    # -- kinplan.motion.SampledMotion: what viewers, plots and exports read --------------------
-    @property
-    def kind(self) -> MotionKind:
-        """Always "cartesian": an event's ``s`` is a fraction of :attr:`path`."""
-        return "cartesian"
-
-    @property
-    def description(self) -> str:
-        """The path and its length, for captions."""
-        return f"Cartesian path {float(self.path.length):.3f} m"
-
-    @property
-    def planned_paths(self) -> list[PlannedPath]:
-        """The path, reached up to the first event's path fraction (all of it when ok)."""
-        return [PlannedPath(self.path, self.events[0].s if self.events else 1.0)]
-
-    @property
-    def waypoints(self) -> Waypoints:
-        """None: a Cartesian plan is planned through no joint positions."""
-        return no_waypoints(self.q.shape[1])
-
-    @property
-    def moves(self) -> tuple[MoveSpan, ...]:
-        """None: a single motion."""
-        return ()
-
-    def __repr__(self) -> str:
-        text = (
-            f"CartesianPlan({self.status}, {len(self.t)} samples, {self.duration:.3f} s, "
-            f"fraction {self.fraction:.3f}, max deviation {self.max_deviation:.2e} m"
-        )
-        return text + (f": {self.events[0].message})" if self.events else ")")
-
-    def summary(self) -> str:
-        """One line: status, and the first event's message when there is one; an ok plan
-        says when joint accelerations were not limited (no limit declared or given)."""
-        if self.ok:
-            text = f"ok: {len(self.t)} samples, {self.duration:.3f} s"
-            if not self.accelerations_limited:
-                text += (
-                    "; joint accelerations not limited (the robot declares no acceleration "
-                    "limit for some joints: give max_acceleration=)"
-                )
-            return text
-        return f"{self.status} at s = {self.events[0].s:.3f}: {self.events[0].message}"
-
-
-# ------------------------------------------------------------------------------------------
 def follow(
     robot: Robot,
     path: Path,
@@ -316,9 +185,9 @@ def follow(
 
     plan = plan_at(dt)
     if plan.status == Status.SAMPLING:
-        _offer_finer_sampling(plan, dt, plan_at)
+        offer_finer_sampling(plan, dt, plan_at)
     elif not retime and plan.status in (Status.VELOCITY_LIMIT, Status.ACCELERATION_LIMIT):
-        _offer_slower(plan, lambda law: plan_at(dt, law), (duration, speed, acceleration))
+        offer_slower(plan, lambda law: plan_at(dt, law), (duration, speed, acceleration))
         # offer retiming only when it would pass: try it
         timing = time_path(path.length, duration, speed, acceleration, profile, dt)
         retimed = _retimed_plan(tracker, path, timing, seed, dt, interpolation_tolerance)
@@ -329,96 +198,6 @@ def follow(
                 f"of {plan.duration:.4g} s)"
             )
     return plan
-
-
-#: How many slower laws :func:`follow` plans to find one that a speed refusal can offer.
-SLOWER_ATTEMPTS = 4
-
-LengthLaw = tuple[float | None, float | None, float | None]
-
-
-def _offer_slower(
-    plan: CartesianPlan, plan_with: Callable[[LengthLaw], CartesianPlan], law: LengthLaw
-) -> None:
-    """Complete the remedy of a "velocity_limit" or "acceleration_limit" refusal with a slower
-    law that was planned and passes these limits (or fails for another reason): the factor, and
-    the duration or speed (and acceleration) to give, rounded so that pasting them works.
-    Sets :attr:`CartesianPlan.slowdown`."""
-    duration, speed, acceleration = law
-    event = plan.events[0]
-    accel = plan.status == Status.ACCELERATION_LIMIT
-    ratio = abs(event.value or 0.0) / abs(event.limit or 1.0)
-    factor = max(plan.peak_speed_ratio, math.sqrt(ratio) if accel else ratio, 1.0 + 1e-3)
-    for _ in range(SLOWER_ATTEMPTS):
-        factor = round_up(factor, 3)
-        text = f"{factor:g}"
-        if duration is not None:
-            slower: LengthLaw = (float(round_up(duration * factor, 4)), None, None)
-            if acceleration is not None:
-                slower = (slower[0], None, float(round_down(acceleration / factor**2, 4)))
-        else:
-            assert speed is not None  # a law has a duration or a speed
-            slower = (None, float(round_down(speed / factor, 4)), None)
-            if acceleration is not None:
-                slower = (None, slower[1], float(round_down(acceleration / factor**2, 4)))
-        try:
-            trial = plan_with(slower)
-        except KinplanError:  # a law too slow to sample (more samples than allowed)
-            return
-        if trial.status not in (Status.VELOCITY_LIMIT, Status.ACCELERATION_LIMIT):
-            names = ("duration", "speed", "acceleration")
-            given = ", ".join(f"{n}={v:g}" for n, v in zip(names, slower) if v is not None)
-            after = (
-                "" if trial.ok else f"; the motion then stops for another reason: {trial.status}"
-            )
-            event.remedy = f"slow the tool down by a factor of at least {text} ({given}{after})"
-            plan.slowdown = factor
-            return
-        trial_event = trial.events[0]
-        excess = abs(trial_event.value or 0.0) / abs(trial_event.limit or 1.0)
-        if trial.status == Status.ACCELERATION_LIMIT:
-            excess = math.sqrt(excess)
-        factor *= max(excess, 1.0 + 1e-3)
-
-
-#: Finest sampling period :func:`follow` tries when the caller's cannot represent the motion,
-#: as a fraction of it.
-FINEST_TRIED = 1e-3
-
-
-def finer_periods(dt: float) -> list[float]:
-    """Sampling periods below ``dt`` [s] a refusal may offer: 5, 2, 1 × a power of ten (exact
-    decimals, so that the value printed is the value tried), down to ``dt`` · FINEST_TRIED."""
-    top = math.floor(math.log10(dt)) + 1
-    periods = [
-        float(f"{mantissa}e{exponent}")
-        for exponent in range(top, top - 6, -1)
-        for mantissa in (5, 2, 1)
-    ]
-    return [p for p in periods if FINEST_TRIED * dt <= p < dt * (1 - 1e-9)]
-
-
-def _offer_finer_sampling(
-    plan: CartesianPlan, dt: float, plan_at: Callable[[float], CartesianPlan]
-) -> None:
-    """Complete the remedy of a "sampling" refusal with the largest period that represents the
-    motion, found by planning at it: the value printed is the one that was tried."""
-    event = plan.events[0]
-    for period in finer_periods(dt):
-        try:
-            trial = plan_at(period)
-        except KinplanError:  # more samples than allowed: no finer period can be offered
-            break
-        if trial.status != Status.SAMPLING:
-            after = (
-                "" if trial.ok else f" (the motion then stops for another reason: {trial.status})"
-            )
-            event.remedy = f"sample more finely: dt = {period:g} s represents the motion{after}"
-            return
-    event.remedy = (
-        f"no sampling period down to {FINEST_TRIED * dt:g} s represents the motion: slow it "
-        "down, or smooth the path (rounded corners, a longer weave wavelength)"
-    )
 
 
 def _planned(
@@ -439,7 +218,7 @@ def _planned(
     if plan.ok:
         if np.isfinite(tracker.acceleration_limit).any() and plan.max_deviation > POLISHED:
             _polish(tracker, plan)
-        _between_samples(tracker, plan, timing)
+        check_between(tracker, plan, timing)
     return plan
 
 
@@ -509,217 +288,6 @@ def _on_caller_grid(fine: CartesianPlan, parts: int) -> CartesianPlan:
         fraction=1.0 if fine.ok else (float(fine.s[keep[-1]]) if len(keep) else 0.0),
         cell_check=check,
     )
-
-
-#: Where, inside every interval between two samples, the interpolant is checked against the
-#: joint limits (fractions of the interval).
-LIMIT_FRACTIONS = np.arange(1, 16) / 16
-#: Of those, where its tool pose is compared with the path (one forward kinematics each).
-POSE_FRACTIONS = np.array([3, 8, 13]) - 1
-#: Largest difference between a joint's mean speed over an interval and what its rates at the
-#: ends explain, as a share of the joint's top speed in the plan (plus :data:`RATE_FLOOR`).
-RATE_CONSISTENCY = 0.05
-#: Speed [rad/s or m/s] added to a joint's top speed for :data:`RATE_CONSISTENCY` (a joint at
-#: rest is not held to a share of zero).
-RATE_FLOOR = 1e-3
-#: Lever [m] that turns the interpolation tolerance into a rotation tolerance (rad): the
-#: same displacement at a point this far from the tool frame.
-ROTATION_LEVER = 0.1
-
-
-def _between_samples(tracker: Tracker, plan: CartesianPlan, timing: PathTiming) -> None:
-    """Check the motion between the samples of an ok ``plan``: its quintic Hermite interpolant
-    (what viewers, :meth:`ProgramPlan.sample` and the exports play) within the joint limits,
-    speed limits and (where limited) acceleration limits at :data:`LIMIT_FRACTIONS` of every
-    interval, and its tool near the path at the same times at :data:`POSE_FRACTIONS`.
-
-    Where the interpolant stays on the path, it is the motion: a speed or acceleration above
-    its limit there is a "velocity_limit" or "acceleration_limit" event like one at a sample
-    (the peak fell between samples). Where it leaves the path, the period is too coarse for the
-    motion: a "sampling" event (:func:`follow` then offers a period that works). Sets
-    :attr:`CartesianPlan.max_interpolation_deviation` and raises
-    :attr:`CartesianPlan.peak_speed_ratio` to the interpolant's peak."""
-    if len(plan.t) < 2:
-        return
-    robot = tracker.robot
-    times, q, qd, qdd = hermite_between(plan.t, plan.q, plan.qd, plan.qdd, LIMIT_FRACTIONS)
-    intervals = len(plan.t) - 1
-    # the tool against the path at the same times
-    pose_times = times[:, POSE_FRACTIONS].ravel()
-    s, _, _ = timing.law(pose_times)
-    s = np.clip(s, 0.0, 1.0)
-    rows = q[:, POSE_FRACTIONS].reshape(-1, robot.nq)
-    positions, rotations = _tool_poses(robot, rows, not tracker.position_only)
-    distance = np.linalg.norm(positions - plan.path.position(s), axis=1)
-    if rotations is not None:
-        targets = plan.path.rotation(s)
-        assert targets is not None  # a pose task follows an oriented path
-        distance = np.maximum(distance, ROTATION_LEVER * _rotation_angles(rotations, targets))
-    distance = distance.reshape(intervals, len(POSE_FRACTIONS)).max(axis=1)
-    plan.max_interpolation_deviation = float(distance.max())
-    allowed = np.maximum(plan.interpolation_tolerance, CHORD_SHARE * _chords(plan))
-    off_path = distance > allowed
-
-    events: list[tuple[int, Event]] = []
-
-    def add(k: int, kind: str, what: str, value: float | None, limit: float | None,
-            joint: str | None, remedy: str) -> None:  # fmt: skip
-        if off_path[k]:
-            kind, remedy = Status.SAMPLING, "sample more finely"
-            what += (
-                f", leaving the path by {1e3 * distance[k]:.3g} mm (it may by "
-                f"{1e3 * allowed[k]:.3g} mm there: the interpolation tolerance, or "
-                f"{100 * CHORD_SHARE:g} % of the tool's travel between the samples): the "
-                "sampling period is too coarse for the motion"
-            )
-        message = (
-            f"between samples {k} and {k + 1} (t = {plan.t[k]:.4f}–{plan.t[k + 1]:.4f} s) the "
-            f"motion interpolated through the samples {what}"
-        )
-        position = plan.path.position(plan.s[k + 1 : k + 2])[0]
-        events.append((k, Event(
-            kind, float(plan.t[k + 1]), float(plan.s[k + 1]), k + 1, message, position,
-            joint, value, limit, remedy=remedy,
-        )))  # fmt: skip
-
-    below, above = (robot.lower - q) > 1e-9, (q - robot.upper) > 1e-9
-    beyond = (below | above).any(axis=2)
-    if beyond.any():
-        k, f = (int(x) for x in np.argwhere(beyond)[0])
-        j = int(np.argmax(np.maximum(robot.lower - q[k, f], q[k, f] - robot.upper)))
-        side = "lower" if below[k, f, j] else "upper"
-        bound = float(robot.lower[j] if side == "lower" else robot.upper[j])
-        add(
-            k, Status.JOINT_LIMIT, f"takes joint {robot.joint_names[j]} to "
-            f"{q[k, f, j]:.6g} {tracker.units[j]}, beyond its {side} limit {bound:.6g}",
-            float(q[k, f, j]), bound, robot.joint_names[j],
-            "keep the path away from the joint limits, or start from another configuration "
-            "(q_seed)",
-        )  # fmt: skip
-    speed = np.abs(qd) / tracker.speed_limit
-    peak = max(plan.peak_speed_ratio, float(speed.max(initial=0.0)))
-    plan.peak_speed_ratio = peak
-    fast = (speed > 1.0 + 1e-9).any(axis=2)
-    if fast.any():
-        k = int(np.argwhere(fast)[0][0])
-        j = int(np.argmax(speed[k].max(axis=0)))
-        limit = float(tracker.speed_limit[j])
-        add(
-            k, Status.VELOCITY_LIMIT, f"moves joint {robot.joint_names[j]} at "
-            f"{speed[k, :, j].max() * limit:.4g} {tracker.units[j]}/s, above its limit "
-            f"{limit:.4g} {tracker.units[j]}/s (the motion needs up to {peak:.4g}× the joint "
-            "speed limits)", float(speed[k, :, j].max() * limit), limit,
-            robot.joint_names[j], f"slow the tool down by a factor of at least "
-            f"{round_up(peak, 3):g} (a lower speed or a longer duration)",
-        )  # fmt: skip
-    limited = np.isfinite(tracker.acceleration_limit)
-    if limited.any():
-        accel = np.abs(qdd[:, :, limited]) / tracker.acceleration_limit[limited]
-        plan.peak_acceleration_ratio = max(plan.peak_acceleration_ratio, float(accel.max()))
-        hard = (accel > 1.0 + 1e-9).any(axis=2)
-        if hard.any():
-            k = int(np.argwhere(hard)[0][0])
-            j = int(np.flatnonzero(limited)[np.argmax(accel[k].max(axis=0))])
-            worst = float(accel.max())
-            plan.peak_acceleration_ratio = max(plan.peak_acceleration_ratio, worst)
-            limit = float(tracker.acceleration_limit[j])
-            value = float(np.abs(qdd[k, :, j]).max())
-            add(
-                k, Status.ACCELERATION_LIMIT, f"accelerates joint {robot.joint_names[j]} at "
-                f"{value:.4g} {tracker.units[j]}/s², above its limit {limit:.4g} "
-                f"{tracker.units[j]}/s²", value, limit,
-                robot.joint_names[j], f"slow the tool down by a factor of at least "
-                f"{round_up(math.sqrt(worst), 3):g} (a lower speed or a longer duration)",
-            )  # fmt: skip
-    # the rates at the samples explain the step between them (the mean speed over an interval
-    # is the mean of the rates, with the Hermite quadrature's correction h (q̈0 − q̈1) / 12):
-    # where they do not, the motion between the samples is not the one the rates describe
-    # (on a grid that resolves the motion: with fewer than MIN_INTERVALS intervals the samples
-    # are waypoints of a coarse motion, held to the path by the interpolant instead)
-    h = np.diff(plan.t)[:, None]
-    mean = np.diff(plan.q, axis=0) / h
-    rates = 0.5 * (plan.qd[1:] + plan.qd[:-1]) + h * (plan.qdd[:-1] - plan.qdd[1:]) / 12.0
-    scale = np.maximum(np.abs(plan.qd).max(axis=0), np.abs(mean).max(axis=0)) + RATE_FLOOR
-    mismatch = np.abs(mean - rates) / scale
-    if intervals < MIN_INTERVALS:
-        mismatch[:] = 0.0
-    unexplained = np.flatnonzero((mismatch > RATE_CONSISTENCY).any(axis=1))
-    if unexplained.size:
-        k = int(unexplained[0])
-        j = int(np.argmax(mismatch[k]))
-        events.append((k, Event(
-            Status.SAMPLING, float(plan.t[k + 1]), float(plan.s[k + 1]), k + 1,
-            f"between samples {k} and {k + 1} (t = {plan.t[k]:.4f}–{plan.t[k + 1]:.4f} s) joint "
-            f"{robot.joint_names[j]} moves at a mean {mean[k, j]:.4g} {tracker.units[j]}/s, "
-            f"which its rates at the samples ({plan.qd[k, j]:.4g}, {plan.qd[k + 1, j]:.4g}) do "
-            f"not explain (off by {100 * mismatch[k, j]:.3g} % of its top speed): the sampling "
-            "period is too coarse for the motion",
-            plan.path.position(plan.s[k + 1 : k + 2])[0], robot.joint_names[j],
-            remedy="sample more finely",
-        )))  # fmt: skip
-    off = np.flatnonzero(off_path)
-    if off.size:
-        k = int(off[0])
-        events.append((k, Event(
-            Status.SAMPLING, float(plan.t[k + 1]), float(plan.s[k + 1]), k + 1,
-            f"between samples {k} and {k + 1} (t = {plan.t[k]:.4f}–{plan.t[k + 1]:.4f} s) the "
-            f"motion interpolated through the samples leaves the path by "
-            f"{1e3 * distance[k]:.3g} mm (it may by {1e3 * allowed[k]:.3g} mm there: the "
-            f"interpolation tolerance, or {100 * CHORD_SHARE:g} % of the tool's travel between "
-            "the samples): the sampling period is too coarse for the motion",
-            plan.path.position(plan.s[k + 1 : k + 2])[0], remedy="sample more finely",
-        )))  # fmt: skip
-    if not events:
-        return
-    k, event = min(events, key=lambda item: item[0])
-    keep = k + 1
-    plan.ok, plan.status, plan.events = False, event.kind, [event]
-    plan.t, plan.q, plan.qd, plan.qdd = (
-        plan.t[:keep],
-        plan.q[:keep],
-        plan.qd[:keep],
-        plan.qdd[:keep],
-    )
-    plan.s, plan.tool_positions = plan.s[:keep], plan.tool_positions[:keep]
-    plan.manipulability = plan.manipulability[:keep]
-    plan.fraction = float(plan.s[-1])
-
-
-#: Share of the tool's travel between two samples it may leave the path by between them (a
-#: coarse grid asks for a coarse motion), when that is more than the interpolation tolerance.
-CHORD_SHARE = 0.01
-
-
-def _chords(plan: CartesianPlan) -> np.ndarray:
-    """The tool's travel [m] over each interval between samples (N−1,): the larger of the
-    straight distances of the interval and its neighbours (a sample at rest is no measure)."""
-    chord = np.linalg.norm(np.diff(plan.tool_positions, axis=0), axis=1)
-    wider = chord.copy()
-    wider[1:] = np.maximum(wider[1:], chord[:-1])
-    wider[:-1] = np.maximum(wider[:-1], chord[1:])
-    return wider
-
-
-def _tool_poses(
-    robot: Robot, rows: np.ndarray, with_rotation: bool
-) -> tuple[np.ndarray, np.ndarray | None]:
-    """Tool positions (N, 3) [m] and, when asked, rotations (N, 3, 3) of joint ``rows``."""
-    model, data, tip = robot.model, robot.data, robot.tip_id
-    positions = np.empty((len(rows), 3))
-    rotations = np.empty((len(rows), 3, 3)) if with_rotation else None
-    for k, row in enumerate(rows):
-        pin.forwardKinematics(model, data, row)
-        placement = pin.updateFramePlacement(model, data, tip)
-        positions[k] = placement.translation
-        if rotations is not None:
-            rotations[k] = placement.rotation
-    return positions, rotations
-
-
-def _rotation_angles(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Angles [rad] of the rotations a_k b_kᵀ (N,), from their traces (to ~1e-8 rad)."""
-    cosine = 0.5 * (np.einsum("kij,kij->k", a, b) - 1.0)
-    return np.arccos(np.clip(cosine, -1.0, 1.0))
 
 
 def _retimed_plan(

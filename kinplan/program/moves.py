@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from cartesian.paths import WEAVE_PATTERNS
+from cartesian.weave import WEAVE_PATTERNS
 from kinplan._profiles import PROFILES, PTP_PROFILES
 from kinplan.program.checker import Checker, describe, is_number, to_float
 from kinplan.program.schema import (

@@ -27,7 +27,7 @@ from conftest import cached_robot
 
 import cartesian
 import kinplan
-from cartesian.follow import CHORD_SHARE, ROTATION_LEVER
+from cartesian.between import CHORD_SHARE, ROTATION_LEVER
 from cartesian.timing import time_path
 from kinplan.program.segments import hermite_segments
 from kinplan.trajectory import Trajectory, time_grid
