@@ -1,0 +1,163 @@
+"""The pendant's state: the arm, its start and current configuration, the steps and jog speed,
+what was recorded; the start it comes back to (:func:`home_configuration`), a command's
+:class:`Reply`, the status line and moving the arm (captured by a running recording)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from kinplan import checks
+from kinplan.errors import InputError
+from kinplan.program.schema import FALLBACK_JOINT_SPEED, PTP_RAMP_TIME
+from kinplan.robot import Robot
+from kinplan.teach.capture import Recording, capture
+from kinplan.teach.paths import RecordedPath
+from kinplan.teach.settings import (
+    DEFAULT_ANGULAR_STEP_DEG,
+    DEFAULT_JOG_SPEED,
+    DEFAULT_LINEAR_STEP,
+    DEFAULT_PATH_TOLERANCE,
+    MAX_LINEAR_JOG,
+    MAX_PATH_TOLERANCE_DEG,
+    MAX_ROTATION_JOG_DEG,
+)
+
+_HOME_DEG = {
+    "ur": [0.0, -90.0, 90.0, -90.0, -90.0, 0.0],
+    "panda": [0.0, -45.0, 0.0, -135.0, 0.0, 90.0, 45.0],
+}
+
+
+def home_configuration(robot: Robot) -> np.ndarray:
+    """A comfortable start for teaching [rad]: the UR "up" pose with the tool down, the panda's
+    ready pose, 30° per joint for planar arms, else the neutral configuration.
+
+    Raises:
+        InputError: ``robot`` is not a :class:`kinplan.Robot`.
+    """
+    _check_robot(robot)
+    for prefix, degrees in _HOME_DEG.items():
+        if robot.name.startswith(prefix) and len(degrees) == robot.nq:
+            return np.clip(np.radians(degrees), robot.lower, robot.upper)
+    if robot.planar_reach() is not None:
+        return np.clip(np.full(robot.nq, math.radians(30.0)), robot.lower, robot.upper)
+    return robot.neutral()
+
+
+@dataclass
+class Reply:
+    """What a command did.
+
+    Attributes:
+        text: Lines to show the operator.
+        moved: Whether the configuration changed.
+        done: Whether the session ends.
+        write: Whether the program should be written (``q``; not ``abort``).
+    """
+
+    text: str
+    moved: bool = False
+    done: bool = False
+    write: bool = False
+
+
+class PendantState:
+    """A teach session's state, shared by the pendant's commands (:class:`TeachPendant
+    <kinplan.teach.TeachPendant>` documents the arguments and attributes)."""
+
+    def __init__(
+        self,
+        robot: Robot,
+        q_start: np.ndarray | None = None,
+        robot_source: str | None = None,
+        linear_step: float = DEFAULT_LINEAR_STEP,
+        angular_step_deg: float = DEFAULT_ANGULAR_STEP_DEG,
+        jog_speed: float = DEFAULT_JOG_SPEED,
+        path_tolerance: float = DEFAULT_PATH_TOLERANCE,
+    ) -> None:
+        _check_robot(robot)
+        self.robot = robot
+        start = home_configuration(robot) if q_start is None else robot.check_q(q_start, "q_start")
+        if not robot.within_limits(start):
+            raise InputError(
+                f"q_start {np.round(np.degrees(start), 3).tolist()} deg is beyond the joint "
+                f"limits of {robot.name}; give a start within them"
+            )
+        self.start = start.copy()
+        self.q = start.copy()
+        if robot_source is not None:
+            robot_source = checks.text(robot_source, "robot_source (a robot name or URDF path)")
+        self.robot_source = robot_source or robot.name
+        self.linear_step = checks.number(
+            linear_step, "linear_step", positive=True, maximum=MAX_LINEAR_JOG, unit="m"
+        )
+        self.angular_step = math.radians(
+            checks.number(
+                angular_step_deg,
+                "angular_step_deg",
+                positive=True,
+                maximum=MAX_ROTATION_JOG_DEG,
+                unit="deg",
+            )
+        )
+        self.jog_speed = checks.number(
+            jog_speed, "jog_speed (share of the joint velocity limits)", positive=True, maximum=1.0
+        )
+        self.path_tolerance = checks.number(
+            path_tolerance,
+            "path_tolerance",
+            positive=True,
+            maximum=math.radians(MAX_PATH_TOLERANCE_DEG),
+            unit="rad",
+        )
+        limit = robot.velocity_limit
+        limit = np.where(np.isfinite(limit), limit, FALLBACK_JOINT_SPEED)
+        self._jog_velocity = limit * self.jog_speed
+        known = robot.acceleration_limit
+        self._jog_acceleration = np.where(
+            np.isfinite(known), known * self.jog_speed, self._jog_velocity / PTP_RAMP_TIME
+        )
+        self.points: dict[str, np.ndarray] = {}
+        self.paths: dict[str, RecordedPath] = {}
+        self._order: list[tuple[str, str]] = []  # ("point" | "path", name), in teaching order
+        self._recording: Recording | None = None
+
+    @property
+    def recording(self) -> bool:
+        """Whether a continuous path is being recorded (between ``rec start`` and ``rec stop``)."""
+        return self._recording is not None
+
+    # -- display -------------------------------------------------------------------------------
+    def status(self) -> str:
+        """Joint values [deg] and tool pose (position [m], roll/pitch/yaw [deg])."""
+        joints = "  ".join(f"{j}:{math.degrees(v):8.2f}" for j, v in enumerate(self.q))
+        pose = self.robot.fk(self.q)
+        xyz = ", ".join(f"{v:.4f}" for v in pose.translation)
+        text = f"joints [deg]  {joints}\ntool  xyz ({xyz}) m"
+        if not self.robot.default_position_only():
+            rpy = ", ".join(f"{v:.1f}" for v in np.degrees(pin.rpy.matrixToRpy(pose.rotation)))
+            text += f"  rpy ({rpy}) deg"
+        return text
+
+    def _go(self, q: np.ndarray, along: tuple[np.ndarray, np.ndarray] | None = None) -> Reply:
+        """Move to ``q`` (captured by a running recording: along the joint path ``along``, path
+        fractions and configurations, or joint-interpolated)."""
+        if self._recording is not None:
+            refusal = capture(
+                self._recording, self.q, q, along, self._jog_velocity, self._jog_acceleration
+            )
+            if refusal:
+                return Reply(refusal)
+        self.q = q
+        return Reply(self.status(), moved=True)
+
+
+def _check_robot(robot: object) -> None:
+    if not isinstance(robot, Robot):
+        raise InputError(
+            f"robot must be a kinplan.Robot (from kinplan.load_robot), got {checks.describe(robot)}"
+        )
