@@ -1123,7 +1123,7 @@ def _dispatch(args: argparse.Namespace) -> int:
         print("kinplan: interrupted", file=sys.stderr)
         return 130
     except Exception as exc:  # a bug: still one line (the traceback is logged with -v)
-        logging.getLogger(__name__).info("internal error", exc_info=True)
+        logging.getLogger("kinplan.cli").info("internal error", exc_info=True)
         return _fail(
             f"internal error ({type(exc).__name__}: {_one_line(exc)}); please report it with the "
             "command that caused it (kinplan -v ... logs the traceback)"

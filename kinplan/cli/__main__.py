@@ -1,0 +1,7 @@
+"""``python -m kinplan.cli``: the ``kinplan`` command."""
+
+import sys
+
+from kinplan.cli import main
+
+sys.exit(main())
