@@ -65,6 +65,18 @@ FOLLOW_TESTS = [
     "tests/cartesian/test_paths.py",
     "tests/test_validation.py",
 ]
+#: The tests of the UR family's and the panda's closed forms, for each of their modules.
+UR_TESTS = [
+    "tests/ik/test_analytic_ik.py",
+    "tests/ik/test_ik_batch.py",
+    "tests/ik/test_ur_ik_mutants.py",
+]
+PANDA_TESTS = [
+    "tests/ik/test_panda_ik.py",
+    "tests/ik/test_ik_batch.py",
+    "tests/ik/test_panda_ik_mutants.py",
+    "tests/ik/test_panda_kernel.py",
+]
 #: The core modules and the tests that exercise each (globs, relative to the repository); a
 #: module missing from the checkout is left out.
 MODULES: dict[str, list[str]] = {
@@ -90,11 +102,10 @@ MODULES: dict[str, list[str]] = {
         "tests/test_validation.py",
         "tests/test_errors.py",
     ],
-    "kinplan/ik/ur.py": [
-        "tests/ik/test_analytic_ik.py",
-        "tests/ik/test_ik_batch.py",
-        "tests/ik/test_ur_ik_mutants.py",
-    ],
+    "kinplan/ik/ur.py": UR_TESTS,
+    "kinplan/ik/ur_geometry.py": UR_TESTS,
+    "kinplan/ik/ur_single.py": UR_TESTS,
+    "kinplan/ik/ur_many.py": UR_TESTS,
     "kinplan/ik/planar.py": ["tests/ik/test_analytic_ik.py"],
     "kinplan/ik/base.py": ["tests/ik/test_analytic_ik.py", "tests/ik/test_panda_ik.py"],
     "kinplan/ik/screws.py": [
@@ -105,12 +116,11 @@ MODULES: dict[str, list[str]] = {
         "tests/ik/test_panda_ik_mutants.py",
         "tests/ik/test_ur_ik_mutants.py",
     ],
-    "kinplan/ik/panda.py": [
-        "tests/ik/test_panda_ik.py",
-        "tests/ik/test_ik_batch.py",
-        "tests/ik/test_panda_ik_mutants.py",
-        "tests/ik/test_panda_kernel.py",
-    ],
+    "kinplan/ik/panda.py": PANDA_TESTS,
+    "kinplan/ik/panda_geometry.py": PANDA_TESTS,
+    "kinplan/ik/panda_subproblems.py": PANDA_TESTS,
+    "kinplan/ik/panda_intervals.py": PANDA_TESTS,
+    "kinplan/ik/panda_batch.py": PANDA_TESTS,
     "cartesian/follow.py": FOLLOW_TESTS,
     "cartesian/tracker.py": FOLLOW_TESTS,
     "cartesian/geometry.py": FOLLOW_TESTS,

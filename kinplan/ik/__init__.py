@@ -8,8 +8,17 @@ Modules, each importing only those before it:
   rotations, the choice among 2π equivalents, tolerances);
 * :mod:`~kinplan.ik.base` — the :class:`AnalyticIK` protocol, the :class:`ClosedFormIK` base
   class (nearest solution, batches along a path) and :func:`self_check` against FK;
-* :mod:`~kinplan.ik.planar` — planar 2R; :mod:`~kinplan.ik.ur` — the UR family;
-  :mod:`~kinplan.ik.panda` — panda-type 7-joint arms for a given θ7;
+* :mod:`~kinplan.ik.planar` — planar 2R;
+* the UR family, :class:`URIK`: :mod:`~kinplan.ik.ur_geometry` (the arm read from the model) →
+  :mod:`~kinplan.ik.ur_single` (one pose in plain floats) → :mod:`~kinplan.ik.ur_many` (the same
+  formulas over many poses) → :mod:`~kinplan.ik.ur` (the solver);
+* panda-type 7-joint arms, :class:`PandaIK` (closed form for a given θ7, θ7 searched):
+  :mod:`~kinplan.ik.panda_geometry` (the arm read from the model, float 3-vector arithmetic) →
+  :mod:`~kinplan.ik.panda_subproblems` (Paden–Kahan subproblems 1 and 2) →
+  :mod:`~kinplan.ik.panda_intervals` (the θ7 search's intervals) →
+  :mod:`~kinplan.ik.panda_batch` (the search over many poses) → :mod:`~kinplan.ik.panda` (the
+  solver, :func:`panda_solver_for`); its per-θ7 solve compiled in :mod:`~kinplan.ik.panda_kernel`
+  (numba, on :mod:`kinplan.compiled` and :mod:`~kinplan.ik.screws`, loaded on first use);
 * :mod:`~kinplan.ik.closed_form` — :func:`analytic_solver_for`: which closed form a robot has.
 """
 

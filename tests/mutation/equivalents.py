@@ -17,6 +17,23 @@ _CLOSED_FORMS = (
     "kinplan/ik/screws.py",
     "kinplan/ik/planar.py",
     "kinplan/ik/ur.py",
+    "kinplan/ik/ur_geometry.py",
+    "kinplan/ik/ur_single.py",
+    "kinplan/ik/ur_many.py",
+)
+#: The panda's and the UR family's closed forms, before and after they were split (issue 31).
+_PANDA = (
+    "kinplan/ik/panda.py",
+    "kinplan/ik/panda_geometry.py",
+    "kinplan/ik/panda_subproblems.py",
+    "kinplan/ik/panda_intervals.py",
+    "kinplan/ik/panda_batch.py",
+)
+_UR = (
+    "kinplan/ik/ur.py",
+    "kinplan/ik/ur_geometry.py",
+    "kinplan/ik/ur_single.py",
+    "kinplan/ik/ur_many.py",
 )
 _FAST_PATH = (
     "the condition only picks the fast path for a float already in range; otherwise "
@@ -598,7 +615,7 @@ EQUIVALENTS += [
 ]  # fmt: skip
 
 # ------------------------------------------------------------------ issue 20: batch IK pass
-_panda = _module(("kinplan/ik/panda.py",))
+_panda = _module(_PANDA)
 _LAST_AXIS = (
     "numpy's default axis is the last one (-1; take_along_axis since numpy 2.3), which is the "
     "axis named"
@@ -635,8 +652,8 @@ EQUIVALENTS += [
            "for t2, t1 in self._shoulder_pair.solve(g.axes[2], g3, None, joints[0][1]):",
            "θ2's free value is used only when ω3 lies on axis 2, which the structure check "
            "refuses (axes 2 and 3 not parallel)"),
-    _panda("near_free = near_free | (hx * hx + hy * hy + hz * hz < _NEAR_FREE**2)",
-           "near_free = near_free | (hx * hx + hy * hy + hz / hz < _NEAR_FREE**2)",
+    _panda("near_free = near_free | (hx * hx + hy * hy + hz * hz < NEAR_FREE**2)",
+           "near_free = near_free | (hx * hx + hy * hy + hz / hz < NEAR_FREE**2)",
            "h = R3(θ3) e with e ⟂ ω3 has unit length across ω3 wherever θ1 and θ2 solve the "
            "shoulder, so the test never fires; where they do not (g3 on axis 1) the shoulder "
            "pair's near_free already flags the lane"),
@@ -717,7 +734,7 @@ EQUIVALENTS += [
            _STRAIGHT_SEAM),
 ]  # fmt: skip
 
-_ur = _module(("kinplan/ik/ur.py",))
+_ur = _module(_UR)
 _MONOTONE_INDEX = (
     "a relabelling that keeps the order of (shoulder, wrist, elbow): pair and branch indices are "
     "only sorted and compared for ties, never used as positions"
@@ -734,13 +751,13 @@ EQUIVALENTS += [
         "if not math.isfinite(sum(position_list) - sum(values)):",
         "a sum or a difference of two float sums is finite exactly when every term is (a "
         "position and rotation terms of order 1 never overflow)"),
-    _ur("if abs(cosine) > 1.0 + CLAMP + _FAST_EDGE:",
-        "if abs(cosine) > 1.0 - CLAMP + _FAST_EDGE:",
-        "|cos| between 1 + _FAST_EDGE − CLAMP and 1 + _FAST_EDGE + CLAMP (_FAST_EDGE = 1e-8 ≫ "
+    _ur("if abs(cosine) > 1.0 + CLAMP + FAST_EDGE:",
+        "if abs(cosine) > 1.0 - CLAMP + FAST_EDGE:",
+        "|cos| between 1 + FAST_EDGE − CLAMP and 1 + FAST_EDGE + CLAMP (FAST_EDGE = 1e-8 ≫ "
         "CLAMP = 1e-10) has no elbow in the batch path either (it clips only up to 1 + CLAMP): "
         "None instead of NeedsBatch drops the same pair"),
     _ur("np.clip(cosine, -1.0, 1.0, out=cosine)", "np.clip(cosine, -2.0, 1.0, out=cosine)",
-        "a cosine below −1 is either NaN (beyond 1 + CLAMP + _FAST_EDGE: no elbow) or marks "
+        "a cosine below −1 is either NaN (beyond 1 + CLAMP + FAST_EDGE: no elbow) or marks "
         "its pose as left to nearest() (near_edge), whose outputs are not used"),
     _ur("refs = np.ascontiguousarray(np.asarray(q_ref, dtype=float).T)",
         "refs = np.ascontiguousarray(np.asarray(q_ref, ).T)",
@@ -750,7 +767,7 @@ EQUIVALENTS += [
 
 _EDGE_ONLY = (
     "a value beyond ±1 before the clip only occurs for poses flagged near a singularity "
-    "(|value| > 1 − _FAST_EDGE), whose outputs are documented as meaningless and never used "
+    "(|value| > 1 − FAST_EDGE), whose outputs are documented as meaningless and never used "
     "(the follower and nearest() hand them to the exact path)"
 )
 _OWN_SKEW = (
@@ -774,10 +791,10 @@ EQUIVALENTS += [
         "cos_half5, sin_half5 = b6 / norm, sign5 * sine * norm",
         "norm is the length of (sin, cos) of one angle built from a unit vector's components: "
         "1 to rounding, so dividing or multiplying by it differs by an ulp"),
-    _ur("no_shoulder = size > 1.0 + CLAMP + _FAST_EDGE",
-        "no_shoulder = size >= 1.0 + CLAMP + _FAST_EDGE", _NEVER_EQUAL),
-    _ur("edge = size > 1.0 - _FAST_EDGE", "edge = size >= 1.0 - _FAST_EDGE", _NEVER_EQUAL),
-    _ur("if defect > _FAST_DEFECT:", "if defect >= _FAST_DEFECT:", _NEVER_EQUAL),
+    _ur("no_shoulder = size > 1.0 + CLAMP + FAST_EDGE",
+        "no_shoulder = size >= 1.0 + CLAMP + FAST_EDGE", _NEVER_EQUAL),
+    _ur("edge = size > 1.0 - FAST_EDGE", "edge = size >= 1.0 - FAST_EDGE", _NEVER_EQUAL),
+    _ur("if defect > FAST_DEFECT:", "if defect >= FAST_DEFECT:", _NEVER_EQUAL),
     _ur("if min(np.hypot(*r23), np.hypot(*r34)) < STRUCTURE_TOL:",
         "if min(np.hypot(*r23), np.hypot(*r34)) <= STRUCTURE_TOL:", _NEVER_EQUAL),
 ]  # fmt: skip
