@@ -1,0 +1,198 @@
+"""The batch commands (issue 19): ``kinplan reach`` (a capability map), ``kinplan place`` (base
+poses ranked for a program) and ``kinplan run A.yaml B.yaml ...`` (many programs, one row each),
+in-process or on Dask (``--jobs N`` / ``--scheduler ADDR``), with a progress bar on a terminal."""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from kinplan.cli.output import console, fail, fmt, plot_file
+from kinplan.cli.robot_args import robot_of
+from kinplan.errors import KinplanError
+
+
+@contextlib.contextmanager
+def _work_progress(label: str, unit: str):
+    """A progress bar on stderr (a terminal only) and its ``progress(done, total)`` callback."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    bar = Progress(
+        TextColumn(label),
+        BarColumn(),
+        TextColumn("{task.completed}/{task.total} " + unit),
+        TimeElapsedColumn(),
+        console=console(stderr=True),
+        transient=True,
+        disable=not sys.stderr.isatty(),
+    )
+    with bar:
+        task = bar.add_task(label, total=None)
+
+        def update(done: int, total: int) -> None:
+            bar.update(task, completed=done, total=total)
+
+        yield update
+
+
+def _engine_options(args: argparse.Namespace) -> dict:
+    engine = "dask" if args.jobs is not None and args.jobs > 1 else "local"
+    jobs = args.jobs if engine == "dask" else None
+    return {"engine": engine, "scheduler": args.scheduler, "jobs": jobs}
+
+
+def cmd_run_many(args: argparse.Namespace) -> int:
+    from rich.table import Table
+    from rich.text import Text
+
+    from kinplan.batch import plan_many
+
+    extra = [
+        flag
+        for flag, value in (
+            ("--html", args.html),
+            ("--plot", args.plot),
+            ("--csv", args.csv),
+            ("--urscript", args.urscript),
+            ("--trajectory", args.trajectory),
+        )
+        if value
+    ]
+    if extra and len(args.program) > 1:
+        raise KinplanError(
+            f"{', '.join(extra)} write the motion of one program; give one PROGRAM.yaml, or "
+            "leave them out to plan several"
+        )
+    if extra:  # one program on an engine: its files would not be written
+        raise KinplanError(
+            f"{', '.join(extra)} write the motion of a program planned here; leave out --jobs "
+            "and --scheduler to write them"
+        )
+    with _work_progress("planning programs", "programs") as progress:
+        summaries = plan_many(args.program, dt=args.dt, progress=progress, **_engine_options(args))
+    table = Table(title=f"{len(summaries)} programs")
+    for column in (
+        "program",
+        "robot",
+        "moves",
+        "duration [s]",
+        "min manip.",
+        "joint margin",
+        "status",
+    ):
+        table.add_column(
+            column, justify="left" if column in ("program", "robot", "status") else "right"
+        )
+    for s in summaries:
+        table.add_row(
+            s.path,
+            s.robot or "-",
+            f"{s.moves_ok}/{s.moves}",
+            f"{s.duration:.3f}",
+            "-" if math.isnan(s.min_manipulability) else f"{s.min_manipulability:.4g}",
+            "-" if not math.isfinite(s.joint_margin) else f"{s.joint_margin:.3f}",
+            Text(s.status, style="green" if s.ok else "bold red"),
+        )
+    console().print(table)
+    failed = [s for s in summaries if not s.ok]
+    for s in failed:
+        print(f"{s.path}: {s.reason}")
+    if failed:
+        first = failed[0]
+        return fail(
+            f"{len(failed)} of {len(summaries)} programs failed; {first.path}: {first.reason}"
+        )
+    print(f"ok: {len(summaries)} programs planned")
+    return 0
+
+
+def cmd_reach(args: argparse.Namespace) -> int:
+    from kinplan.reach import capability_map
+
+    robot = robot_of(args)
+    if args.cone_deg is not None and args.direction is None:
+        raise KinplanError("--cone-deg needs --direction X Y Z (the tool z axis it is around)")
+    region = None if args.region is None else np.reshape(args.region, (3, 2))
+    output = Path(args.output)
+    if output.is_dir():
+        raise KinplanError(f"-o {args.output} is a folder; give a file name such as map.npz")
+    with _work_progress(f"reach map of {robot.name}", "chunks") as progress:
+        reach_map = capability_map(
+            robot,
+            resolution=args.resolution,
+            orientations=args.orientations,
+            region=region,
+            direction=args.direction,
+            cone_deg=args.cone_deg or 0.0,
+            progress=progress,
+            **_engine_options(args),
+        )
+    for line in reach_map.summary():
+        print(line)
+    print(f"wrote {reach_map.save(output)}")
+    if args.png:
+        print(f"wrote {reach_map.save_png(plot_file(args.png))}")
+    if args.html:
+        print(f"wrote {reach_map.save_html(args.html, robot=robot)}")
+    return 0
+
+
+def cmd_place(args: argparse.Namespace) -> int:
+    from rich.table import Table
+
+    from kinplan.placement import heat_map, place
+
+    png = plot_file(args.png) if args.png else None
+    with _work_progress("placing the robot", "chunks") as progress:
+        search = place(
+            args.program,
+            x=args.x,
+            y=args.y,
+            z=args.z,
+            yaw_deg=args.yaw_deg,
+            step=args.step,
+            yaw_step_deg=args.yaw_step_deg,
+            dt=args.dt,
+            progress=progress,
+            **_engine_options(args),
+        )
+    planned = [p for p in search.placements if p.ok]
+    table = Table(
+        title=f"{args.program}: {len(planned)} of {len(search.placements)} base poses plan"
+    )
+    for column in (
+        "#",
+        "xyz [m]",
+        "rpy [deg]",
+        "margin",
+        "min manip.",
+        "joint margin",
+        "clearance",
+        "duration [s]",
+    ):
+        table.add_column(column, justify="right")
+    for rank, p in enumerate(search.placements[: args.top]):
+        table.add_row(
+            str(rank + 1),
+            fmt(p.xyz, 3),
+            fmt([angle + 0.0 for angle in p.rpy_deg], 1),  # + 0.0: no "-0.0"
+            f"{p.margin:.3f}" if p.ok else f"fails: {p.reason}"[:60],
+            "-" if math.isnan(p.min_manipulability) else f"{p.min_manipulability:.4g}",
+            "-" if not math.isfinite(p.joint_margin) else f"{p.joint_margin:.3f}",
+            "-" if not math.isfinite(p.clearance) else f"{p.clearance:.3f} m",
+            f"{p.duration:.3f}",
+        )
+    console().print(table)
+    if png is not None:
+        print(f"wrote {heat_map(search, png)}")
+    if not planned:
+        return fail(
+            f"no base pose of the grid plans the whole program; the best: {search.best.reason}"
+        )
+    print(f"wrote {search.write_best(args.output)} (base_pose of #1)")
+    return 0
