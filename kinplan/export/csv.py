@@ -1,0 +1,74 @@
+"""CSV samples of a motion: :func:`write_csv` (one row per sample: time, joint positions,
+velocities, accelerations and the tool pose) and its header, :func:`csv_header`.
+
+Any planned motion with a robot, a failed plan's achieved part too; the motion is checked
+against its robot's limits first (:func:`kinplan.export.limits.check_limits`).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from kinplan import checks
+from kinplan.errors import KinplanError
+from kinplan.export.common import checked_joint_names, logger, name_list, plan_tool_track
+from kinplan.export.limits import check_limits
+from kinplan.motion import SampledMotion
+
+__all__ = ["csv_header", "write_csv"]
+
+
+def csv_header(joint_names: Sequence[str]) -> list[str]:
+    """Column names: ``t``, ``q_<joint>``…, ``qd_<joint>``…, ``qdd_<joint>``…, ``x y z`` (tool
+    position [m]) and ``qx qy qz qw`` (tool orientation quaternion)."""
+    names = name_list(joint_names, "joint_names")
+    columns = ["t"]
+    for prefix in ("q", "qd", "qdd"):
+        columns += [f"{prefix}_{name}" for name in names]
+    return columns + ["x", "y", "z", "qx", "qy", "qz", "qw"]
+
+
+def write_csv(
+    path: str | os.PathLike[str], plan: SampledMotion, joint_names: Sequence[str]
+) -> Path:
+    """Write the samples of a plan as CSV, one row per sample, with a header line.
+
+    Units: s, rad (or m for prismatic joints), rad/s, rad/s², m; the quaternion is (x, y, z, w).
+
+    Args:
+        path: File to write (its folder is created).
+        plan: The motion, with its robot (:class:`~kinplan.motion.SampledMotion`).
+        joint_names: Names of the joints, for the header.
+
+    Returns:
+        The written path.
+
+    Raises:
+        InputError: not a motion with a robot, or not a file path.
+        LimitViolationError: the motion breaks its robot's limits (:func:`check_limits`; a
+            failed plan's achieved part too).
+        KinplanError: the file cannot be written.
+    """
+    target = Path(checks.file_path(path, "path"))
+    track = plan_tool_track(plan, "write_csv")
+    header = csv_header(checked_joint_names(plan, joint_names, np.shape(plan.q)[-1]))
+    check_limits(plan, "write_csv")
+    table = np.column_stack([plan.t, plan.q, plan.qd, plan.qdd, track.positions, track.quaternions])
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        np.savetxt(
+            target,
+            table,
+            fmt="%.9g",
+            delimiter=",",
+            header=",".join(header),
+            comments="",
+        )
+    except OSError as exc:
+        raise KinplanError(f"cannot write the CSV file {target}: {exc}") from exc
+    logger.info("wrote %s (%d rows)", target, len(table))
+    return target
