@@ -404,7 +404,11 @@ class Tracker:
         q, converged, *_, evaluation = self.solve(guess, position, rotation, iterations=60)
         if converged:
             return q
-        if self.rank < len(self.rows):  # the arm cannot move the tool in every task direction
+        # the arm cannot move the tool in every task direction although some of its joints are
+        # redundant there (parallel prismatic joints, a tool on a joint's axis): say so; an arm
+        # with fewer joints than task rows (a planar 2R asked for a pose) gets the full solver's
+        # closest pose below, which says more
+        if self.rank < len(self.rows) and self.rank < robot.nq:
             event = self.rank_event(k, t, s, evaluation, position, rotation)
             if event is not None:
                 return event

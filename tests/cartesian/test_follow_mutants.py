@@ -434,7 +434,12 @@ def test_collision_event_states_the_check(ur5):
         f"{first} collides with {second} ({1e3 * check.penetration:.1f} mm deep)" in event.message
     )
     assert check.penetration == pytest.approx(-check.distance)
-    when = f"between samples {k - 1} and {k}" if check.between else f"at sample {k}"
+    t = plan.t if k < len(plan.t) else np.append(plan.t, event.t)  # the failing sample's time
+    when = (
+        f"between samples at t = {t[k - 1]:.4f} and {t[k]:.4f} s"
+        if check.between
+        else f"at the sample at t = {event.t:.4f} s"
+    )
     assert when in event.message
     assert (
         check.point is not None and f"near {cartesian.events.where(check.point)}" in event.message
