@@ -77,14 +77,21 @@ PANDA_TESTS = [
     "tests/ik/test_panda_ik_mutants.py",
     "tests/ik/test_panda_kernel.py",
 ]
+#: The tests of the 1-D profiles (kinplan/_profiles.py before it was split, issue 31), for each
+#: of their modules.
+PROFILE_TESTS = [
+    "tests/trajectory/test_trajectory*.py",
+    "tests/trajectory/test_scurve.py",
+    "tests/trajectory/test_time_optimal.py",
+]
 #: The core modules and the tests that exercise each (globs, relative to the repository); a
 #: module missing from the checkout is left out.
 MODULES: dict[str, list[str]] = {
-    "kinplan/_profiles.py": [
-        "tests/trajectory/test_trajectory*.py",
-        "tests/trajectory/test_scurve.py",
-        "tests/trajectory/test_time_optimal.py",
-    ],
+    "kinplan/_profiles/basics.py": PROFILE_TESTS,
+    "kinplan/_profiles/polynomials.py": PROFILE_TESTS,
+    "kinplan/_profiles/piecewise.py": PROFILE_TESTS,
+    "kinplan/_profiles/lspb.py": PROFILE_TESTS,
+    "kinplan/_profiles/scurve.py": PROFILE_TESTS,
     "kinplan/trajectory/polynomials.py": ["tests/trajectory/test_trajectory*.py"],
     "kinplan/robot.py": [
         "tests/robots/test_robot.py",

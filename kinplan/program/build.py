@@ -3,14 +3,20 @@
 Each move (``ptp``, ``lin``, ``circ``, or any :class:`cartesian.Path` to follow) starts from the
 end state of the previous one; :meth:`MotionBuilder.finish` returns the whole motion as a
 :class:`~kinplan.program.ProgramPlan`.
+
+In :mod:`kinplan.program`, after :mod:`~kinplan.program.ptp` (the timing of ptp moves),
+:mod:`~kinplan.program.joint_checks` (a ptp move's speed share and cell check),
+:mod:`~kinplan.program.record` (the samples and reports so far),
+:mod:`~kinplan.program.remedies` (how a failed move is worded) and
+:mod:`~kinplan.program.seams` (the paths of lin, circ and seam moves), and before
+:mod:`~kinplan.program.run`.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Callable, Sequence
-from typing import NoReturn, TypeAlias
+from typing import NoReturn
 
 import numpy as np
 import pinocchio as pin
@@ -18,11 +24,10 @@ import pinocchio as pin
 import cartesian
 from cartesian.follow import collision_event
 from kinplan import checks
-from kinplan._profiles import round_up
 from kinplan.cell import MotionCheck, WorkCell
 from kinplan.errors import InputError, KinplanError
 from kinplan.program.checker import describe
-from kinplan.program.peaks import joint_peaks
+from kinplan.program.joint_checks import cell_check, speed_ratio
 from kinplan.program.plan import MoveReport, ProgramPlan
 from kinplan.program.ptp import (
     PtpLimitError,
@@ -32,6 +37,18 @@ from kinplan.program.ptp import (
     plan_ptp_through,
 )
 from kinplan.program.record import MotionRecord
+from kinplan.program.remedies import (
+    SMALL_GAP,
+    ik_reason,
+    jump_reason,
+    program_remedy,
+    ptp_collision_reason,
+    start_gap_reason,
+    start_turn_reason,
+    too_many_samples_reason,
+    torch_start_reason,
+    trajectory_remedy,
+)
 from kinplan.program.schema import (
     DEFAULT_DT,
     DEFAULT_TOOL_SPEED,
@@ -41,63 +58,21 @@ from kinplan.program.schema import (
     TorchSpec,
     WeaveSpec,
 )
+from kinplan.program.seams import (
+    TORCH_START_TOLERANCE,
+    Goal,
+    SeamPiece,
+    goal_from,
+    seam_path,
+    start_turn,
+    torch_path,
+    weave_path,
+)
 from kinplan.robot import Robot
 from kinplan.sampling import motion_step
 from kinplan.trajectory import Segment, Trajectory
 
 __all__ = ["Goal", "MotionBuilder", "SeamPiece"]
-
-Goal: TypeAlias = np.ndarray | Sequence[float] | pin.SE3
-"""A Cartesian goal: a tool pose, or a tool position [m]."""
-SeamPiece: TypeAlias = tuple[str, Goal, Goal | None]
-"""One piece of a seam: (``"lin"``, goal, None) or (``"circ"``, goal, via)."""
-
-
-TORCH_START_TOLERANCE = 1e-5
-"""Largest angle between the tool and a torch seam's start orientation [rad]: an approach
-orientation typed to 2 decimals of a degree (1e-4 rad off) is refused with the 6-decimal one
-that joins; below it, the seam's first configuration must still join the current one within
-:data:`JOIN_TOLERANCE` (else a ``jump`` that says the start pose is not quite reached)."""
-SMALL_GAP = 1e-2
-"""A join gap below this [rad] is a start pose not quite reached, not another branch."""
-
-
-def _where(position: np.ndarray) -> str:
-    text = ", ".join(f"{x:.3f}" for x in position).replace("-0.000", "0.000")
-    return f"({text}) m"
-
-
-def _program_remedy(plan: cartesian.CartesianPlan) -> str:
-    """What the author of a program can do about a failed move's first event (the event's own
-    remedy names :func:`cartesian.follow`'s arguments)."""
-    event = plan.events[0]
-    if event.kind == "acceleration_limit":  # follow's own words, without its retime= option
-        return event.remedy.split(", or retime")[0]
-    if event.kind == "velocity_limit":
-        factor = plan.peak_speed_ratio
-        return (
-            f"slow this move down by a factor of at least {factor:.3g} (a lower speed or a longer "
-            "duration on the move)"
-        )
-    if event.kind in ("joint_limit", "jump"):
-        return (
-            "reach the move's start in another configuration (a ptp to joint values before it), "
-            "or move its points"
-        )
-    if event.kind == "unreachable":
-        return "move the move's points into the arm's workspace"
-    if event.kind == "collision":
-        check = plan.cell_check
-        if check is not None and check.kind == "self":  # no obstacle is involved
-            return (
-                "the arm would hit itself: move the move's points, or reach the move's start in "
-                "another configuration (a ptp to joint values before it)"
-            )
-        return (
-            "move the move's points or the obstacle (obstacles:), or reach the move's start in "
-            "another configuration (a ptp to joint values before it)"
-        )
-    return event.remedy
 
 
 def _is_real(value: object) -> bool:
@@ -116,28 +91,6 @@ def _checked_acceleration(value: object, nq: int, name: str) -> np.ndarray | Non
     for j in np.flatnonzero(array <= 0.0):
         raise InputError(f"{name} must be > 0 rad/s² for every joint, got {array[j]} for joint {j}")
     return array
-
-
-def _torch_path(path: cartesian.Path, torch: TorchSpec) -> cartesian.Path:
-    return cartesian.TorchOrientation(
-        path, torch.normal, torch.work_angle, torch.travel_angle, torch.roll
-    )
-
-
-def _weave_path(path: cartesian.Path, weave: WeaveSpec, travel_speed: float) -> cartesian.Path:
-    """A ``weave:`` at a travel speed [m/s]: wavelength = speed / frequency, dwell in metres of
-    travel = dwell time × speed."""
-    return cartesian.Weave(
-        path, weave.amplitude, travel_speed / weave.frequency, weave.pattern,
-        dwell=weave.dwell * travel_speed, normal=weave.normal,
-    )  # fmt: skip
-
-
-def _start_turn(path: cartesian.Path, pose: pin.SE3, position_only: bool) -> float:
-    """Angle between a path's start orientation and the tool's [rad] (0 if not oriented)."""
-    if position_only or not path.has_orientation:
-        return 0.0
-    return float(np.linalg.norm(pin.log3(pose.rotation.T @ path.start.rotation)))
 
 
 class MotionBuilder:
@@ -256,12 +209,7 @@ class MotionBuilder:
         target = position if rotation is None else pin.SE3(rotation, position)
         result = self.robot.ik(target, q_seed=self.q, position_only=rotation is None)
         if not result.success:
-            why = (
-                f"ik: no inverse kinematics solution for {_where(position)} within the joint "
-                f"limits (the closest found is {result.position_error:.4f} m, "
-                f"{result.rotation_error:.3f} rad away); move the point"
-            )
-            self._fail("ptp", label, key, status="ik", why=why)
+            self._fail("ptp", label, key, status="ik", why=ik_reason(position, result))
         return self.ptp_joints(
             result.q, duration=duration, speed=speed, profile=profile, label=label, key=key,
             max_acceleration=max_acceleration,
@@ -384,11 +332,7 @@ class MotionBuilder:
             )
         problem = limit_problem(self.robot, traj, self.acceleration_limit)
         if problem is not None:
-            remedy = "keep it within the joint limits"
-            if math.isfinite(problem.scale):
-                factor = round_up(problem.scale * (1.0 + 1e-9), 4)
-                remedy = f"slow it down by a factor of at least {factor:g} (its time scaled)"
-            why = f"{problem.text}; {remedy}"
+            why = f"{problem.text}; {trajectory_remedy(problem.scale)}"
             self._fail("ptp", label, key, status=problem.status, why=why, ratio=problem.speed_ratio)
         return self._joint_motion(traj, label, key, self.acceleration_limit)
 
@@ -411,10 +355,7 @@ class MotionBuilder:
         (before allocating them)."""
         total = len(self._motion) + count
         if not total <= MAX_SAMPLES:  # also NaN and inf
-            why = (
-                f"invalid: {what} at dt = {self.dt:g} s would take the program to {total:.3g} "
-                f"samples (at most {MAX_SAMPLES:,}); shorten it or plan with a larger dt"
-            )
+            why = too_many_samples_reason(what, self.dt, total)
             self._fail(kind, label, key, status="invalid", why=why)
 
     def _acceleration_limit(self, max_acceleration: object) -> np.ndarray:
@@ -435,36 +376,16 @@ class MotionBuilder:
         # for a short move (at least MIN_INTERVALS intervals), which contains it when finer
         t = traj.time_grid(self.dt)
         q, qd, qdd = traj.sample(t)
-        peaks = joint_peaks(traj)
-        finite = np.isfinite(self.robot.velocity_limit)
-        ratio = float(np.max(peaks.speed[finite] / self.robot.velocity_limit[finite], initial=0.0))
+        ratio = speed_ratio(self.robot, traj)
         check = None
         if self.cell is not None:
-            fine_t = t if step >= self.dt else traj.time_grid(step)
-            fine_q = q if step >= self.dt else traj.sample(fine_t)[0]
-            check = self.cell.check_motion(fine_q, self.clearance)
-            if check.index is not None and step < self.dt:  # the first caller sample at/after
-                at = float(fine_t[check.index])
-                index = int(np.searchsorted(t, at - 1e-12))
-                check = dataclasses.replace(
-                    check, index=index, between=check.between or not np.isclose(t[index], at),
-                    distances=np.interp(t, fine_t, check.distances),
-                    obstacle_distances=np.interp(t, fine_t, check.obstacle_distances),
-                    self_distances=np.interp(t, fine_t, check.self_distances),
-                )  # fmt: skip
+            check = cell_check(self.cell, self.clearance, traj, t, q, step, self.dt)
             if check.index is not None:
                 k = check.index
                 share = t / t[-1] if t[-1] > 0 else np.ones_like(t)
                 position = self.robot.fk(q[k]).translation
                 event = collision_event(check, t, share, position)
-                fix = (
-                    "move a point of the move, or go through joint values that keep the arm "
-                    "clear of itself (a ptp through several points)"
-                    if check.kind == "self"
-                    else "move a point of the move, add a via point around the obstacle, or "
-                    "use lin moves"
-                )
-                why = f"collision at s = {share[k]:.2f}: {event.message}; {fix}"
+                why = ptp_collision_reason(check.kind, share[k], event.message)
                 kept = max(k, 1)
                 self._fail(
                     "ptp", label, key, (t[:kept], q[:kept], qd[:kept], qdd[:kept]),
@@ -561,7 +482,8 @@ class MotionBuilder:
                 every sample by :func:`cartesian.follow`.
         """
         self._check_open()
-        path = self._build_path(kind, label, key, lambda: self._seam_path(pieces, blend))
+        start, flat = self.tool_pose(), self.robot.default_position_only()
+        path = self._build_path(kind, label, key, lambda: seam_path(pieces, blend, start, flat))
         if torch is not None:
             if self.robot.default_position_only():
                 why = (
@@ -569,57 +491,15 @@ class MotionBuilder:
                     f"{self.robot.name} has {self.robot.nq}"
                 )
                 self._fail(kind, label, key, status="invalid", why=why)
-            path = self._build_path(kind, label, key, lambda: _torch_path(path, torch))
+            path = self._build_path(kind, label, key, lambda: torch_path(path, torch))
             self._check_torch_start(path, kind, label, key)
         if weave is not None:
             travel = DEFAULT_TOOL_SPEED if speed is None else speed
-            path = self._build_path(kind, label, key, lambda: _weave_path(path, weave, travel))
+            path = self._build_path(kind, label, key, lambda: weave_path(path, weave, travel))
         return self.follow(
             path, duration=duration, speed=speed, profile=profile, label=label, key=key,
             kind=kind, max_acceleration=max_acceleration,
         )  # fmt: skip
-
-    def _seam_path(
-        self, pieces: Sequence[SeamPiece], blend: float | Sequence[float]
-    ) -> cartesian.Path:
-        """The pieces chained from the current tool pose, corners blended."""
-        if not pieces:
-            raise KinplanError("a seam needs at least one piece (lin or circ)")
-        start: pin.SE3 | np.ndarray = self.tool_pose()
-        position_only = self.robot.default_position_only()
-        paths: list[cartesian.Path] = []
-        for kind, goal, via in pieces:
-            here = start if isinstance(start, pin.SE3) else pin.SE3(np.eye(3), start)
-            end = self._goal_from(goal, here)
-            if position_only:
-                start = here.translation.copy()
-                end = end.translation.copy()
-            if kind == "lin":
-                paths.append(cartesian.Line(start, end))
-            elif kind == "circ":
-                if via is None:
-                    raise KinplanError("a circ piece needs its via point")
-                middle = self._goal_from(via, here)
-                middle = middle.translation.copy() if position_only else middle
-                paths.append(cartesian.Arc(start, middle, end))
-            else:
-                raise KinplanError(f"a seam piece is lin or circ, got {kind!r}")
-            start = end
-        if len(paths) == 1:
-            return paths[0]
-        return cartesian.blend_corners(paths, blend)
-
-    def _goal_from(self, goal: Goal, here: pin.SE3) -> pin.SE3:
-        """A Cartesian goal as a pose; a position keeps the orientation ``here``."""
-        if isinstance(goal, pin.SE3):
-            return goal.copy()
-        position = np.asarray(goal, dtype=float)
-        if position.shape != (3,) or not np.all(np.isfinite(position)):
-            raise KinplanError(
-                f"a Cartesian goal is a pin.SE3 or a finite position 3-vector [m], got "
-                f"{describe(goal)}; use ptp_joints for joint values"
-            )
-        return pin.SE3(here.rotation.copy(), position)
 
     def _check_torch_start(
         self, path: cartesian.Path, kind: str, label: str, key: str | None
@@ -627,15 +507,9 @@ class MotionBuilder:
         """Refuse a torch seam whose start orientation is not the tool's (within
         :data:`TORCH_START_TOLERANCE`),
         printing the orientation with the digits that make pasting it work."""
-        turn = _start_turn(path, self.tool_pose(), False)
+        turn = start_turn(path, self.tool_pose(), False)
         if turn > TORCH_START_TOLERANCE:
-            rpy = np.degrees(pin.rpy.matrixToRpy(path.start.rotation))
-            text = ", ".join(f"{a:.6f}" for a in rpy).replace("-0.000000", "0.000000")
-            why = (
-                f"invalid: the torch angles put the tool at rpy_deg [{text}] at the seam start, "
-                f"{np.degrees(turn):.3g}° away from the tool's orientation; reach the seam start "
-                f"with that orientation first (rpy_deg: [{text}] on the approach point)"
-            )
+            why = torch_start_reason(path.start, turn)
             self._fail(kind, label, key, status="invalid", why=why)
 
     def follow(
@@ -668,18 +542,11 @@ class MotionBuilder:
         here = self.tool_pose().translation
         gap = float(np.linalg.norm(path.start.translation - here))
         if gap > 1e-4:
-            why = (
-                f"invalid: the path starts at {_where(path.start.translation)}, {gap:.4f} m away "
-                f"from the tool at {_where(here)}; move there first (ptp or lin)"
-            )
+            why = start_gap_reason(path.start.translation, here, gap)
             self._fail(kind, label, key, status="invalid", why=why)
-        turn = _start_turn(path, self.tool_pose(), self.robot.default_position_only())
+        turn = start_turn(path, self.tool_pose(), self.robot.default_position_only())
         if turn > 1e-3:
-            why = (
-                f"invalid: the path starts with a tool orientation {turn:.3f} rad away from the "
-                "current one; reorient first (ptp or lin to the path's start pose)"
-            )
-            self._fail(kind, label, key, status="invalid", why=why)
+            self._fail(kind, label, key, status="invalid", why=start_turn_reason(turn))
         if duration is None and speed is None:
             if path.length > 0:
                 speed = DEFAULT_TOOL_SPEED
@@ -698,22 +565,16 @@ class MotionBuilder:
         samples = (plan.t, plan.q, plan.qd, plan.qdd) if len(plan.t) else None
         gap = float(np.max(np.abs(plan.q[0] - self.q))) if samples else 0.0
         if gap > JOIN_TOLERANCE:
-            why = (
-                "jump: the path's first configuration is on another branch than the current "
-                "one; move to the path start with a lin move first"
-            )
+            offset: float | None = None
             if gap < SMALL_GAP:  # not another branch: the tool is not quite at the path start
-                offset = np.linalg.norm(path.start.translation - self.tool_pose().translation)
-                why = (
-                    f"jump: the path's first configuration is {gap:.3g} rad from the current one "
-                    f"(at most {JOIN_TOLERANCE:g} rad): the tool is {offset:.3g} m and "
-                    f"{turn:.3g} rad from the path's start pose; reach that pose exactly first "
-                    "(its xyz and orientation, e.g. with a lin move to it)"
+                offset = float(
+                    np.linalg.norm(path.start.translation - self.tool_pose().translation)
                 )
+            why = jump_reason(gap, offset, turn)
             self._fail(kind, label, key, status="jump", why=why, ratio=ratio, plan=plan)
         if not plan.ok:
             event = plan.events[0]
-            why = f"{event.kind} at s = {event.s:.2f}: {event.message}; {_program_remedy(plan)}"
+            why = f"{event.kind} at s = {event.s:.2f}: {event.message}; {program_remedy(plan)}"
             self._fail(
                 kind, label, key, samples, status=plan.status, why=why, ratio=ratio,
                 fraction=plan.fraction, plan=plan,
@@ -760,7 +621,7 @@ class MotionBuilder:
 
     def _target(self, goal: Goal) -> tuple[np.ndarray, np.ndarray | None]:
         """(position, rotation or None) of a Cartesian goal, applying the orientation rule."""
-        pose = self._goal_from(goal, self.tool_pose())
+        pose = goal_from(goal, self.tool_pose())
         if self.robot.default_position_only():
             return pose.translation.copy(), None
         return pose.translation.copy(), pose.rotation.copy()
