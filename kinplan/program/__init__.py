@@ -79,8 +79,12 @@ Modules, each importing only those above it:
   :mod:`~kinplan.program.robot_keys`, :mod:`~kinplan.program.points`,
   :mod:`~kinplan.program.moves`;
 - :mod:`~kinplan.program.validate`: :func:`load_program`, :func:`parse_program`;
-- :mod:`~kinplan.program.ptp` (timing of ptp moves), :mod:`~kinplan.program.record` (samples and
-  reports so far), :mod:`~kinplan.program.build` (:class:`MotionBuilder`);
+- :mod:`~kinplan.program.peaks` (exact peaks of polynomial motions),
+  :mod:`~kinplan.program.ptp` (timing of ptp moves), :mod:`~kinplan.program.joint_checks` (a
+  ptp move's speed share and cell check), :mod:`~kinplan.program.record` (samples and reports
+  so far), :mod:`~kinplan.program.remedies` (how a failed move is worded),
+  :mod:`~kinplan.program.seams` (the Cartesian paths of lin/circ moves, weaves, torches),
+  :mod:`~kinplan.program.build` (:class:`MotionBuilder`);
 - :mod:`~kinplan.program.run`: :func:`plan_program`, :func:`run_program`.
 """
 
