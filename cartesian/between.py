@@ -22,16 +22,14 @@ from cartesian.timing import PathTiming
 from cartesian.tracker import Tracker
 from kinplan._profiles import round_up
 from kinplan.robot import Robot
-from kinplan.sampling import MIN_INTERVALS, hermite_between
+from kinplan.sampling import MIN_INTERVALS, hermite_between, hermite_peaks
 
 __all__ = ["CHORD_SHARE", "ROTATION_LEVER", "check_between"]
 
 
-#: Where, inside every interval between two samples, the interpolant is checked against the
-#: joint limits (fractions of the interval).
-LIMIT_FRACTIONS = np.arange(1, 16) / 16
-#: Of those, where its tool pose is compared with the path (one forward kinematics each).
-POSE_FRACTIONS = np.array([3, 8, 13]) - 1
+#: Where, inside every interval between two samples, the interpolant's tool pose is compared
+#: with the path (fractions of the interval; one forward kinematics each).
+POSE_FRACTIONS = np.array([0.25, 0.5, 0.75])
 #: Largest difference between a joint's mean speed over an interval and what its rates at the
 #: ends explain, as a share of the joint's top speed in the plan (plus :data:`RATE_FLOOR`).
 RATE_CONSISTENCY = 0.05
@@ -46,8 +44,8 @@ ROTATION_LEVER = 0.1
 def check_between(tracker: Tracker, plan: CartesianPlan, timing: PathTiming) -> None:
     """Check the motion between the samples of an ok ``plan``: its quintic Hermite interpolant
     (what viewers, :meth:`ProgramPlan.sample` and the exports play) within the joint limits,
-    speed limits and (where limited) acceleration limits at :data:`LIMIT_FRACTIONS` of every
-    interval, and its tool near the path at the same times at :data:`POSE_FRACTIONS`.
+    speed limits and (where limited) acceleration limits at its exact extremes in every
+    interval, and its tool near the path at :data:`POSE_FRACTIONS` of the interval.
 
     Where the interpolant stays on the path, it is the motion: a speed or acceleration above
     its limit there is a "velocity_limit" or "acceleration_limit" event like one at a sample
@@ -58,13 +56,12 @@ def check_between(tracker: Tracker, plan: CartesianPlan, timing: PathTiming) -> 
     if len(plan.t) < 2:
         return
     robot = tracker.robot
-    times, q, qd, qdd = hermite_between(plan.t, plan.q, plan.qd, plan.qdd, LIMIT_FRACTIONS)
+    times, q, _, _ = hermite_between(plan.t, plan.q, plan.qd, plan.qdd, POSE_FRACTIONS)
     intervals = len(plan.t) - 1
     # the tool against the path at the same times
-    pose_times = times[:, POSE_FRACTIONS].ravel()
-    s, _, _ = timing.law(pose_times)
+    s, _, _ = timing.law(times.ravel())
     s = np.clip(s, 0.0, 1.0)
-    rows = q[:, POSE_FRACTIONS].reshape(-1, robot.nq)
+    rows = q.reshape(-1, robot.nq)
     positions, rotations = _tool_poses(robot, rows, not tracker.position_only)
     distance = np.linalg.norm(positions - plan.path.position(s), axis=1)
     if rotations is not None:
@@ -98,6 +95,11 @@ def check_between(tracker: Tracker, plan: CartesianPlan, timing: PathTiming) -> 
             joint, value, limit, remedy=remedy,
         )))  # fmt: skip
 
+    # the limits against the interpolant's exact extremes in every interval (not only where it
+    # was sampled): lowest and highest q, largest |q̇| and |q̈| (kinplan.sampling.hermite_peaks)
+    limits = (robot.lower, robot.upper, tracker.speed_limit, tracker.acceleration_limit)
+    lowest, highest, fastest, hardest = hermite_peaks(plan.t, plan.q, plan.qd, plan.qdd, limits)
+    q, qd, qdd = np.stack([lowest, highest], axis=1), fastest[:, None], hardest[:, None]
     below, above = (robot.lower - q) > 1e-9, (q - robot.upper) > 1e-9
     beyond = (below | above).any(axis=2)
     if beyond.any():
@@ -219,17 +221,23 @@ def _chords(plan: CartesianPlan) -> np.ndarray:
 def _tool_poses(
     robot: Robot, rows: np.ndarray, with_rotation: bool
 ) -> tuple[np.ndarray, np.ndarray | None]:
-    """Tool positions (N, 3) [m] and, when asked, rotations (N, 3, 3) of joint ``rows``."""
+    """Tool positions (N, 3) [m] and, when asked, rotations (N, 3, 3) of joint ``rows``: all at
+    once by the robot's batch kinematics (:class:`kinplan.batch_ik.BatchKinematics`, checked
+    against Pinocchio when built) where it has them, else one Pinocchio pass per row."""
+    kinematics = robot.batch_solver.kinematics
+    if kinematics is not None:
+        positions, rotations = kinematics.fk(rows)
+        return positions, rotations if with_rotation else None
     model, data, tip = robot.model, robot.data, robot.tip_id
     positions = np.empty((len(rows), 3))
-    rotations = np.empty((len(rows), 3, 3)) if with_rotation else None
+    rotation_rows = np.empty((len(rows), 3, 3)) if with_rotation else None
     for k, row in enumerate(rows):
         pin.forwardKinematics(model, data, row)
         placement = pin.updateFramePlacement(model, data, tip)
         positions[k] = placement.translation
-        if rotations is not None:
-            rotations[k] = placement.rotation
-    return positions, rotations
+        if rotation_rows is not None:
+            rotation_rows[k] = placement.rotation
+    return positions, rotation_rows
 
 
 def _rotation_angles(a: np.ndarray, b: np.ndarray) -> np.ndarray:

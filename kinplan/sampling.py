@@ -67,3 +67,105 @@ def hermite_between(
     velocity = c1 + x * (2.0 * c2 + x * (3.0 * c3 + x * (4.0 * c4 + x * 5.0 * c5)))
     acceleration = 2.0 * c2 + x * (6.0 * c3 + x * (12.0 * c4 + x * 20.0 * c5))
     return t[:-1, None] + tau, position, velocity, acceleration
+
+
+def hermite_peaks(
+    t: np.ndarray,
+    q: np.ndarray,
+    qd: np.ndarray,
+    qdd: np.ndarray,
+    limits: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The extremes of the quintic Hermite interpolant inside every interval, for its position,
+    velocity and acceleration: (lowest q, highest q, largest |q̇|, largest |q̈|), each (N−1, n).
+
+    Each is a polynomial per interval and joint; its extremes lie at the interval's ends or where
+    its derivative vanishes: the derivative's real roots in the interval (eigenvalues of its
+    companion matrices, all intervals and joints at once, in the interval's unit time), polished
+    by two Newton steps, where the polynomial is evaluated.
+
+    With ``limits`` (lower, upper, speed, acceleration limits, each (n,), inf where none) only
+    the extremes that could reach a limit are solved for: elsewhere the values at nine points of
+    the interval are returned, which a bound on the polynomial's curvature keeps within the
+    limits (the extremes are then exact wherever they matter, and fast everywhere).
+
+    Args:
+        t: Sample times (N,) [s], increasing, N ≥ 2.
+        q, qd, qdd: Positions, velocities, accelerations at the samples (N, n).
+        limits: Optional (lower, upper, speed, acceleration) limits of the joints.
+    """
+    h = np.diff(t)[:, None]
+    d = q[1:] - q[:-1]
+    v0, v1, a0, a1 = qd[:-1], qd[1:], qdd[:-1], qdd[1:]
+    # q(x) over x = τ / h ∈ [0, 1]: the quintic's coefficients times h^k (better conditioned)
+    position = np.stack(
+        [
+            q[:-1],
+            v0 * h,
+            0.5 * a0 * h**2,
+            0.5 * (20.0 * d - (8.0 * v1 + 12.0 * v0) * h - (3.0 * a0 - a1) * h**2),
+            0.5 * (-30.0 * d + (14.0 * v1 + 16.0 * v0) * h + (3.0 * a0 - 2.0 * a1) * h**2),
+            0.5 * (12.0 * d - 6.0 * (v1 + v0) * h + (a1 - a0) * h**2),
+        ],
+        axis=-1,
+    )  # fmt: skip  (N−1, n, 6), lowest power first
+    powers = np.arange(6)
+    velocity = (position * powers)[..., 1:]  # d/dx
+    acceleration = (velocity * powers[:5])[..., 1:]
+    jerk = (acceleration * powers[:4])[..., 1:]
+    snap = (jerk * powers[:3])[..., 1:]
+
+    def value(c: np.ndarray, x: np.ndarray) -> np.ndarray:
+        out = np.zeros(np.broadcast_shapes(c.shape[:-1], x.shape))
+        for k in range(c.shape[-1] - 1, -1, -1):
+            out = out * x + c[..., k]
+        return out
+
+    def critical(dp: np.ndarray, ddp: np.ndarray) -> np.ndarray:
+        """Real roots of dp in [0, 1] (…, m); others (complex, outside) as 0 (an end)."""
+        m = dp.shape[-1] - 1
+        lead = dp[..., m]
+        size = np.abs(dp).max(axis=-1)
+        tiny = np.abs(lead) <= 1e-13 * size
+        lead = np.where(tiny, np.where(lead < 0, -1.0, 1.0) * 1e-13 * (size + 1e-300), lead)
+        companion = np.zeros(dp.shape[:-1] + (m, m))
+        companion[..., np.arange(1, m), np.arange(m - 1)] = 1.0
+        companion[..., :, m - 1] = -dp[..., :m] / lead[..., None]
+        roots = np.linalg.eigvals(companion)
+        real = np.abs(roots.imag) <= 1e-6 * (1.0 + np.abs(roots.real))
+        x = np.where(real, np.clip(roots.real, 0.0, 1.0), 0.0)
+        for _ in range(2):  # Newton polish (a root of dp: an extreme of p)
+            f, df = value(dp[..., None, :], x), value(ddp[..., None, :], x)
+            step = np.divide(f, df, out=np.zeros_like(f), where=np.abs(df) > 0)
+            x = np.clip(x - step, 0.0, 1.0)
+        return x
+
+    grid = np.linspace(0.0, 1.0, 9)
+
+    def extremes(
+        p: np.ndarray, dp: np.ndarray, ddp: np.ndarray, low: np.ndarray, high: np.ndarray
+    ) -> tuple[np.ndarray, ...]:
+        """(min, max) of p over x ∈ [0, 1]; solved exactly where [min, max] sampled, widened by
+        the curvature bound (1/8)² / 8 · Σ|p''|, leaves [low, high]."""
+        sampled = p @ (grid[None, :] ** np.arange(p.shape[-1])[:, None])  # (…, 9) at once
+        lo, hi = sampled.min(axis=-1), sampled.max(axis=-1)
+        slack = np.abs(ddp).sum(axis=-1) / 512.0
+        near = (lo - slack < low) | (hi + slack > high) if limits is not None else lo <= np.inf
+        if near.any():
+            i, j = np.nonzero(near)
+            inside = value(p[i, j][:, None, :], critical(dp[i, j], ddp[i, j]))
+            lo[i, j] = np.minimum(lo[i, j], inside.min(axis=-1))
+            hi[i, j] = np.maximum(hi[i, j], inside.max(axis=-1))
+        return lo, hi
+
+    if limits is None:
+        every = np.full(q[1:].shape, np.inf)
+        lower, upper, speed, accel = -every, every, every, every
+    else:
+        lower, upper = limits[0] + 0.0 * h, limits[1] + 0.0 * h
+        speed, accel = limits[2] * h, limits[3] * h**2  # in the unit time x
+        lower, upper = np.where(np.isfinite(lower), lower, -np.inf), upper
+    q_lo, q_hi = extremes(position, velocity, acceleration, lower, upper)
+    v_lo, v_hi = extremes(velocity, acceleration, jerk, -speed, speed)
+    a_lo, a_hi = extremes(acceleration, jerk, snap, -accel, accel)
+    return q_lo, q_hi, np.maximum(-v_lo, v_hi) / h, np.maximum(-a_lo, a_hi) / h**2
