@@ -1,10 +1,14 @@
-"""How sampled motions are checked: the sampling step of a motion and its joint speeds.
+"""How sampled motions are checked: the check step of a motion, its joint speeds, and the
+motion between its samples.
 
 A motion is checked at its samples, so it must have enough of them: one shorter than
-:data:`MIN_INTERVALS` sampling periods is sampled at duration / MIN_INTERVALS instead (a 1 ms
-move is not checked at its two resting ends only). Between two samples a joint moves at its mean
-speed |Δq| / Δt at least somewhere, so that counts as a speed of the sample that ends the interval
-along with the rates q̇ themselves (:func:`joint_speeds`).
+:data:`MIN_INTERVALS` sampling periods is checked at duration / MIN_INTERVALS (a 1 ms move is
+not checked at its two resting ends only; the samples returned stay the caller's). Between two
+samples a joint moves at its mean speed |Δq| / Δt at least somewhere, so that counts as a speed
+of the sample that ends the interval along with the rates q̇ themselves (:func:`joint_speeds`).
+Between the samples the motion played is the quintic Hermite through (q, q̇, q̈):
+:func:`hermite_between` evaluates it inside every interval, :func:`hermite_peaks` finds its
+extremes.
 """
 
 from __future__ import annotations
