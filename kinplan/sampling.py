@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from kinplan._profiles import quintic_coefficients
+
 #: Fewest sampling intervals of a motion (joint or Cartesian).
 MIN_INTERVALS = 16
 
@@ -56,16 +58,14 @@ def hermite_between(
         (times, q, q̇, q̈): times (N−1, F) [s] and the interpolant's values (N−1, F, n).
     """
     h = np.diff(t)  # (N−1,)
-    d = q[1:] - q[:-1]
-    v0, v1, a0, a1 = qd[:-1], qd[1:], qdd[:-1], qdd[1:]
-    hh = h[:, None]
-    # the coefficients of kinplan._profiles.quintic_coefficients, per interval and joint
-    c3 = (20.0 * d - (8.0 * v1 + 12.0 * v0) * hh - (3.0 * a0 - a1) * hh**2) / (2.0 * hh**3)
-    c4 = (-30.0 * d + (14.0 * v1 + 16.0 * v0) * hh + (3.0 * a0 - 2.0 * a1) * hh**2) / (2.0 * hh**4)
-    c5 = (12.0 * d - 6.0 * (v1 + v0) * hh + (a1 - a0) * hh**2) / (2.0 * hh**5)
+    q0, q1, v0, v1, a0, a1 = q[:-1], q[1:], qd[:-1], qd[1:], qdd[:-1], qdd[1:]
+    # the one quintic of the profiles (coefficients of τ^0..τ^5 per interval and joint)
+    c0, c1, c2, c3, c4, c5 = np.moveaxis(
+        quintic_coefficients(q0, q1, v0, v1, a0, a1, h[:, None]), 1, 0
+    )
     tau = h[:, None] * np.asarray(fractions, dtype=float)[None, :]  # (N−1, F)
     x = tau[:, :, None]
-    c0, c1, c2 = q[:-1, None, :], v0[:, None, :], 0.5 * a0[:, None, :]
+    c0, c1, c2 = c0[:, None, :], c1[:, None, :], c2[:, None, :]
     c3, c4, c5 = c3[:, None, :], c4[:, None, :], c5[:, None, :]
     position = c0 + x * (c1 + x * (c2 + x * (c3 + x * (c4 + x * c5))))
     velocity = c1 + x * (2.0 * c2 + x * (3.0 * c3 + x * (4.0 * c4 + x * 5.0 * c5)))
