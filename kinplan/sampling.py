@@ -99,20 +99,9 @@ def hermite_peaks(
         limits: Optional (lower, upper, speed, acceleration) limits of the joints.
     """
     h = np.diff(t)[:, None]
-    d = q[1:] - q[:-1]
-    v0, v1, a0, a1 = qd[:-1], qd[1:], qdd[:-1], qdd[1:]
-    # q(x) over x = τ / h ∈ [0, 1]: the quintic's coefficients times h^k (better conditioned)
-    position = np.stack(
-        [
-            q[:-1],
-            v0 * h,
-            0.5 * a0 * h**2,
-            0.5 * (20.0 * d - (8.0 * v1 + 12.0 * v0) * h - (3.0 * a0 - a1) * h**2),
-            0.5 * (-30.0 * d + (14.0 * v1 + 16.0 * v0) * h + (3.0 * a0 - 2.0 * a1) * h**2),
-            0.5 * (12.0 * d - 6.0 * (v1 + v0) * h + (a1 - a0) * h**2),
-        ],
-        axis=-1,
-    )  # fmt: skip  (N−1, n, 6), lowest power first
+    # q(x) over x = τ / h ∈ [0, 1]: the profiles' quintic, its τ^k coefficient times h^k
+    c = quintic_coefficients(q[:-1], q[1:], qd[:-1], qd[1:], qdd[:-1], qdd[1:], h)
+    position = np.moveaxis(c, 1, -1) * h[:, :, None] ** np.arange(6)  # (N−1, n, 6)
     powers = np.arange(6)
     velocity = (position * powers)[..., 1:]  # d/dx
     acceleration = (velocity * powers[:5])[..., 1:]
