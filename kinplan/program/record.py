@@ -145,6 +145,12 @@ class MotionRecord:
         logger.info("planning stopped: %s", report.message)
         raise MoveError(report.message, report)
 
+    def _end(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(q, qd, qdd) of the last sample so far, each of shape (1, nq) (a move of a single
+        sample adds no rows, so the last non-empty block holds it)."""
+        last = max(k for k, block in enumerate(self._q) if len(block))
+        return self._q[last][-1:], self._qd[last][-1:], self._qdd[last][-1:]
+
     def _add(
         self,
         kind: str,
@@ -168,7 +174,7 @@ class MotionRecord:
         if samples is not None and len(samples[0]) > 1:
             t, q, qd, qdd = samples
             if segments is None:  # from the end of the motion so far, as the samples join it
-                ends = (self._q[-1][-1:], self._qd[-1][-1:], self._qdd[-1][-1:])
+                ends = self._end()
                 segments = hermite_segments(
                     np.asarray(t, dtype=float), *(np.vstack([e, x[1:]]) for e, x in
                                                   zip(ends, (q, qd, qdd), strict=True))

@@ -443,10 +443,11 @@ def leaf_links(urdf: Path) -> list[str]:
     return sorted(leaves, key=depth, reverse=True)
 
 
-class WholeRobotOnASlide:
+class WholeRobotOnASlide(kinplan.Robot):
     """A stand-in robot for URDFs kinplan does not load as an arm (no movable joint, joints
-    without limits): the whole URDF on a vertical slide, every joint held at 0. It has what
-    the viewer uses: ``model``, ``nq``, limits, ``tool_positions``, ``neutral``."""
+    without limits): the whole URDF on a vertical slide, every joint held at 0. A
+    :class:`kinplan.Robot` (the viewer accepts nothing else) built without its loader, with
+    what the viewer uses: ``model``, ``nq``, limits, ``tool_positions``, ``neutral``."""
 
     def __init__(self, urdf: Path):
         full = pin.buildModelFromUrdf(str(urdf), pin.JointModelPZ())

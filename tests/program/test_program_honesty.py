@@ -542,3 +542,14 @@ moves:
     result = plan(text)
     assert not result.ok and result.status == "collision"
     assert "the arm would hit itself" in result.reason and "obstacle" not in result.reason
+
+
+def test_a_move_to_where_the_tool_already_is_then_a_lin_joins_smoothly():
+    """A ptp to the point the arm is at (one sample, nothing added) before a lin: the lin's
+    pieces start from the last sample there is (found by the soak: the pieces were built
+    from an empty block and crashed with a shape error)."""
+    result = plan(UR5 + "moves: [{ptp: a}, {ptp: a}, {ptp: a}, {lin: c, speed: 0.05}]\n")
+    assert result.ok, result.reason
+    assert [m.status for m in result.moves] == ["ok"] * 4
+    np.testing.assert_allclose(result.sample(result.t)[0], result.q, atol=1e-12)  # through them
+    assert_within_limits(result, np.full(6, np.inf))
