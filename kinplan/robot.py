@@ -32,7 +32,8 @@ from kinplan.ik import (
 )
 from kinplan.planar import planar_arm_urdf, write_planar_arm
 from kinplan.sources import RobotSpec, known_names, resolve_source
-from kinplan.urdf_model import build_chain, frame_id
+from kinplan.urdf_frames import frame_id
+from kinplan.urdf_model import build_chain
 
 if TYPE_CHECKING:  # kinplan.tool builds robots: imported where with_tool runs
     from kinplan.cell import Body

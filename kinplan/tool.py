@@ -29,7 +29,7 @@ import pinocchio as pin
 from kinplan import checks
 from kinplan.cell.body import Body, CellError, as_pose
 from kinplan.sources import RobotSpec
-from kinplan.urdf_model import read_urdf
+from kinplan.urdf_read import read_urdf
 
 if TYPE_CHECKING:  # type-only: kinplan.robot imports this module where with_tool runs
     from kinplan.robot import Robot

@@ -23,19 +23,16 @@ locked value must lie within its joint's limits; base poses, joint origins and f
 :data:`MAX_OFFSET` of where they are placed. ``drake:acceleration`` on a ``<limit>`` is read as
 the joint's acceleration limit; prefixes a file uses without declaring them (airo-models' UR5e)
 are declared before parsing (:func:`read_urdf`).
+
+The XML is read by :mod:`kinplan.urdf_read`; the tool frame is chosen by :mod:`kinplan.urdf_frames`.
 """
 
 from __future__ import annotations
 
-import contextlib
 import logging
 import math
-import os
-import re
-import sys
-import tempfile
 import xml.etree.ElementTree as ET
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -43,7 +40,17 @@ import numpy as np
 import pinocchio as pin
 
 from kinplan import checks
-from kinplan.errors import FrameError, InputError, URDFError
+from kinplan.errors import InputError, URDFError
+from kinplan.urdf_frames import default_tool_frame, frame_id
+from kinplan.urdf_read import (
+    ONE_DOF,
+    UrdfJoint,
+    float_or_nan,
+    joint_specs,
+    parse_model,
+    read_urdf,
+    root_link,
+)
 
 logger = logging.getLogger(__name__)
 
@@ -57,20 +64,6 @@ UNBOUNDED = 1e9
 MAX_OFFSET = 1e4
 #: Keys of a ``limits=`` entry.
 LIMIT_KEYS = ("lower", "upper", "velocity", "acceleration")
-#: Joint (and link) names of a gripper or hand, left out of the default tool chain (held at 0)
-#: and of the candidate tool frames.
-_DIGITS = r"(^|_)(index|middle|ring|pinky|little|mrl)(_|\d|$)"
-GRIPPER_JOINT = re.compile(rf"gripper|finger|jaw|claw|thumb|hand_joint|(^|_)hand_|{_DIGITS}", re.I)
-#: Link names of fingers, left out of the candidate tool frames (a gripper or hand link may be
-#: the tool: baxter's ``left_gripper``, panda's ``panda_hand_tcp``).
-FINGER_LINK = re.compile(rf"finger|jaw|claw|thumb|knuckle|{_DIGITS}", re.IGNORECASE)
-#: Link names that make a tool frame, preferred (in this order) as the default tip among the
-#: links fixed to the last joint of the chain.
-TOOL_LINKS = tuple(
-    re.compile(pattern, re.IGNORECASE)
-    for pattern in (r"tcp", r"tool", r"eef|end_?effector", r"flange", r"ee_link")
-)
-_ONE_DOF = {"revolute", "prismatic", "continuous"}
 _HELD_ROOT = {"floating", "planar"}
 
 
@@ -108,214 +101,8 @@ class Chain:
     held_root: str | None = None
 
 
-@dataclass
-class _Joint:
-    """One joint of the URDF's XML."""
-
-    name: str
-    kind: str
-    parent: str
-    child: str
-    has_limit: bool
-    mimic: tuple[str, float, float] | None
-    #: ``<axis xyz>`` as written (None: no ``<axis>``, the URDF's default 1 0 0).
-    axis: str | None = None
-    #: ``<limit velocity>`` as written (None: no such attribute, or no ``<limit>``).
-    velocity: str | None = None
-    #: ``<limit drake:acceleration>`` as written (None: none).
-    acceleration: str | None = None
-
-
-# ------------------------------------------------------------------------------------ reading
-#: Namespace of Drake's URDF extensions: ``drake:acceleration`` on a ``<limit>`` is the joint's
-#: acceleration limit [rad/s² or m/s²].
-DRAKE_NAMESPACE = "http://drake.mit.edu"
-#: expat's error code for a prefix used without an ``xmlns:`` declaration.
-_UNBOUND_PREFIX = 27
-#: What may come before the root element: comments, processing instructions, a doctype.
-_PROLOGUE = re.compile(rb"<!--.*?-->|<\?.*?\?>|<!DOCTYPE[^>]*>|<([A-Za-z_][\w.-]*)", re.S)
-
-
-def read_urdf(urdf_path: Path) -> ET.Element:
-    """The URDF's ``<robot>`` element, or a URDFError saying why it cannot be used.
-
-    Prefixed names whose prefix the file never declares (airo-models' UR5e writes
-    ``drake:acceleration="..."`` without ``xmlns:drake``) make the file namespace-invalid XML,
-    which URDF readers without namespaces (urdfdom, yourdfpy) accept: such prefixes are declared
-    on the root element before parsing (``drake`` as :data:`DRAKE_NAMESPACE`, the others as a
-    placeholder namespace); every other XML error is reported as it is.
-    """
-    try:
-        data = Path(urdf_path).read_bytes()
-    except OSError as exc:
-        raise URDFError(f"cannot read the URDF file {urdf_path}: {exc}") from exc
-    try:
-        root = ET.fromstring(data)
-    except ET.ParseError as exc:
-        declared = _undeclared_prefixes_declared(data) if exc.code == _UNBOUND_PREFIX else None
-        if declared is None:
-            raise URDFError(f"{urdf_path} is not valid XML ({exc}); fix the file") from exc
-        text, prefixes = declared
-        try:
-            root = ET.fromstring(text)
-        except ET.ParseError as other:  # something else is wrong too (same line numbers)
-            raise URDFError(f"{urdf_path} is not valid XML ({other}); fix the file") from other
-        logger.info(
-            "%s uses the XML prefix(es) %s without declaring them (xmlns:...): read as if declared",
-            urdf_path,
-            ", ".join(prefixes),
-        )
-    if root.tag != "robot":
-        raise URDFError(f"{urdf_path} is not a URDF: its root element is <{root.tag}>, not <robot>")
-    return root
-
-
-def _undeclared_prefixes_declared(data: bytes) -> tuple[bytes, list[str]] | None:
-    """The XML text ``data`` with the prefixes its element and attribute names use but never
-    declare declared on its root element, and those prefixes; None when there is none (or no
-    root element): the unbound prefix is then not one kinplan can bind."""
-    used = set(re.findall(rb"<([A-Za-z_][\w.-]*):[A-Za-z_]", data))
-    used |= set(re.findall(rb"\s([A-Za-z_][\w.-]*):[A-Za-z_][\w.-]*\s*=", data))
-    declared = set(re.findall(rb"xmlns:([A-Za-z_][\w.-]*)\s*=", data))
-    missing = sorted(used - declared - {b"xml", b"xmlns"})
-    start = next((m for m in _PROLOGUE.finditer(data) if m.group(1) is not None), None)
-    if not missing or start is None:
-        return None
-    names = [prefix.decode("ascii", errors="replace") for prefix in missing]
-    declarations = b"".join(
-        b' xmlns:%s="%s"'
-        % (prefix, DRAKE_NAMESPACE.encode() if prefix == b"drake" else b"urn:kinplan:" + prefix)
-        for prefix in missing
-    )
-    return data[: start.end()] + declarations + data[start.end() :], names
-
-
-def root_link(root: ET.Element, urdf_path: Path) -> str:
-    """The URDF's root link (the one link that is no joint's child)."""
-    links = [link.get("name", "") for link in root.findall("link")]
-    if not links:
-        raise URDFError(f"{urdf_path} has no <link>: it describes no robot; check the file")
-    children = {child.get("link") for child in root.findall("joint/child")}
-    roots = [name for name in links if name not in children]
-    if len(roots) != 1:
-        raise URDFError(
-            f"{urdf_path} must have exactly one root link (a link that is no joint's child); "
-            f"found {roots or 'none'}"
-        )
-    return roots[0]
-
-
-def _joints(root: ET.Element) -> dict[str, _Joint]:
-    joints = {}
-    for element in root.findall("joint"):
-        name = element.get("name", "")
-        mimic = element.find("mimic")
-        mimic_of = None
-        if mimic is not None:
-            mimic_of = (
-                mimic.get("joint", ""),
-                _mimic_number(mimic, "multiplier", "1", name),
-                _mimic_number(mimic, "offset", "0", name),
-            )
-        parent, child = element.find("parent"), element.find("child")
-        axis, limit = element.find("axis"), element.find("limit")
-        joints[name] = _Joint(
-            name,
-            element.get("type", ""),
-            "" if parent is None else parent.get("link", ""),
-            "" if child is None else child.get("link", ""),
-            limit is not None,
-            mimic_of,
-            axis=None if axis is None else axis.get("xyz", "1 0 0"),
-            velocity=None if limit is None else limit.get("velocity"),
-            acceleration=None if limit is None else limit.get(f"{{{DRAKE_NAMESPACE}}}acceleration"),
-        )
-    return joints
-
-
-def _float_or_nan(text: str) -> float:
-    """``text`` as a float (nan when it is not a number)."""
-    try:
-        return float(text)
-    except ValueError:
-        return math.nan
-
-
-def _mimic_number(mimic: ET.Element, key: str, default: str, joint: str) -> float:
-    """The ``<mimic>`` attribute ``key`` of ``joint`` as a finite float."""
-    text = mimic.get(key, default)
-    value = _float_or_nan(text)
-    if not math.isfinite(value):
-        raise URDFError(
-            f"joint {joint!r}: its <mimic {key}={text!r}> is not a finite number; fix the file"
-        )
-    return value
-
-
-@contextlib.contextmanager
-def _native_stderr_captured() -> Iterator[list[str]]:
-    """Redirect file descriptor 2 into a temporary file while the block runs.
-
-    Native code (urdfdom inside Pinocchio) prints its diagnostics straight to file descriptor
-    2, past Python's ``sys.stderr``; this keeps them off the terminal. The yielded list receives
-    the captured text when the block ends. Without a usable descriptor 2 nothing is captured.
-    """
-    captured: list[str] = []
-    try:
-        saved = os.dup(2)
-    except OSError:  # no descriptor 2 (a daemon): nothing to keep off the terminal
-        yield captured
-        return
-    with tempfile.TemporaryFile() as sink:
-        try:
-            sys.stderr.flush()
-        except (AttributeError, OSError, ValueError):  # replaced or closed sys.stderr
-            pass
-        os.dup2(sink.fileno(), 2)
-        try:
-            yield captured
-        finally:
-            os.dup2(saved, 2)
-            os.close(saved)
-            sink.seek(0)
-            captured.append(sink.read().decode("utf-8", errors="replace"))
-
-
-def _parser_messages(text: str) -> str:
-    """urdfdom's captured ``Error:``/``Warning:`` lines on one line, without the source
-    locations of its C++ code (``at line 105 in .../pose.cpp``)."""
-    messages = []
-    for line in text.splitlines():
-        line = " ".join(line.split())
-        if not line or re.match(r"^at line \d+ in ", line):
-            continue
-        messages.append(re.sub(r"^Error:\s*", "", line))
-    return "; ".join(messages)
-
-
-def _parse_model(xml: str, urdf_path: Path, mimic: bool = True) -> pin.Model:
-    """Pinocchio's model of the URDF text (mimic joints as such unless ``mimic`` is False);
-    urdfdom's own messages go into the error (or the log)."""
-    with _native_stderr_captured() as captured:
-        try:
-            model = pin.buildModelFromXML(xml, mimic=mimic)
-            failure = None
-        except Exception as exc:  # RuntimeError, ValueError or Boost.Python errors: all bad URDF
-            model, failure = None, exc
-    details = _parser_messages("".join(captured))
-    if failure is not None:
-        said = f" (the URDF parser reported: {details})" if details else ""
-        reason = str(failure).strip().rstrip(".")
-        raise URDFError(
-            f"Pinocchio could not read {urdf_path}: {reason}{said}; fix the file"
-        ) from failure
-    if details:
-        logger.info("URDF parser on %s: %s", urdf_path, details)
-    return model
-
-
 # ------------------------------------------------------------------------------ arguments
-def check_locked_joints(locked_joints: object, joints: Mapping[str, _Joint]) -> dict[str, float]:
+def check_locked_joints(locked_joints: object, joints: Mapping[str, UrdfJoint]) -> dict[str, float]:
     """``locked_joints`` as {name: value}, every name a movable 1-dof joint of the URDF."""
     if locked_joints is None:
         return {}
@@ -327,7 +114,7 @@ def check_locked_joints(locked_joints: object, joints: Mapping[str, _Joint]) -> 
     locked = {}
     for name, value in locked_joints.items():
         joint = _known_joint(name, joints, "locked_joints")
-        if joint.kind not in _ONE_DOF:
+        if joint.kind not in ONE_DOF:
             raise InputError(
                 f"locked_joints: joint {name!r} is {joint.kind}; only revolute, continuous and "
                 "prismatic joints can be locked at a value (a floating or planar root joint is "
@@ -337,7 +124,7 @@ def check_locked_joints(locked_joints: object, joints: Mapping[str, _Joint]) -> 
     return locked
 
 
-def check_limits(limits: object, joints: Mapping[str, _Joint]) -> dict[str, dict[str, float]]:
+def check_limits(limits: object, joints: Mapping[str, UrdfJoint]) -> dict[str, dict[str, float]]:
     """``limits`` as {joint: {key: value}} with keys among :data:`LIMIT_KEYS`."""
     if limits is None:
         return {}
@@ -375,7 +162,7 @@ def check_limits(limits: object, joints: Mapping[str, _Joint]) -> dict[str, dict
     return checked
 
 
-def _known_joint(name: object, joints: Mapping[str, _Joint], what: str) -> _Joint:
+def _known_joint(name: object, joints: Mapping[str, UrdfJoint], what: str) -> UrdfJoint:
     if not isinstance(name, str) or name not in joints:
         movable = [j.name for j in joints.values() if j.kind != "fixed"]
         raise InputError(
@@ -386,7 +173,7 @@ def _known_joint(name: object, joints: Mapping[str, _Joint], what: str) -> _Join
 
 # ------------------------------------------------------------------------------ the chain
 def _edited_xml(
-    root: ET.Element, joints: Mapping[str, _Joint], limits: Mapping[str, Mapping[str, float]]
+    root: ET.Element, joints: Mapping[str, UrdfJoint], limits: Mapping[str, Mapping[str, float]]
 ) -> tuple[str, set[str]]:
     """The URDF text with continuous joints as revolute ones (limits ±UNBOUNDED), the limit
     overrides written in, and placeholder limits (0, 0) where a revolute or prismatic joint has
@@ -398,7 +185,7 @@ def _edited_xml(
     placeholders = set()
     for element in root.findall("joint"):
         name, kind = element.get("name", ""), element.get("type", "")
-        if kind not in _ONE_DOF:
+        if kind not in ONE_DOF:
             continue
         limit = element.find("limit")
         if limit is None:
@@ -421,7 +208,7 @@ def _edited_xml(
 
 
 def _uncouple_mimics(
-    root: ET.Element, joints: Mapping[str, _Joint], xml: str, urdf_path: Path
+    root: ET.Element, joints: Mapping[str, UrdfJoint], xml: str, urdf_path: Path
 ) -> tuple[str, set[str]]:
     """Drop the ``<mimic>`` of the mimic joints Pinocchio cannot couple, so the URDF loads.
 
@@ -443,17 +230,17 @@ def _uncouple_mimics(
     mimics = {
         name: joint.mimic
         for name, joint in joints.items()
-        if joint.mimic is not None and joint.kind in _ONE_DOF  # Talos has fixed "mimic" joints
+        if joint.mimic is not None and joint.kind in ONE_DOF  # Talos has fixed "mimic" joints
     }
     if not mimics:
         return xml, set()
-    walk = list(_parse_model(xml, urdf_path, mimic=False).names)
+    walk = list(parse_model(xml, urdf_path, mimic=False).names)
     order = {name: k for k, name in enumerate(walk)}
     uncoupled = set()
     for name, (master, _, _) in mimics.items():
         usable = (
             master in joints
-            and joints[master].kind in _ONE_DOF
+            and joints[master].kind in ONE_DOF
             and master not in mimics
             and order.get(master, len(walk)) < order.get(name, -1)
         )
@@ -513,55 +300,6 @@ def _rename_joint(model: pin.Model, old: str, new: str) -> None:
             model.frames[k] = frame
 
 
-@dataclass
-class _ChainEnd:
-    """Where one chain of the tree ends, grippers left out (see :func:`_chain_ends`)."""
-
-    joint: int
-    links: list[str]
-    gripper_parent: str | None
-
-
-def _chain_ends(model: pin.Model) -> list[_ChainEnd]:
-    """The end of every chain (one per leaf joint) of ``model``, grippers left out.
-
-    A chain ends at its last joint that is not a gripper's (:data:`GRIPPER_JOINT`; unless every
-    joint of the chain is named like a gripper's: a finger robot such as finger_edu keeps
-    them). Its links are the links and frames fixed to that joint, finger links
-    (:data:`FINGER_LINK`) left out unless there are no others, in the model's order;
-    ``gripper_parent`` is the link the first gripper joint hangs from (None without one).
-    """
-    parents = {model.parents[j] for j in range(1, model.njoints)}
-    ends = []
-    for leaf in (j for j in range(1, model.njoints) if j not in parents):
-        j, first_gripper = leaf, None
-        while j > 0 and GRIPPER_JOINT.search(model.names[j]):
-            first_gripper, j = j, model.parents[j]
-        if j == 0:  # the whole chain is a finger (finger_edu): it is the arm
-            j, first_gripper = leaf, None
-        frames = [
-            f.name
-            for f in model.frames
-            if f.parentJoint == j and f.type in (pin.FrameType.BODY, pin.FrameType.OP_FRAME)
-        ]
-        plain = [name for name in frames if not FINGER_LINK.search(name)] or frames
-        gripper_parent = None
-        if first_gripper is not None:
-            joint_frame = model.frames[
-                model.getFrameId(model.names[first_gripper], pin.FrameType.JOINT)
-            ]
-            gripper_parent = model.frames[joint_frame.parentFrame].name
-        ends.append(_ChainEnd(j, plain, gripper_parent))
-    return ends
-
-
-def tip_candidates(model: pin.Model) -> list[str]:
-    """Candidate tool frames: the links and frames fixed to the end of every chain (its last
-    joint that is not a gripper's), fingers left out."""
-    names = [name for end in _chain_ends(model) for name in end.links]
-    return list(dict.fromkeys(names))
-
-
 @dataclass(frozen=True)
 class FrameRow:
     """One frame of a URDF, as ``kinplan info ROBOT --frames`` lists it.
@@ -599,10 +337,10 @@ def frame_table(urdf_path: Path) -> list[FrameRow]:
     """
     urdf_path = Path(urdf_path)
     root = read_urdf(urdf_path)
-    joints = _joints(root)
+    joints = joint_specs(root)
     xml, _ = _edited_xml(root, joints, {})
     xml, _ = _uncouple_mimics(root, joints, xml, urdf_path)
-    model = _parse_model(xml, urdf_path)
+    model = parse_model(xml, urdf_path)
     rows = []
     for frame in model.frames:
         if frame.name == "universe":
@@ -631,49 +369,10 @@ def full_model(urdf_path: Path) -> pin.Model:
     """
     urdf_path = Path(urdf_path)
     root = read_urdf(urdf_path)
-    joints = _joints(root)
+    joints = joint_specs(root)
     xml, _ = _edited_xml(root, joints, {})
     xml, _ = _uncouple_mimics(root, joints, xml, urdf_path)
-    return _parse_model(xml, urdf_path)
-
-
-def frame_id(model: pin.Model, name: str, urdf_path: Path) -> int:
-    """Index of the frame ``name``: a link first (a link and a joint may share a name), then
-    any other frame; a FrameError listing the candidate tool frames if there is none."""
-    for kind in (pin.FrameType.BODY, pin.FrameType.OP_FRAME, pin.FrameType.FIXED_JOINT):
-        if model.existFrame(name, kind):
-            return model.getFrameId(name, kind)
-    if model.existFrame(name):
-        return model.getFrameId(name)
-    raise FrameError(
-        f"no frame {name!r} in {urdf_path.name}; candidate tool frames (chain ends and the "
-        f"frames below them): {', '.join(tip_candidates(model))} (`kinplan info ROBOT --frames` "
-        "lists every frame)"
-    )
-
-
-def _default_tip(model: pin.Model, urdf_path: Path) -> str:
-    """The tool link of the only chain, grippers left out (their joints stay at 0).
-
-    The chain ends at its last joint that is not a gripper's (see :func:`_chain_ends`). Of the
-    links fixed to that joint, a tool-like one (:data:`TOOL_LINKS`: ``tcp``, ``tool``, ``eef``,
-    ``end_effector``, ``flange``, ``ee_link``, in this order) is the tip; else the link the
-    first gripper joint hangs from; else the last of them.
-    """
-    if model.njoints < 2:
-        raise URDFError(f"{urdf_path} has no movable joint; kinplan plans for arms with joints")
-    ends = []
-    for end in _chain_ends(model):
-        tools = [name for pattern in TOOL_LINKS for name in end.links if pattern.search(name)]
-        ends.append(tools[0] if tools else end.gripper_parent or end.links[-1])
-    ends = list(dict.fromkeys(ends))
-    if len(ends) != 1:
-        raise FrameError(
-            f"{urdf_path} has several kinematic chains; choose the tool frame with tip=<name>; "
-            f"candidates: {', '.join(tip_candidates(model))} (`kinplan info ROBOT --frames` lists "
-            "every frame)"
-        )
-    return ends[0]
+    return parse_model(xml, urdf_path)
 
 
 def build_chain(
@@ -703,7 +402,7 @@ def build_chain(
     """
     root = read_urdf(urdf_path)
     base_frame = root_link(root, urdf_path)
-    joints = _joints(root)
+    joints = joint_specs(root)
     locked = check_locked_joints(locked_joints, joints)
     overrides = check_limits(limits, joints)
     base = pin.SE3.Identity() if base_pose is None else base_pose
@@ -713,10 +412,10 @@ def build_chain(
             continuous.discard(name)  # bounded by the caller
     xml, placeholders = _edited_xml(root, joints, overrides)
     xml, uncoupled = _uncouple_mimics(root, joints, xml, urdf_path)
-    model = _parse_model(xml, urdf_path)
+    model = parse_model(xml, urdf_path)
 
     _check_offsets(model, base, urdf_path)
-    tip = tip or default_tip or _default_tip(model, urdf_path)
+    tip = tip or default_tip or default_tool_frame(model, urdf_path)
     chain = set(model.supports[model.frames[frame_id(model, tip, urdf_path)].parentJoint]) - {0}
     _check_axes(model, joints, chain, urdf_path)
     _check_locked_values(model, joints, locked, placeholders | continuous)
@@ -792,7 +491,7 @@ def build_chain(
         if "acceleration" in given:
             acceleration[k] = given["acceleration"]
         elif joint.acceleration is not None:
-            value = _float_or_nan(joint.acceleration)
+            value = float_or_nan(joint.acceleration)
             if value > 0 and math.isfinite(value):
                 acceleration[k] = value
             else:
@@ -859,15 +558,15 @@ def _check_offsets(model: pin.Model, base: pin.SE3, urdf_path: Path) -> None:
 
 
 def _check_axes(
-    model: pin.Model, joints: Mapping[str, _Joint], chain: set[int], urdf_path: Path
+    model: pin.Model, joints: Mapping[str, UrdfJoint], chain: set[int], urdf_path: Path
 ) -> None:
     """Refuse a joint of the chain (locked or not) whose ``<axis xyz>`` is 0 0 0: it would
     move nothing."""
     for j in sorted(chain):
         joint = joints.get(model.names[j])
-        if joint is None or joint.kind not in _ONE_DOF or joint.axis is None:
+        if joint is None or joint.kind not in ONE_DOF or joint.axis is None:
             continue
-        axis = np.array([_float_or_nan(v) for v in joint.axis.split()])
+        axis = np.array([float_or_nan(v) for v in joint.axis.split()])
         if axis.size == 3 and np.all(axis == 0.0):
             raise URDFError(
                 f"joint {joint.name!r} of {urdf_path.name} has the axis 0 0 0, about or along "
@@ -878,7 +577,7 @@ def _check_axes(
 
 def _check_locked_values(
     model: pin.Model,
-    joints: Mapping[str, _Joint],
+    joints: Mapping[str, UrdfJoint],
     locked: Mapping[str, float],
     unbounded: set[str],
 ) -> None:
@@ -903,7 +602,7 @@ def _check_locked_values(
 
 def _hold_uncoupled(
     model: pin.Model,
-    joints: Mapping[str, _Joint],
+    joints: Mapping[str, UrdfJoint],
     uncoupled: set[str],
     chain: set[int],
     hold: set[int],

@@ -42,7 +42,8 @@ import pinocchio as pin
 
 from kinplan.cell.body import CellError, convex_hull
 from kinplan.errors import KinplanError
-from kinplan.urdf_model import full_model, read_urdf
+from kinplan.urdf_model import full_model
+from kinplan.urdf_read import read_urdf
 
 if TYPE_CHECKING:  # type-only: a robot's tool brings kinplan.cell in
     from kinplan.robot import Robot

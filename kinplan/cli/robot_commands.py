@@ -39,7 +39,7 @@ def _limit_text(value: float, prismatic: bool, units: bool = False) -> str:
 
 def _urdf_joint_types(robot: kinplan.Robot) -> dict[str, str]:
     """The URDF type of every joint of the robot's file ({} when it cannot be read)."""
-    from kinplan.urdf_model import read_urdf
+    from kinplan.urdf_read import read_urdf
 
     try:
         root = read_urdf(Path(robot.urdf_path))
