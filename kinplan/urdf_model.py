@@ -335,12 +335,7 @@ def frame_table(urdf_path: Path) -> list[FrameRow]:
     Raises:
         URDFError: a file that is not a usable URDF.
     """
-    urdf_path = Path(urdf_path)
-    root = read_urdf(urdf_path)
-    joints = joint_specs(root)
-    xml, _ = _edited_xml(root, joints, {})
-    xml, _ = _uncouple_mimics(root, joints, xml, urdf_path)
-    model = parse_model(xml, urdf_path)
+    model, joints = _whole_model(Path(urdf_path))
     rows = []
     for frame in model.frames:
         if frame.name == "universe":
@@ -367,12 +362,16 @@ def full_model(urdf_path: Path) -> pin.Model:
     Raises:
         URDFError: a file that is not a usable URDF.
     """
-    urdf_path = Path(urdf_path)
+    return _whole_model(Path(urdf_path))[0]
+
+
+def _whole_model(urdf_path: Path) -> tuple[pin.Model, dict[str, UrdfJoint]]:
+    """:func:`full_model` and the URDF's joints as written."""
     root = read_urdf(urdf_path)
     joints = joint_specs(root)
     xml, _ = _edited_xml(root, joints, {})
     xml, _ = _uncouple_mimics(root, joints, xml, urdf_path)
-    return parse_model(xml, urdf_path)
+    return parse_model(xml, urdf_path), joints
 
 
 def build_chain(
