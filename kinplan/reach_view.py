@@ -13,13 +13,29 @@ import base64
 import html
 import warnings
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
-if TYPE_CHECKING:  # type-only: kinplan.reach imports this module where it draws
-    from kinplan.reach import ReachMap
+if TYPE_CHECKING:
     from kinplan.robot import Robot
+
+
+class MapToDraw(Protocol):
+    """What the page needs of a map (a :class:`kinplan.reach.ReachMap` has it; this module does
+    not import the class that draws with it, so the two do not depend on each other)."""
+
+    robot: str
+    centers: np.ndarray  # (N, 3) voxel centres [m], base frame
+    index: np.ndarray  # (N,) share of orientations reachable, 0..1
+    resolution: float  # voxel edge [m]
+    shoulder: np.ndarray  # (3,) the arm's shoulder [m], base frame
+    reach: float  # the arm's reach from the shoulder [m]
+
+    def summary(self) -> list[str]:
+        """Lines describing the map."""
+        ...
+
 
 #: Files of MeshCat's viewer bundle inside the ``meshcat`` package.
 _BUNDLE = ("viewer", "dist", "main.min.js")
@@ -74,7 +90,7 @@ def _stick_figure(robot) -> np.ndarray:
     return np.array([p for pair in pairs for p in pair]).reshape(-1, 3)
 
 
-def map_page(reach_map: ReachMap, robot: Robot | None = None) -> str:
+def map_page(reach_map: MapToDraw, robot: Robot | None = None) -> str:
     """The HTML page of a map (see the module docstring)."""
     import matplotlib
 
