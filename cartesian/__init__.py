@@ -4,7 +4,9 @@ Paths (:class:`Line`, :class:`Arc`, :func:`Circle`, :func:`Polyline`, :class:`Pa
 :class:`FunctionPath`; corners blended by :func:`blend_corners`; weaving :class:`Weave`; torch
 angles :class:`TorchOrientation`) are parametrised by the path-length fraction s ∈ [0, 1].
 :func:`follow` times a path and solves IK at every sample with reachability and singularity
-monitoring; :func:`check_reachability` is the fast geometric pre-check.
+monitoring; :func:`check_reachability` is the fast geometric pre-check. :func:`plan_seam`
+searches the torch's free roll and tilt bands (and a 7-joint arm's self-motion) for a seam, then
+follows it.
 """
 
 from __future__ import annotations
@@ -24,6 +26,8 @@ from cartesian.paths import (
     PathSequence,
     Polyline,
 )
+from cartesian.seam_path import SeamPath
+from cartesian.seam_planner import plan_seam
 from cartesian.torch import TorchOrientation, torch_rotations
 from cartesian.weave import Weave
 
@@ -41,6 +45,7 @@ __all__ = [
     "PathSequence",
     "Polyline",
     "Reachability",
+    "SeamPath",
     "Status",
     "SubPath",
     "TorchOrientation",
@@ -48,5 +53,6 @@ __all__ = [
     "blend_corners",
     "check_reachability",
     "follow",
+    "plan_seam",
     "torch_rotations",
 ]

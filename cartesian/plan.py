@@ -67,6 +67,11 @@ class CartesianPlan:
         check_step: The largest step of the grid every check ran on [s]: the caller's ``dt``,
             or a fraction of it for a motion shorter than 16 periods (the samples returned are
             always the caller's grid).
+        roll: For a plan of :func:`cartesian.plan_seam`: the torch's rotation about its axis
+            at each sample [rad], relative to the seam's poses, shape (N,); None for
+            :func:`cartesian.follow`.
+        tilt: For a plan of :func:`cartesian.plan_seam`: the torch axis' (work, travel)
+            deviation from the seam's at each sample [rad], shape (N, 2); None otherwise.
     """
 
     t: np.ndarray
@@ -100,6 +105,8 @@ class CartesianPlan:
     robot: Robot | None = None  # the robot it was planned for
     cell: WorkCell | None = None  # the work cell it was checked against (issue 16)
     cell_check: MotionCheck | None = None  # that check: pairs, per-sample distances
+    roll: np.ndarray | None = None  # plan_seam: roll about the torch axis per sample [rad]
+    tilt: np.ndarray | None = None  # plan_seam: (work, travel) deviation per sample [rad]
 
     # -- kinplan.motion.SampledMotion: what viewers, plots and exports read --------------------
     @property

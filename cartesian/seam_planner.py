@@ -1,0 +1,592 @@
+"""Seam planning with tolerances: the joint motion through a weld seam, not only its following.
+
+A welding torch is symmetric about its axis, and its work and travel angles have tolerance bands:
+the seam fixes the TCP position and, within those bands, the torch axis (tool z). :func:`plan_seam`
+searches the free coordinates globally, as Descartes does (ROS-Industrial; its ladder graph):
+
+1. waypoints along the seam (every ``waypoint_spacing`` metres and every ``resolution`` radians
+   of the path's rotation); at each, the roll about the torch axis (every ``resolution``
+   radians, or the given roll), the work / travel tilts (−tol, 0, +tol each), a 7-joint arm's
+   self-motion (θ7 samples) × every IK branch give the candidate configurations within the
+   joint limits, away from singularities, collision-free in the cell
+   (:mod:`cartesian.seam_candidates`);
+2. the ladder graph joins consecutive waypoints' candidates whose joint motion fits the time
+   between them at the seam's speed (the joints' speed limits), without a branch flip, with the
+   roll changing by a bounded step; dynamic programming finds the path of least joint travel
+   (plus small costs for roll changes, tilt, and nearness to singularities) in which joints that
+   can wind stay within their limits (:mod:`cartesian.seam_ladder`);
+3. the chosen roll and tilt become smooth laws of s (cubic splines, continuous rate), applied to
+   the seam's poses (:class:`~cartesian.seam_path.SeamPath`), and :func:`cartesian.follow` tracks
+   that path from the chosen start configuration and monitors it as always: the result is an
+   ordinary :class:`~cartesian.CartesianPlan`, with ``roll`` and ``tilt`` per sample.
+
+When no torch orientation within the tolerances works somewhere, the refused plan says where
+(the ``s`` range) and what blocks it; when configurations exist but cannot be joined, between
+which fractions and why.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from cartesian.events import Event, Status
+from cartesian.follow import follow
+from cartesian.paths import Path
+from cartesian.plan import CartesianPlan
+from cartesian.seam_candidates import (
+    TAU,
+    Candidates,
+    generate,
+    roll_joint_sign,
+    self_motion_samples,
+    wide_joints,
+)
+from cartesian.seam_ladder import Blocked, Ladder, LadderPath
+from cartesian.seam_path import SeamPath, SmoothLaw, seam_frames, tilt_rotations, torch_deviation
+from cartesian.timing import time_path
+from cartesian.tracker import SINGULAR_FRACTION
+from kinplan import checks
+from kinplan.cell import WorkCell
+from kinplan.errors import InputError
+from kinplan.robot import Robot
+
+__all__ = ["plan_seam"]
+
+logger = logging.getLogger(__name__)
+
+#: Share of a joint's speed limit a waypoint-to-waypoint change may use (the smooth law
+#: between waypoints moves faster than their average).
+SPEED_MARGIN = 0.7
+#: Largest joint change between waypoints [rad]: more is a branch flip.
+JUMP_CAP = math.pi / 3
+#: How many ladder paths (distinct start candidates) are tracked before giving up.
+ATTEMPTS = 4
+#: Constant-roll starts tracked when no ladder path could be (see _constant_roll_choices).
+FALLBACKS = 8
+#: Distance [m] / angle [rad] within which ``q_start`` counts as on the path's start.
+START_TOLERANCE = 1e-5
+#: Options of :func:`follow` that plan_seam sets itself.
+_OWN_OPTIONS = ("q_seed", "position_only", "duration", "speed", "dt", "retime", "cell", "clearance")
+
+
+def plan_seam(
+    robot: Robot,
+    path: Path,
+    speed: float | None = None,
+    duration: float | None = None,
+    dt: float = 0.01,
+    *,
+    roll: str | float = "free",
+    work_tolerance: float = 0.0,
+    travel_tolerance: float = 0.0,
+    q_start: Sequence[float] | np.ndarray | None = None,
+    cell: WorkCell | None = None,
+    clearance: float | None = None,
+    retime: bool = False,
+    resolution: float = math.radians(10.0),
+    waypoint_spacing: float = 0.02,
+    self_motion: int = 24,
+    **follow_options: Any,
+) -> CartesianPlan:
+    """Plan the torch along a seam with its roll free and its angles within tolerance bands.
+
+    Args:
+        robot: The arm (6 or more joints; the search is fastest with a closed-form IK: the UR
+            family, panda-type arms).
+        path: The seam with orientation: its poses give the TCP position and the torch axis
+            (tool z) in the base (world) frame; e.g. :class:`cartesian.TorchOrientation`.
+        speed: Tool cruise speed [m/s]; or
+        duration: Motion duration [s] (exactly one of the two).
+        dt: Sampling period [s] of the plan (as :func:`cartesian.follow`).
+        roll: "free": the rotation about the torch axis is searched and may vary along the
+            seam; a number [rad]: that constant roll, relative to the path's poses.
+        work_tolerance: Band [rad] in [0, π/2) within which the torch axis may tilt across the
+            seam (about its travel direction).
+        travel_tolerance: Band [rad] in [0, π/2) within which it may tilt along the seam.
+        q_start: The configuration the plan must start from (on the path's start pose, torch
+            within the tolerances), or None: any.
+        cell: A :class:`kinplan.WorkCell`: candidates collide with nothing in it, and the plan
+            is checked as :func:`cartesian.follow` checks it.
+        clearance: Margin [m] to the cell's obstacles (as :func:`cartesian.follow`).
+        retime: Time the chosen path optimally (as :func:`cartesian.follow`); the search then
+            ignores the seam's nominal speed.
+        resolution: Roll sampling step and the path rotation between waypoints [rad]
+            (default 10°).
+        waypoint_spacing: Largest distance between waypoints along the seam [m].
+        self_motion: θ7 samples of a panda-type arm's self-motion.
+        **follow_options: Passed to :func:`cartesian.follow` (``profile``, ``acceleration``,
+            ``velocity_scale``, ``tolerance``, ``max_acceleration``, ...).
+
+    Returns:
+        A :class:`~cartesian.CartesianPlan` of the rotated seam
+        (:class:`~cartesian.seam_path.SeamPath`) with ``roll`` ((N,) rad, about the torch axis,
+        relative to the path's poses) and ``tilt`` ((N, 2) rad: work, travel deviation) per
+        sample; when refused, an event says where and why (no samples when the search itself
+        found no way).
+
+    Raises:
+        InputError: a path without orientation, tolerances outside [0, π/2), an unknown
+            ``roll``, a ``q_start`` off the path's start, or options plan_seam sets itself.
+    """
+    _check_inputs(robot, path)
+    free = _roll_mode(roll)
+    work_tolerance = _tolerance(work_tolerance, "work_tolerance")
+    travel_tolerance = _tolerance(travel_tolerance, "travel_tolerance")
+    resolution = checks.number(resolution, "resolution", positive=True, unit="rad")
+    waypoint_spacing = checks.number(waypoint_spacing, "waypoint_spacing", positive=True, unit="m")
+    self_motion = checks.count(self_motion, "self_motion", minimum=1)
+    dt = checks.number(dt, "dt", positive=True, unit="s")
+    retime = checks.flag(retime, "retime")
+    for name in _OWN_OPTIONS:
+        if name in follow_options:
+            raise InputError(
+                f"plan_seam sets {name} itself; pass q_start= for the start configuration, and "
+                "speed, duration, dt, retime, cell, clearance as its own arguments"
+            )
+    fixed_roll = None if free else float(roll)
+    start = None if q_start is None else robot.check_q(q_start, "q_start")
+    profile = follow_options.get("profile", "trapezoid")
+    timing = time_path(
+        path.length, duration, speed, follow_options.get("acceleration"), profile, dt
+    )
+    s = _waypoints(path, waypoint_spacing, resolution)
+    rotations = path.rotation(s)
+    assert rotations is not None  # checked oriented
+    frames = seam_frames(path, s, rotations)
+    start_roll, start_tilt = 0.0, np.zeros(2)
+    if start is not None:
+        start_roll, start_tilt = _start_angles(robot, path, start, work_tolerance, travel_tolerance)
+        if fixed_roll is not None and abs(_wrap(start_roll - fixed_roll)) > 1e-6:
+            raise InputError(
+                f"q_start turns the torch by {math.degrees(start_roll):.2f}° about its axis, but "
+                f"roll={fixed_roll:g} rad ({math.degrees(fixed_roll):.2f}°) was asked; pass "
+                "roll='free' or a q_start with that roll"
+            )
+    velocity_scale = float(follow_options.get("velocity_scale", 1.0))
+    singular_threshold = follow_options.get("singular_threshold")
+    if singular_threshold is None:
+        singular_threshold = SINGULAR_FRACTION * robot.reference_manipulability(False)
+    ladder = _build_ladder(
+        robot, path, s, rotations, frames, timing, free, fixed_roll, resolution,
+        work_tolerance, travel_tolerance, self_motion, 1.5 * float(singular_threshold),
+        velocity_scale, retime, cell, clearance,
+    )  # fmt: skip
+    if start is not None:
+        ladder.start, ladder.start_roll, ladder.start_tilt = start, start_roll, start_tilt
+    empty = _empty_stretches(ladder, s, start is not None, list(robot.joint_names))
+    if empty is not None:
+        return _refused(robot, path, empty, float(singular_threshold))
+    paths, blocked = ladder.solve(ATTEMPTS)
+    track: dict[str, Any] = dict(
+        start=start, speed=speed, duration=duration, dt=dt, retime=retime, cell=cell,
+        clearance=clearance, work_tolerance=work_tolerance, travel_tolerance=travel_tolerance,
+        follow_options=follow_options,
+    )  # fmt: skip
+    first: CartesianPlan | None = None
+    for choice in paths:
+        plan = _track(robot, path, s, choice, **track)
+        if plan.ok:
+            return plan
+        logger.debug("seam tracking from ladder path of cost %.3f: %s", choice.cost, plan.status)
+        first = first or plan
+    # the grid missed a way (the self-motion between its samples, a law smoothed away from
+    # the nodes): constant rolls that have candidates at every waypoint, from their starts
+    for choice in _constant_roll_choices(robot, path, ladder, s, start):
+        plan = _track(robot, path, s, choice, **track)
+        if plan.ok:
+            return plan
+        first = first or plan
+    if first is not None:
+        return first
+    assert blocked is not None  # no path and no constant roll: the ladder said why
+    event = _blocked_event(robot, blocked, s, timing)
+    return _refused(robot, path, event, float(singular_threshold))
+
+
+def _constant_roll_choices(
+    robot: Robot, path: Path, ladder: Ladder, s: np.ndarray, start: np.ndarray | None
+) -> list[LadderPath]:
+    """Up to :data:`FALLBACKS` ladder-like paths of one constant roll and no tilt, each from a
+    start of that roll: the rolls with a candidate at every waypoint, nearest the taught roll
+    first; from the IK solution nearest the arm's neutral configuration, then from the start
+    candidate farthest from singularities."""
+    c = ladder.candidates
+    K, S, B, I = c.valid.shape
+    untilted = np.flatnonzero(~c.tilt.any(axis=1))
+    if start is not None or not untilted.size:
+        return []
+    valid = c.valid[:, untilted]  # (K, S0, B, I)
+    rolls = c.roll[untilted]  # (S0, I)
+    choices: list[LadderPath] = []
+    values = np.unique(np.round(rolls, 9))
+    everywhere = [
+        r for r in values if all(valid[k][np.isclose(rolls, r)[:, None, :].repeat(B, 1)].any()
+                                 for k in range(K))
+    ]  # fmt: skip
+    everywhere.sort(key=lambda r: abs(_wrap(r)))
+    for r in everywhere:
+        at_start = np.isclose(rolls, r)[:, None, :].repeat(B, 1) & valid[0]
+        nodes = np.argwhere(at_start)
+        costs = c.manipulability[0, untilted][nodes[:, 0], nodes[:, 1]]
+        rotation = path.rotation(np.zeros(1))
+        assert rotation is not None
+        cr, sr = math.cos(r), math.sin(r)
+        turned = rotation[0] @ np.array([[cr, -sr, 0.0], [sr, cr, 0.0], [0.0, 0.0, 1.0]])
+        home = robot.ik(pin.SE3(turned, path.position(np.zeros(1))[0]), q_seed=robot.neutral())
+        starts = [home.q] if home.success else []
+        starts += [c.q[0, untilted[slot], b, i] for slot, b, i in nodes[np.argsort(-costs)][:1]]
+        for q in starts:
+            choices.append(
+                LadderPath(
+                    np.zeros(K, int), np.tile(q, (K, 1)), np.full(K, r), np.zeros((K, 2)), 0.0
+                )
+            )
+            if len(choices) >= FALLBACKS:
+                return choices
+    return choices
+
+
+# ------------------------------------------------------------------------------ inputs
+def _check_inputs(robot: object, path: object) -> None:
+    if not isinstance(robot, Robot):
+        raise InputError(
+            f"robot must be a kinplan.Robot (from kinplan.load_robot), got {checks.describe(robot)}"
+        )
+    if not isinstance(path, Path):
+        raise InputError(
+            "path must be a cartesian path with orientation (cartesian.TorchOrientation, or a "
+            f"Line / Arc / Polyline of SE3 poses), got {checks.describe(path)}"
+        )
+    if robot.nq < 6:
+        raise InputError(
+            f"plan_seam needs an arm with 6 or more joints (the torch axis and position fix 5 "
+            f"coordinates), {robot.name} has {robot.nq}; use cartesian.follow instead"
+        )
+    if not path.has_orientation:
+        raise InputError(
+            "plan_seam needs a path with orientation: its poses give the torch axis (tool z). "
+            "Build it from SE3 poses, or wrap the seam in cartesian.TorchOrientation(path, "
+            "normal, work_angle, travel_angle)"
+        )
+    if path.length <= 0:
+        raise InputError("plan_seam needs a seam of non-zero length")
+
+
+def _roll_mode(roll: object) -> bool:
+    """True for a free roll; checks a fixed one."""
+    if isinstance(roll, str):
+        if roll == "free":
+            return True
+        raise InputError(
+            f"roll must be 'free' (searched along the seam) or a number [rad] (a constant roll "
+            f"relative to the path's poses), got {roll!r}"
+        )
+    checks.number(roll, "roll", unit="rad")
+    return False
+
+
+def _tolerance(value: object, name: str) -> float:
+    tolerance = checks.number(value, name, unit="rad")
+    if not 0.0 <= tolerance < 0.5 * math.pi:
+        raise InputError(
+            f"{name} must be an angle in [0, π/2) rad (0 to below 90°), got {tolerance!r} rad "
+            f"({math.degrees(tolerance):.1f}°); e.g. {name}=math.radians(10)"
+        )
+    return tolerance
+
+
+def _wrap(angle: float) -> float:
+    return (angle + math.pi) % TAU - math.pi
+
+
+def _start_angles(
+    robot: Robot, path: Path, q: np.ndarray, work_tolerance: float, travel_tolerance: float
+) -> tuple[float, np.ndarray]:
+    """Roll [rad] and (work, travel) [rad] of ``q`` on the path's start pose.
+
+    Raises:
+        InputError: ``q`` puts the TCP off the start, or the torch axis beyond the tolerances.
+    """
+    pose = robot.fk(q)
+    s0 = np.array([0.0])
+    target = path.position(s0)[0]
+    rotation = path.rotation(s0)
+    assert rotation is not None
+    gap = float(np.linalg.norm(pose.translation - target))
+    if gap > START_TOLERANCE:
+        raise InputError(
+            f"q_start puts the TCP {gap * 1e3:.3f} mm from the seam's start "
+            f"{np.round(target, 4).tolist()} m; pass a configuration on it "
+            "(e.g. robot.ik(path.start)) or q_start=None"
+        )
+    frames = seam_frames(path, s0, rotation)
+    work, travel = torch_deviation(frames, pose.rotation[None, :, 2])[0]
+    for name, value, band in (("work", work, work_tolerance), ("travel", travel, travel_tolerance)):
+        if abs(value) > band + START_TOLERANCE:
+            raise InputError(
+                f"q_start tilts the torch {math.degrees(value):.2f}° ({name}) from the seam's "
+                f"torch axis, beyond {name}_tolerance = {math.degrees(band):.2f}°; pass a "
+                f"configuration with the torch within the band, a wider {name}_tolerance, or "
+                "q_start=None"
+            )
+    tilted = tilt_rotations(frames, np.array([work]), np.array([travel]))[0] @ rotation[0]
+    turn = tilted.T @ pose.rotation
+    return float(math.atan2(turn[1, 0], turn[0, 0])), np.array([work, travel])
+
+
+# ------------------------------------------------------------------------------ the ladder
+def _waypoints(path: Path, spacing: float, angle: float) -> np.ndarray:
+    """Waypoint fractions: at most ``spacing`` [m] and ``angle`` [rad] of rotation apart."""
+    fine = np.linspace(0.0, 1.0, 257)
+    rotations = path.rotation(fine)
+    assert rotations is not None
+    relative = np.einsum("nji,njk->nik", rotations[:-1], rotations[1:])
+    cos = np.clip((np.trace(relative, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
+    turn = float(np.arccos(cos).sum())
+    count = max(2, math.ceil(path.length / spacing), math.ceil(turn / angle))
+    return np.linspace(0.0, 1.0, count + 1)
+
+
+def _build_ladder(
+    robot: Robot,
+    path: Path,
+    s: np.ndarray,
+    rotations: np.ndarray,
+    frames: np.ndarray,
+    timing: Any,
+    free: bool,
+    fixed_roll: float | None,
+    resolution: float,
+    work_tolerance: float,
+    travel_tolerance: float,
+    self_motion: int,
+    singular_threshold: float,
+    velocity_scale: float,
+    retime: bool,
+    cell: WorkCell | None,
+    clearance: float | None,
+) -> Ladder:
+    """The candidates of every waypoint and the graph's settings."""
+    count = len(s)
+    if free:
+        rolls = int(max(1, round(TAU / resolution)))
+        roll_values = -math.pi + TAU * np.arange(rolls) / rolls
+    else:
+        assert fixed_roll is not None
+        roll_values = np.array([fixed_roll])
+    works = np.array([-work_tolerance, 0.0, work_tolerance]) if work_tolerance > 0 else np.zeros(1)
+    travels = (
+        np.array([-travel_tolerance, 0.0, travel_tolerance])
+        if travel_tolerance > 0
+        else np.zeros(1)
+    )
+    sign = roll_joint_sign(robot) if free else 0
+    factored = sign != 0
+    roll_axis = roll_values if factored else np.zeros(1)
+    slot_rolls = np.zeros(1) if factored else roll_values
+    # rotation slots: (roll slot, work, travel), coordinates for the adjacency
+    grid = np.stack(
+        np.meshgrid(np.arange(len(slot_rolls)), np.arange(len(works)), np.arange(len(travels)),
+                    indexing="ij"),
+        axis=-1,
+    ).reshape(-1, 3)  # fmt: skip
+    slot_roll = slot_rolls[grid[:, 0]]
+    slot_tilt = np.stack([works[grid[:, 1]], travels[grid[:, 2]]], axis=1)
+    T = len(grid)
+    tilt = tilt_rotations(
+        np.repeat(frames, T, axis=0),
+        np.tile(slot_tilt[:, 0], count),
+        np.tile(slot_tilt[:, 1], count),
+    ).reshape(count, T, 3, 3)
+    c, sn = np.cos(slot_roll), np.sin(slot_roll)
+    rz = np.zeros((T, 3, 3))
+    rz[:, 0, 0], rz[:, 0, 1], rz[:, 1, 0], rz[:, 1, 1], rz[:, 2, 2] = c, -sn, sn, c, 1.0
+    targets = tilt @ rotations[:, None] @ rz[None]
+    psi = self_motion_samples(robot, self_motion)
+    candidates = generate(
+        robot, path.position(s), targets, slot_tilt, slot_roll, psi, roll_axis, sign,
+        singular_threshold,
+    )  # fmt: skip
+    if cell is not None:
+        _check_cell(candidates, cell, robot, clearance)
+    # slot adjacency: the roll slot by up to `steps`, tilts and self-motion by one
+    P = len(psi)
+    coords = np.concatenate([np.repeat(grid, P, axis=0), np.tile(np.arange(P), T)[:, None]], axis=1)
+    steps = 2 if free else 0
+    diff = np.abs(coords[:, None, :] - coords[None, :, :])
+    if not factored and free and len(slot_rolls) > 1:
+        diff[..., 0] = np.minimum(diff[..., 0], len(slot_rolls) - diff[..., 0])
+    near = np.all(diff[..., 1:] <= 1, axis=-1) & (diff[..., 0] <= (0 if factored else steps))
+    adjacency = np.argwhere(near)
+    # caps: the joints' speed over the time between waypoints, and the jump cap
+    t_at = np.interp(s, timing.s, timing.t)
+    gaps = np.diff(t_at)
+    speed_caps = SPEED_MARGIN * velocity_scale * robot.velocity_limit[None, :] * gaps[:, None]
+    jump_caps = np.full(robot.nq, JUMP_CAP)
+    caps = jump_caps[None, :] if retime else np.minimum(speed_caps, jump_caps[None, :])
+    caps = np.broadcast_to(caps, (count - 1, robot.nq)).copy()
+    return Ladder(
+        candidates, adjacency, steps if factored else 0, free and factored, caps, jump_caps,
+        wide_joints(robot), robot.lower, robot.upper, factored,
+        robot.reference_manipulability(False),
+    )  # fmt: skip
+
+
+def _check_cell(
+    candidates: Candidates, cell: WorkCell, robot: Robot, clearance: float | None
+) -> None:
+    """Mark colliding candidates invalid (robot–obstacle distance below ``clearance``, or
+    contact between the robot's own checked links)."""
+    if not isinstance(cell, WorkCell):
+        raise InputError(f"cell must be a kinplan.WorkCell, got {checks.describe(cell)}")
+    if cell.robot is not robot:
+        cell = cell.for_robot(robot)
+    margin = 0.0 if clearance is None else checks.number(clearance, "clearance", minimum=0.0)
+    valid = candidates.valid
+    pairs: dict[tuple[str, str], int] = {}
+    for index in zip(*np.nonzero(valid)):
+        hits = cell.collisions(candidates.q[index], margin)
+        if hits:
+            valid[index] = False
+            pairs[hits[0].bodies] = pairs.get(hits[0].bodies, 0) + 1
+    candidates.counts["collision"] = valid.sum(axis=(1, 2, 3))
+    candidates.pairs = pairs
+
+
+# ------------------------------------------------------------------------------ refusals
+def _range(s: np.ndarray, first: int, last: int) -> str:
+    return f"s {s[first]:.2f}–{s[last]:.2f}" if last > first else f"s {s[first]:.2f}"
+
+
+def _empty_stretches(
+    ladder: Ladder, s: np.ndarray, has_start: bool, names: list[str]
+) -> Event | None:
+    """The event of the first stretch of waypoints without any candidate, or None."""
+    c = ladder.candidates
+    empty = np.logical_not(c.valid.reshape(len(s), -1).any(axis=1))
+    if has_start:
+        empty[0] = False
+    if not empty.any():
+        return None
+    first = int(np.flatnonzero(empty)[0])
+    last = first
+    while last + 1 < len(s) and empty[last + 1]:
+        last += 1
+    part = slice(first, last + 1)
+    counts = c.counts
+    what = "every roll" if c.roll.size > 1 else "the roll"
+    if c.tilt.any():
+        what += " and tilt within the tolerances"
+    joints = _joint_names(names, counts["limit_joint"][part].sum(axis=0))
+    if counts["solved"][part].sum() == 0:
+        kind, why = Status.UNREACHABLE, f"no IK solution for {what} (out of the arm's reach)"
+    elif counts["limits"][part].sum() == 0:
+        kind, why = Status.JOINT_LIMIT, f"{what} puts {joints} beyond its limits"
+    elif counts["singular"][part].sum() == 0:
+        kind, why = Status.SINGULAR, f"{what} puts the arm at a singularity"
+    else:
+        bodies = ", ".join(f"{a} into {b}" for a, b in list(c.pairs)[:2])
+        kind, why = Status.COLLISION, f"{what} puts {bodies or 'the robot into the cell'}"
+    return Event(
+        kind, 0.0, float(s[first]), 0, f"{_range(s, first, last)}: {why}",
+        remedy="widen work_tolerance / travel_tolerance, free the roll, or move the seam or the "
+        "robot's base",
+    )  # fmt: skip
+
+
+def _joint_names(names: list[str], counts: np.ndarray) -> str:
+    """The joints that most often put the solutions beyond their limits."""
+    top: list[int] = (
+        np.flatnonzero(counts >= 0.5 * counts.max()).tolist() if counts.max() > 0 else []
+    )
+    labels = [names[j] for j in top]
+    return " or ".join(labels) if labels else "a joint"
+
+
+def _blocked_event(robot: Robot, blocked: Blocked, s: np.ndarray, timing: Any) -> Event:
+    k = blocked.step
+    name = robot.joint_names[blocked.joint]
+    where = f"between s {s[k - 1]:.2f} and {s[k]:.2f}"
+    if blocked.kind == "velocity_limit":
+        kind = Status.VELOCITY_LIMIT
+        why = (
+            f"every continuation needs {name} at {blocked.ratio / SPEED_MARGIN:.2f}× or more of "
+            "its speed limit at the seam's speed"
+        )
+        remedy = "lower the speed, retime=True, or widen the tolerances"
+    elif blocked.kind == "joint_limit":
+        kind = Status.JOINT_LIMIT
+        why = f"every continuation winds {name} beyond its limits"
+        remedy = "free the roll, widen the tolerances, or split the seam"
+    else:
+        kind = Status.JUMP
+        why = (
+            f"configurations exist on both sides, but none joins them without a branch flip "
+            f"({name} would jump)"
+        )
+        remedy = "widen the tolerances, free the roll, or split the seam there"
+    t = float(np.interp(s[k], timing.s, timing.t))
+    return Event(kind, t, float(s[k]), 0, f"{where}: {why}", remedy=remedy)
+
+
+def _refused(robot: Robot, path: Path, event: Event, singular_threshold: float) -> CartesianPlan:
+    """A plan without samples, stopped by ``event`` (the search found no way)."""
+    nq = robot.nq
+    event.position = path.position(np.array([event.s]))[0]
+    plan = CartesianPlan(
+        t=np.zeros(0), q=np.zeros((0, nq)), qd=np.zeros((0, nq)), qdd=np.zeros((0, nq)),
+        s=np.zeros(0), ok=False, status=event.kind, fraction=0.0, events=[event],
+        max_deviation=0.0, min_manipulability=0.0, duration=0.0, path=path,
+        position_only=False, singular_threshold=singular_threshold,
+        tool_positions=np.zeros((0, 3)), manipulability=np.zeros(0), robot=robot,
+    )  # fmt: skip
+    plan.roll, plan.tilt = np.zeros(0), np.zeros((0, 2))
+    return plan
+
+
+# ------------------------------------------------------------------------------ tracking
+def _law(s: np.ndarray, values: np.ndarray, start: float | None, bound: float | None) -> SmoothLaw:
+    law = SmoothLaw(s, values)
+    if bound is not None:
+        law.scaled_into(bound)
+    if start is not None:
+        law.anchor(start)
+    return law
+
+
+def _track(
+    robot: Robot,
+    path: Path,
+    s: np.ndarray,
+    choice: LadderPath,
+    start: np.ndarray | None,
+    speed: float | None,
+    duration: float | None,
+    dt: float,
+    retime: bool,
+    cell: WorkCell | None,
+    clearance: float | None,
+    work_tolerance: float,
+    travel_tolerance: float,
+    follow_options: dict[str, Any],
+) -> CartesianPlan:
+    """Follow the seam rotated by the ladder path's smoothed roll and tilt laws."""
+    anchor = start is not None
+    roll = _law(s, choice.roll, choice.roll[0] if anchor else None, None)
+    work = _law(s, choice.tilt[:, 0], choice.tilt[0, 0] if anchor else None, work_tolerance)
+    travel = _law(s, choice.tilt[:, 1], choice.tilt[0, 1] if anchor else None, travel_tolerance)
+    seam = SeamPath(path, roll, work, travel)
+    seed = choice.q[0] if start is None else start
+    plan = follow(
+        robot, seam, duration=duration, speed=speed, dt=dt, q_seed=seed, retime=retime,
+        cell=cell, clearance=clearance, **follow_options,
+    )  # fmt: skip
+    plan.roll = seam.roll(plan.s) if len(plan.s) else np.zeros(0)
+    plan.tilt = seam.tilt(plan.s) if len(plan.s) else np.zeros((0, 2))
+    return plan
