@@ -63,6 +63,11 @@ class Candidates:
     pairs: dict[tuple[str, str], int] = field(default_factory=dict)
 
 
+def _rz(angle: float) -> np.ndarray:
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
 def roll_joint_sign(robot: Robot) -> int:
     """+1 or −1 when turning the last joint by δ turns the tool by ±δ about its own z axis
     through the TCP (checked by FK at three configurations), else 0."""
@@ -111,19 +116,33 @@ def canonical(q: np.ndarray, robot: Robot, wide: np.ndarray) -> np.ndarray:
 
 
 def _solve_slots(
-    robot: Robot, positions: np.ndarray, rotations: np.ndarray, psi: np.ndarray
+    robot: Robot, positions: np.ndarray, rotations: np.ndarray, psi: np.ndarray, sign: int
 ) -> np.ndarray:
     """Every IK branch of poses (M, 3) / (M, 3, 3): (M, P, B, nq) raw solutions [rad] (any 2π
-    representative, NaN rows where none), P the self-motion samples ``psi`` (θ7 of a
-    panda-type arm; one sample otherwise)."""
+    representative, NaN rows where none), P the self-motion samples ``psi`` (one sample for
+    arms without a searched self-motion).
+
+    ψ of a panda-type arm is θ7 when the roll is not factored; when it is (``sign`` ≠ 0), ψ is
+    the θ7 the arm would have at roll 0, any angle: the pose turned by −sign·(ψ − c) about its
+    z is solved with θ7 = c (c mid-range), which gives the same first six joints, and the
+    solution's θ7 is reported as ψ (the roll samples then add sign·ρ to it)."""
     solver = robot.closed_form_ik
     count = len(positions)
     if isinstance(solver, PandaIK):
         out = np.full((count, len(psi), 8, 7), np.nan)
-        for m in range(count):
-            for p, value in enumerate(psi.tolist()):
-                found = solver.solutions_q7(positions[m], rotations[m], value)
+        middle = 0.5 * float(robot.lower[-1] + robot.upper[-1])
+        for p, value in enumerate(psi.tolist()):
+            if sign:
+                turn = _rz(-sign * (value - middle))
+                turned = rotations @ turn
+                at = middle
+            else:
+                turned, at = rotations, value
+            for m in range(count):
+                found = solver.solutions_q7(positions[m], turned[m], at)
                 out[m, p, : len(found)] = found[:8]
+            if sign:
+                out[:, p, :, -1] = np.where(np.isnan(out[:, p, :, -1]), np.nan, value)
         return out
     if isinstance(solver, ClosedFormIK) and robot.nq == 6:
         raw, _ = solver.all_branches(positions, rotations, np.zeros((count, robot.nq)))
@@ -149,10 +168,13 @@ def _seeds(robot: Robot, count: int = 8) -> np.ndarray:
     return lower + (upper - lower) * (0.15 + 0.7 * steps)
 
 
-def self_motion_samples(robot: Robot, count: int) -> np.ndarray:
-    """θ7 samples [rad] of a panda-type arm within the last joint's limits, else one NaN."""
+def self_motion_samples(robot: Robot, count: int, factored: bool) -> np.ndarray:
+    """Self-motion samples ψ [rad] of a panda-type arm (one NaN for other arms): θ7 within
+    its limits, or, when the roll is factored, the roll-0 θ7 all round [−π, π)."""
     if not isinstance(robot.closed_form_ik, PandaIK):
         return np.array([np.nan])
+    if factored:
+        return -math.pi + TAU * np.arange(count) / count
     lo, hi = float(robot.lower[-1]), float(robot.upper[-1])
     return lo + (hi - lo) * (np.arange(count) + 0.5) / count
 
@@ -185,7 +207,7 @@ def generate(
     count, tilts = rotations.shape[:2]
     nq = robot.nq
     raw = _solve_slots(
-        robot, np.repeat(positions, tilts, axis=0), rotations.reshape(-1, 3, 3), psi
+        robot, np.repeat(positions, tilts, axis=0), rotations.reshape(-1, 3, 3), psi, sign
     )  # (K·T, P, B, nq)
     branches = raw.shape[2]
     raw = raw.reshape(count, tilts, len(psi), branches, nq).reshape(count, -1, branches, nq)

@@ -18,6 +18,9 @@ near) values at waypoints, so the angle's rate is continuous along the seam.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy.interpolate import (  # type: ignore[import-untyped]
@@ -27,8 +30,16 @@ from scipy.interpolate import (  # type: ignore[import-untyped]
 )
 
 from cartesian.paths import Path, as_fractions
+from kinplan.batch_ik import log3
 
-__all__ = ["SeamPath", "SmoothLaw", "seam_frames", "tilt_rotations", "torch_deviation"]
+__all__ = [
+    "CachedPath",
+    "SeamPath",
+    "SmoothLaw",
+    "seam_frames",
+    "tilt_rotations",
+    "torch_deviation",
+]
 
 
 class SmoothLaw:
@@ -97,19 +108,28 @@ class SmoothLaw:
         """Whether θ is one value along the whole seam."""
         return self.spline is None and not self.offset
 
-    def scaled_into(self, bound: float) -> None:
-        """Scale the law so that |θ| ≤ ``bound`` on a fine grid (a least-squares spline may
-        overshoot the values it was fitted to)."""
+    def scaled_into(self, bound: float, start: float | None = None) -> None:
+        """Keep |θ| ≤ ``bound`` on a fine grid (a least-squares spline may overshoot the values
+        it was fitted to) by scaling the spline, with θ(0) = ``start`` (|start| ≤ bound) kept
+        exactly when given (:meth:`anchor` after each scaling)."""
+        if start is not None:
+            self.anchor(start)
         if self.spline is None:
             if self.constant is not None and abs(self.constant) > bound:
                 self.constant = float(np.sign(self.constant) * bound)
             return
-        peak = float(np.abs(self(np.linspace(0.0, 1.0, 2001))).max())
-        if peak > bound > 0.0:
-            factor = bound / peak * (1.0 - 1e-9)
+        if bound == 0.0:
+            self.spline, self.constant, self.offset = None, 0.0, 0.0
+            return
+        fine = np.linspace(0.0, 1.0, 2001)
+        for _ in range(12):
+            peak = float(np.abs(self(fine)).max())
+            if peak <= bound:
+                return
+            factor = bound / peak * (1.0 - 1e-6)
             self.spline = BSpline(self.spline.t, self.spline.c * factor, self.spline.k)
-        elif bound == 0.0:
-            self.spline, self.constant = None, 0.0
+            if start is not None:
+                self.anchor(start)
 
 
 def _rz(angles: np.ndarray) -> np.ndarray:
@@ -155,6 +175,64 @@ def torch_deviation(frames: np.ndarray, axes: np.ndarray) -> np.ndarray:
     travel = np.arcsin(np.clip(local[:, 0], -1.0, 1.0))
     work = np.arctan2(-local[:, 1], local[:, 2])
     return np.stack([work, travel], axis=1)
+
+
+class CachedPath(Path):
+    """The seam's own path, evaluated once per array of fractions: a planner tracks several
+    rotated copies of it on the same grids. Angular rates of a path that takes them from
+    differences of its rotations (the base class's) are taken from the same differences,
+    vectorised (:func:`kinplan.batch_ik.log3`).
+
+    Args:
+        path: An oriented path.
+        size: How many fraction arrays are remembered.
+    """
+
+    def __init__(self, path: Path, size: int = 24) -> None:
+        self.path = path
+        self.length = path.length
+        self.has_orientation = path.has_orientation
+        self._fd_step = path._fd_step
+        self.slerp = path.slerp
+        self._size = size
+        self._cache: dict[tuple[str, bytes], Any] = {}
+
+    def __repr__(self) -> str:
+        return repr(self.path)
+
+    def _memo(self, name: str, s: np.ndarray, compute: Callable[[np.ndarray], Any]) -> Any:
+        key = (name, s.tobytes())
+        found = self._cache.get(key)
+        if found is None:
+            if len(self._cache) >= self._size:
+                self._cache.pop(next(iter(self._cache)))
+            found = self._cache[key] = compute(s)
+        return found
+
+    def position(self, s: ArrayLike) -> np.ndarray:
+        return self._memo("p", as_fractions(s), self.path.position)
+
+    def position_derivatives(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        return self._memo("dp", as_fractions(s), self.path.position_derivatives)
+
+    def _rotation(self, s: np.ndarray) -> np.ndarray:
+        return self._memo("R", s, self.path._rotation)
+
+    def angular_rates(self, s: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        return self._memo("w", as_fractions(s), self._rates)
+
+    def _rates(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if self.slerp is not None or type(self.path).angular_rates is not Path.angular_rates:
+            return self.path.angular_rates(s)
+        s = s.clip(0.0, 1.0)  # Path.angular_rates' central differences, vectorised
+        h = self._fd_step
+        lo, hi = np.clip(s - h, 0, 1), np.clip(s + h, 0, 1)
+        mid = 0.5 * (lo + hi)
+        r_lo, r_mid, r_hi = (self.path._rotation(x) for x in (lo, mid, hi))
+        half = (0.5 * (hi - lo))[:, None]
+        w_lo = log3(r_mid @ np.swapaxes(r_lo, 1, 2)) / half
+        w_hi = log3(r_hi @ np.swapaxes(r_mid, 1, 2)) / half
+        return 0.5 * (w_lo + w_hi), (w_hi - w_lo) / half
 
 
 class SeamPath(Path):

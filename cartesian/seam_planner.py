@@ -37,6 +37,7 @@ import pinocchio as pin
 
 from cartesian.events import Event, Status
 from cartesian.follow import follow
+from cartesian.geometry import check_reachability
 from cartesian.paths import Path
 from cartesian.plan import CartesianPlan
 from cartesian.seam_candidates import (
@@ -48,7 +49,14 @@ from cartesian.seam_candidates import (
     wide_joints,
 )
 from cartesian.seam_ladder import Blocked, Ladder, LadderPath
-from cartesian.seam_path import SeamPath, SmoothLaw, seam_frames, tilt_rotations, torch_deviation
+from cartesian.seam_path import (
+    CachedPath,
+    SeamPath,
+    SmoothLaw,
+    seam_frames,
+    tilt_rotations,
+    torch_deviation,
+)
 from cartesian.timing import time_path
 from cartesian.tracker import SINGULAR_FRACTION
 from kinplan import checks
@@ -69,6 +77,8 @@ JUMP_CAP = math.pi / 3
 ATTEMPTS = 4
 #: Constant-roll starts tracked when no ladder path could be (see _constant_roll_choices).
 FALLBACKS = 8
+#: Other start configurations of a redundant arm tried with the best roll law.
+OTHER_STARTS = 6
 #: Distance [m] / angle [rad] within which ``q_start`` counts as on the path's start.
 START_TOLERANCE = 1e-5
 #: Options of :func:`follow` that plan_seam sets itself.
@@ -183,30 +193,56 @@ def plan_seam(
     if empty is not None:
         return _refused(robot, path, empty, float(singular_threshold))
     paths, blocked = ladder.solve(ATTEMPTS)
+    if blocked is not None and blocked.kind == "velocity_limit":
+        # the speed caps are the search's estimate: follow judges the speed itself
+        caps = ladder.caps
+        ladder.caps = np.broadcast_to(ladder.jump_caps, caps.shape).copy()
+        paths, _ = ladder.solve(ATTEMPTS)
+        ladder.caps = caps
+    cached = CachedPath(path)  # every attempt rotates the same seam on the same grids
     track: dict[str, Any] = dict(
         start=start, speed=speed, duration=duration, dt=dt, retime=retime, cell=cell,
         clearance=clearance, work_tolerance=work_tolerance, travel_tolerance=travel_tolerance,
         follow_options=follow_options,
     )  # fmt: skip
     first: CartesianPlan | None = None
-    for choice in paths:
-        plan = _track(robot, path, s, choice, **track)
+    choices = paths + _other_starts(ladder, paths[0] if paths else None, OTHER_STARTS)
+    # the grid may miss a way (the self-motion between its samples, a law smoothed away from
+    # the nodes): then constant rolls that have candidates at every waypoint, from their starts
+    choices += _constant_roll_choices(robot, path, ladder, s, start)
+    for choice in choices:
+        # the first attempt in full (its events say why, if all fail); the others screened
+        plan = _track(robot, cached, s, choice, **track, screen=first is not None)
+        if plan is None:
+            continue
         if plan.ok:
             return plan
         logger.debug("seam tracking from ladder path of cost %.3f: %s", choice.cost, plan.status)
-        first = first or plan
-    # the grid missed a way (the self-motion between its samples, a law smoothed away from
-    # the nodes): constant rolls that have candidates at every waypoint, from their starts
-    for choice in _constant_roll_choices(robot, path, ladder, s, start):
-        plan = _track(robot, path, s, choice, **track)
-        if plan.ok:
-            return plan
         first = first or plan
     if first is not None:
         return first
     assert blocked is not None  # no path and no constant roll: the ladder said why
     event = _blocked_event(robot, blocked, s, timing)
     return _refused(robot, path, event, float(singular_threshold))
+
+
+def _other_starts(ladder: Ladder, best: LadderPath | None, count: int) -> list[LadderPath]:
+    """``best`` (its roll and tilt laws) from up to ``count`` other start candidates of the same
+    start roll and tilt, nearest its own start first (a redundant arm's only: a 6-joint arm's
+    follower has no self-motion to resolve otherwise)."""
+    c = ladder.candidates
+    K, S, B, I = c.valid.shape
+    if best is None or ladder.start is not None or c.q.shape[-1] < 7 or best.nodes[0] < 0:
+        return []
+    slot, _, i = np.unravel_index(int(best.nodes[0]), (S, B, I))
+    same = np.isclose(c.roll, c.roll[slot, i]) & np.all(c.tilt == c.tilt[slot], axis=1)[:, None]
+    nodes = np.argwhere(same[:, None, :] & c.valid[0])
+    q = c.q[0][tuple(nodes.T)]
+    order = np.argsort(np.abs(q - best.q[0]).sum(axis=1))[1 : count + 1]
+    return [
+        LadderPath(best.nodes, np.vstack([q[j], best.q[1:]]), best.roll, best.tilt, best.cost)
+        for j in order.tolist()
+    ]
 
 
 def _constant_roll_choices(
@@ -408,7 +444,7 @@ def _build_ladder(
     rz = np.zeros((T, 3, 3))
     rz[:, 0, 0], rz[:, 0, 1], rz[:, 1, 0], rz[:, 1, 1], rz[:, 2, 2] = c, -sn, sn, c, 1.0
     targets = tilt @ rotations[:, None] @ rz[None]
-    psi = self_motion_samples(robot, self_motion)
+    psi = self_motion_samples(robot, self_motion, factored)
     candidates = generate(
         robot, path.position(s), targets, slot_tilt, slot_roll, psi, roll_axis, sign,
         singular_threshold,
@@ -422,7 +458,10 @@ def _build_ladder(
     diff = np.abs(coords[:, None, :] - coords[None, :, :])
     if not factored and free and len(slot_rolls) > 1:
         diff[..., 0] = np.minimum(diff[..., 0], len(slot_rolls) - diff[..., 0])
-    near = np.all(diff[..., 1:] <= 1, axis=-1) & (diff[..., 0] <= (0 if factored else steps))
+    if factored and P > 1:  # ψ goes all round
+        diff[..., 3] = np.minimum(diff[..., 3], P - diff[..., 3])
+    near = np.all(diff[..., 1:3] <= 1, axis=-1) & (diff[..., 3] <= 2)
+    near &= diff[..., 0] <= (0 if factored else steps)
     adjacency = np.argwhere(near)
     # caps: the joints' speed over the time between waypoints, and the jump cap
     t_at = np.interp(s, timing.s, timing.t)
@@ -554,8 +593,8 @@ def _refused(robot: Robot, path: Path, event: Event, singular_threshold: float) 
 def _law(s: np.ndarray, values: np.ndarray, start: float | None, bound: float | None) -> SmoothLaw:
     law = SmoothLaw(s, values)
     if bound is not None:
-        law.scaled_into(bound)
-    if start is not None:
+        law.scaled_into(bound, start)
+    elif start is not None:
         law.anchor(start)
     return law
 
@@ -575,14 +614,19 @@ def _track(
     work_tolerance: float,
     travel_tolerance: float,
     follow_options: dict[str, Any],
-) -> CartesianPlan:
-    """Follow the seam rotated by the ladder path's smoothed roll and tilt laws."""
+    screen: bool = False,
+) -> CartesianPlan | None:
+    """Follow the seam rotated by the ladder path's smoothed roll and tilt laws; ``screen``:
+    None when the geometric pre-check (:func:`cartesian.check_reachability`, no timing) already
+    fails from that start."""
     anchor = start is not None
     roll = _law(s, choice.roll, choice.roll[0] if anchor else None, None)
     work = _law(s, choice.tilt[:, 0], choice.tilt[0, 0] if anchor else None, work_tolerance)
     travel = _law(s, choice.tilt[:, 1], choice.tilt[0, 1] if anchor else None, travel_tolerance)
     seam = SeamPath(path, roll, work, travel)
     seed = choice.q[0] if start is None else start
+    if screen and not check_reachability(robot, seam, q_seed=seed).ok:
+        return None
     plan = follow(
         robot, seam, duration=duration, speed=speed, dt=dt, q_seed=seed, retime=retime,
         cell=cell, clearance=clearance, **follow_options,
