@@ -101,7 +101,23 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--urscript",
         metavar="FILE",
-        help="write a URScript program replaying the motion with servoj (UR arms only)",
+        help="write a URScript program for the motion (UR arms only; see --urscript-style)",
+    )
+    run.add_argument(
+        "--urscript-style",
+        choices=("native", "servo"),
+        default="native",
+        help="native: the program's moves as movej/movel/movec/movep with its speeds, blends, "
+        "TCP, payload and I/O, each checked by a model of the controller (a move that is not "
+        "written natively is a servoj stream, the reason in the file); servo: one servoj per "
+        "controller period (default native)",
+    )
+    run.add_argument(
+        "--urscript-fallback",
+        choices=("servoj", "refuse"),
+        default="servoj",
+        help="native style: write a move that cannot be native as servoj (default) or refuse "
+        "to write the file, with the reason",
     )
     run.add_argument(
         "--servo-period",

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import sys
 from pathlib import Path
 
@@ -31,7 +32,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     console().print(_summary_table(plan, title=f"{args.program}: {program.robot.name}"))
     if plan.ok:
         print(
-            f"ok: {len(plan.moves)} moves, {plan.duration:.3f} s, {len(plan.t)} samples "
+            f"ok: {plan.move_count} moves, {plan.duration:.3f} s, {len(plan.t)} samples "
             f"every {plan.dt:g} s"
         )
     problems = _write_outputs(plan, args, plot)
@@ -175,9 +176,7 @@ def _write_outputs(plan, args: argparse.Namespace, plot: Path | None) -> list[st
                 path = export.write_csv(value, plan, robot.joint_names)
                 what = f"{len(plan.t)} samples{partial}"
             elif flag == "--urscript":
-                path = export.write_urscript(value, plan, period=args.servo_period)
-                count = len(export.servo_samples(plan, args.servo_period)[0])
-                what = f"URScript, {count} servoj targets every {args.servo_period:g} s"
+                path, what = _write_urscript(plan, value, args)
             elif flag == "--trajectory":
                 path = export.write_joint_trajectory(value, plan)
                 what = f"JointTrajectory, {len(plan.t)} points, {plan.duration:.3f} s"
@@ -196,6 +195,31 @@ def _write_outputs(plan, args: argparse.Namespace, plot: Path | None) -> list[st
             continue
         print(f"wrote {path} ({what}){note}")
     return problems
+
+
+def _write_urscript(plan, path: str | Path, args: argparse.Namespace) -> tuple[Path, str]:
+    """Write --urscript in its style; return the path and what it holds."""
+    from kinplan import export
+    from kinplan.export.common import write_text
+
+    style = getattr(args, "urscript_style", "native")
+    period = args.servo_period
+    if style == "servo":
+        written = export.write_urscript(path, plan, style="servo", period=period)
+        count = len(export.servo_samples(plan, period)[0])
+        return written, f"URScript, {count} servoj targets every {period:g} s"
+    fallback = getattr(args, "urscript_fallback", "servoj")
+    text = export.urscript(plan, style="native", period=period, fallback=fallback)
+    written = Path(path)
+    write_text(written, text, "URScript")
+    summary = next(line for line in text.splitlines() if " native moves; " in line)
+    native = summary.split(" native moves; ")[0].lstrip("# ")
+    servoj = summary.split(" native moves; ")[1].split(" as servoj")[0]
+    what = f"URScript, native style: {native} native moves, {servoj} as servoj"
+    reasons = [line[2:] for line in text.splitlines() if re.match(r"# move \S+ as servoj", line)]
+    if reasons:
+        what += " (" + "; ".join(reasons) + ")"
+    return written, what
 
 
 def _write_html(plan, path: str | Path, title: str) -> Path:

@@ -46,8 +46,14 @@ Matplotlib is imported only when a plot is drawn, PyYAML only when YAML is writt
   (:func:`plan_failure`) within its robot's limits;
 * :mod:`~kinplan.export.servo`: :func:`servo_samples`, the motion resampled at a controller's
   period (:data:`DEFAULT_SERVO_PERIOD`);
-* :mod:`~kinplan.export.urscript`: :func:`urscript`, :func:`write_urscript`,
-  :func:`ur_arm_problem` (:data:`UR_JOINT_NAMES`);
+* :mod:`~kinplan.export.ur_arm`: what URScript needs of a robot (:func:`ur_arm_problem`,
+  :data:`UR_JOINT_NAMES`) and how it writes numbers and poses;
+* :mod:`~kinplan.export.controller_model`: an independent model of a UR controller's
+  ``movej`` / ``movel`` / ``movec`` / ``movep`` motion (trapezoids, lines, circles, blends);
+* :mod:`~kinplan.export.native`: :func:`native_program`, the program's moves as native
+  commands, each replayed by the controller model and checked before it is written;
+* :mod:`~kinplan.export.urscript`: :func:`urscript`, :func:`write_urscript` in the ``native``
+  or ``servo`` style (:data:`URSCRIPT_STYLES`, :func:`default_style`);
 * :mod:`~kinplan.export.joint_trajectory`: :func:`joint_trajectory`,
   :func:`write_joint_trajectory`, :func:`ros_duration`, :func:`trajectory_format`;
 * :mod:`~kinplan.export.plots`: :func:`plot_motion`, with the move boundaries and the clearance.
@@ -70,22 +76,36 @@ from kinplan.export.limits import (
     LimitViolationError,
     check_limits,
 )
+from kinplan.export.native import FALLBACKS, NativeProgram, controller_frames, native_program
 from kinplan.export.plots import plot_motion
 from kinplan.export.servo import DEFAULT_SERVO_PERIOD, servo_samples
-from kinplan.export.urscript import UR_JOINT_NAMES, ur_arm_problem, urscript, write_urscript
+from kinplan.export.urscript import (
+    UR_JOINT_NAMES,
+    URSCRIPT_STYLES,
+    default_style,
+    ur_arm_problem,
+    urscript,
+    write_urscript,
+)
 from kinplan.export.whole_motion import plan_failure
 
 __all__ = [
     "CHECK_SUBDIVISIONS",
     "DEFAULT_SERVO_PERIOD",
+    "FALLBACKS",
     "POSITION_SLACK",
     "RATE_SLACK",
     "TRAJECTORY_FORMATS",
+    "URSCRIPT_STYLES",
     "UR_JOINT_NAMES",
     "LimitViolationError",
+    "NativeProgram",
     "check_limits",
+    "controller_frames",
     "csv_header",
+    "default_style",
     "joint_trajectory",
+    "native_program",
     "plan_failure",
     "plot_motion",
     "ros_duration",

@@ -80,7 +80,11 @@ def joint_trajectory(
     ``accelerations`` [rad/s² or m/s²] (the samples' values, unchanged) and
     ``time_from_start`` (:func:`ros_duration` of the time from the plan's first sample). The
     ``header`` has a zero ``stamp`` (a trajectory controller starts it on receipt) and an
-    empty ``frame_id``::
+    empty ``frame_id``. A program plan with I/O (``arc:``, ``io:`` on its moves) also carries
+    them as a companion list ``io_events``, one entry per event in time order, beside the
+    message's fields: ``{"time_from_start": {...}, "output": N, "value": 0|1, "kind":
+    "arc"|"io", "move": number, "key": "moves[2].arc"}`` (a ROS node publishes the
+    JointTrajectory fields and sets the outputs at those times)::
 
         {"header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""},
          "joint_names": [...],
@@ -120,11 +124,25 @@ def joint_trajectory(
             q.tolist(), qd.tolist(), qdd.tolist(), stamps, strict=True
         )
     ]
-    return {
+    document: dict[str, Any] = {
         "header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""},
         "joint_names": names,
         "points": points,
     }
+    events = sorted(getattr(plan, "io_events", None) or [], key=lambda e: e.t)
+    if events:
+        document["io_events"] = [
+            {
+                "time_from_start": ros_duration(max(0.0, float(e.t) - float(t[0]))),
+                "output": int(e.output),
+                "value": int(bool(e.value)),
+                "kind": str(e.kind),
+                "move": int(e.move),
+                "key": str(e.key),
+            }
+            for e in events
+        ]
+    return document
 
 
 def write_joint_trajectory(
@@ -169,7 +187,11 @@ def _json_text(document: dict[str, Any]) -> str:
     head = [
         f"  {json.dumps(key)}: {json.dumps(value, allow_nan=False)},"
         for key, value in document.items()
-        if key != "points"
+        if key not in ("points", "io_events")
     ]
     points = ",\n".join(f"    {json.dumps(p, allow_nan=False)}" for p in document["points"])
-    return "\n".join(["{", *head, '  "points": [', points, "  ]", "}"]) + "\n"
+    tail = ["  ]"]
+    if "io_events" in document:
+        events = ",\n".join(f"    {json.dumps(e)}" for e in document["io_events"])
+        tail = ["  ],", '  "io_events": [', events, "  ]"]
+    return "\n".join(["{", *head, '  "points": [', points, *tail, "}"]) + "\n"

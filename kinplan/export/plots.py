@@ -180,7 +180,7 @@ def _mark_moves(axes: Sequence[Axes], moves: Sequence[MoveSpan]) -> None:
                 ax.axvspan(move.t0, max(move.t1, move.t0 + 1e-9), color="C3", alpha=0.12)
         middle = 0.5 * (move.t0 + move.t1)
         axes[0].annotate(
-            str(move.number),
+            str(getattr(move, "numbers", move.number)),
             (middle, 1.0),
             xycoords=("data", "axes fraction"),
             ha="center",

@@ -1,103 +1,108 @@
-"""URScript for a Universal Robots arm: :func:`urscript` / :func:`write_urscript`, a program that
-goes to the start with ``movej`` and replays the motion with one ``servoj`` per controller
-period (:func:`kinplan.export.servo.servo_samples`); :func:`ur_arm_problem` says whether a robot
-is a UR arm.
+"""URScript for a Universal Robots arm: :func:`urscript` / :func:`write_urscript`, in two styles.
+
+* ``servo``: a program that goes to the start with ``movej`` and replays the motion with one
+  ``servoj`` per controller period (:func:`kinplan.export.servo.servo_samples`);
+* ``native`` (the default for program plans): the program's own moves as ``movej`` /
+  ``movel`` / ``movec`` / ``movep``, each checked by a model of the controller before it is
+  written (:mod:`kinplan.export.native`).
+
+Both write a program plan's tool as ``set_tcp`` / ``set_payload`` and its I/O events
+(``arc:``, ``io:``) as ``set_standard_digital_out`` at the instant each takes effect.
+:func:`ur_arm_problem` says whether a robot is a UR arm.
 """
 
 from __future__ import annotations
 
 import math
 import os
-from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
-
-import numpy as np
+from typing import Any
 
 from kinplan import checks
 from kinplan.errors import InputError
 from kinplan.export.common import write_text
+from kinplan.export.native import FALLBACKS, NativeProgram, controller_frames, native_program
 from kinplan.export.servo import DEFAULT_SERVO_PERIOD, servo_targets
-from kinplan.export.whole_motion import whole_motion
+from kinplan.export.ur_arm import (
+    UR_JOINT_NAMES,
+    ascii_comment,
+    script_list,
+    script_number,
+    script_pose,
+    ur_arm_problem,
+    ur_robot,
+)
 from kinplan.motion import SampledMotion
 
-if TYPE_CHECKING:
-    from kinplan.robot import Robot
+__all__ = [
+    "URSCRIPT_STYLES",
+    "UR_JOINT_NAMES",
+    "default_style",
+    "ur_arm_problem",
+    "urscript",
+    "write_urscript",
+]
 
-__all__ = ["UR_JOINT_NAMES", "ur_arm_problem", "urscript", "write_urscript"]
-
-
-UR_JOINT_NAMES = (
-    "shoulder_pan_joint",
-    "shoulder_lift_joint",
-    "elbow_joint",
-    "wrist_1_joint",
-    "wrist_2_joint",
-    "wrist_3_joint",
-)
-"""Joints of a Universal Robots arm, base to wrist 3: the order of URScript joint vectors."""
+URSCRIPT_STYLES = ("native", "servo")
+"""The styles of :func:`urscript` (``--urscript-style``)."""
 
 
-def ur_arm_problem(robot: Robot) -> str:
-    """Why ``robot`` is not a Universal Robots arm URScript can drive, or "" when it is one.
-
-    A UR arm has exactly the six joints :data:`UR_JOINT_NAMES` in that order, possibly all
-    with one common prefix (``left_shoulder_pan_joint``, ...).
-    """
-    joints = getattr(robot, "joint_names", None)
-    if isinstance(joints, (str, bytes)) or not isinstance(joints, (Sequence, np.ndarray)):
-        raise InputError(f"robot must be a kinplan.Robot, got {checks.describe(robot)}")
-    names = list(joints)
-    first = UR_JOINT_NAMES[0]
-    if len(names) == len(UR_JOINT_NAMES) and names[0].endswith(first):
-        prefix = names[0][: len(names[0]) - len(first)]
-        if names == [prefix + name for name in UR_JOINT_NAMES]:
-            return ""
-    locked = robot.locked_joints
-    held = f" and {', '.join(locked)} locked" if locked else ""
-    return (
-        "URScript export needs a Universal Robots arm (6 joints named shoulder_pan_joint … "
-        f"wrist_3_joint); {robot.name} has {len(names)} joints ({', '.join(names)}){held}"
-    )
+def default_style(plan: SampledMotion) -> str:
+    """``native`` for a program plan (ptp/lin/circ moves), ``servo`` for any other motion."""
+    return "native" if getattr(plan, "program", None) is not None else "servo"
 
 
 def urscript(
     plan: SampledMotion,
     *,
+    style: str | None = None,
     period: float = DEFAULT_SERVO_PERIOD,
     lookahead_time: float = 0.1,
     gain: float = 300.0,
     start_speed: float = 0.5,
     start_acceleration: float = 1.0,
+    fallback: str = "servoj",
 ) -> str:
-    """A URScript program that replays a whole motion on a Universal Robots arm.
+    """A URScript program that runs a whole motion on a Universal Robots arm.
 
-    The program ``kinplan_motion`` goes to the motion's start with ``movej``, then commands one
-    ``servoj`` target per ``period``, the targets of :func:`servo_samples` (``t = k · period``,
-    the first the start, the last exactly the end), then holds the end for
-    2 · ``lookahead_time`` (rounded up to whole periods) so the arm settles on it (``servoj``
-    lags its targets by up to the lookahead time). A header comment names the robot, the
-    duration, the number of samples and the kinplan version. Joint vectors are in radians,
-    base to wrist 3, written in fixed point with 10 decimals (URScript has no exponent
-    notation). The URDF's joint zeros must be the controller's (true for the Universal
-    Robots descriptions).
+    The program ``kinplan_motion`` sets the TCP and payload of a program's tool, goes to the
+    motion's start with ``movej``, then runs the motion:
+
+    * ``style="servo"``: one ``servoj`` target per ``period``, the targets of
+      :func:`servo_samples` (``t = k · period``, the first the start, the last exactly the
+      end), then holds the end for 2 · ``lookahead_time`` (rounded up to whole periods) so the
+      arm settles on it (``servoj`` lags its targets by up to the lookahead time); an I/O
+      event is written before the first target at or after its time;
+    * ``style="native"``: the program's moves as native commands, checked before they are
+      written, a move that cannot be native as ``servoj`` (``fallback="servoj"``) or refused
+      (``fallback="refuse"``): :mod:`kinplan.export.native`.
+
+    A header comment names the program or motion, the robot, the style, the duration and the
+    kinplan version. Joint vectors are in radians, base to wrist 3; poses ``p[x, y, z, rx, ry,
+    rz]`` [m, rad] in the controller's base frame; numbers in fixed point with 10 decimals
+    (URScript has no exponent notation). The URDF's joint zeros must be the controller's
+    (true for the Universal Robots descriptions).
 
     Args:
         plan: A whole motion of a UR arm (:class:`~kinplan.motion.SampledMotion` that is ok,
             with its robot).
+        style: ``"native"`` or ``"servo"``; None: :func:`default_style`.
         period: Period of the ``servoj`` stream [s] (the controller's: 0.008 for a CB3,
             0.002 for an e-Series).
         lookahead_time: ``servoj`` lookahead time [s], 0.03 to 0.2.
         gain: ``servoj`` proportional gain [-], 100 to 2000.
         start_speed: Joint speed of the ``movej`` to the start [rad/s], > 0.
         start_acceleration: Joint acceleration of the ``movej`` to the start [rad/s²], > 0.
+        fallback: ``native`` style: ``"servoj"`` or ``"refuse"`` for a move that cannot be
+            native.
 
     Returns:
         The program text (ASCII), ending with a call of ``kinplan_motion()``.
 
     Raises:
         InputError: not a motion, a failed plan (a controller must not run a partial motion),
-            no robot or not a UR arm, or a parameter out of its range.
+            no robot or not a UR arm, a parameter out of its range, the native style for a
+            motion that is not a program plan, or a refused move.
         LimitViolationError: the motion breaks its robot's limits (:func:`check_limits`).
     """
     from kinplan import __version__
@@ -108,61 +113,131 @@ def urscript(
     acceleration = checks.number(
         start_acceleration, "start_acceleration", positive=True, unit="rad/s²"
     )
-    robot = _ur_robot(plan, "urscript")
+    chosen = default_style(plan) if style is None else style
+    if chosen not in URSCRIPT_STYLES:
+        raise InputError(f"style must be one of {', '.join(URSCRIPT_STYLES)}, got {style!r}")
+    if fallback not in FALLBACKS:
+        raise InputError(f"fallback must be one of {', '.join(FALLBACKS)}, got {fallback!r}")
+    robot = ur_robot(plan, "urscript")
     times, targets = servo_targets(plan, period, "urscript")
     step = float(period)
     hold = math.ceil(2.0 * lookahead / step - 1e-9)
-    servo = f"t={_script_number(step)}, lookahead_time={_script_number(lookahead)}, " + (
-        f"gain={_script_number(servo_gain)}"
+    servo = f"t={script_number(step)}, lookahead_time={script_number(lookahead)}, " + (
+        f"gain={script_number(servo_gain)}"
     )
+    program = getattr(plan, "program", None)
+    what = plan.description
+    if program is not None:
+        what = f"program {Path(program.source).name} ({plan.description})"
     header = [
-        f"# kinplan {__version__}: {plan.description} of {robot.name} (Universal Robots arm)",
-        f"# duration {times[-1]:.6f} s; {len(plan.t)} plan samples; {len(times)} servoj targets "
-        f"every {step:g} s (t = k * {step:g} s, the last at the end), then the end held "
-        f"{hold} periods",
+        f"# kinplan {__version__}: {what} of {robot.name} (Universal Robots arm), {chosen} style",
+        f"# duration {times[-1]:.6f} s as planned; {len(plan.t)} plan samples",
         f"# joints [rad]: {', '.join(robot.joint_names)}",
-        "# Check the motion in the cell (kinplan run ... --html) before running it.",
     ]
-    lines = [_ascii(line) for line in header]
-    lines += [
-        "def kinplan_motion():",
-        f"  movej({_script_list(targets[0])}, a={_script_number(acceleration)}, "
-        f"v={_script_number(speed)})",
+    body = _tool_lines(plan, robot)
+    body.append(
+        f"  movej({script_list(targets[0])}, a={script_number(acceleration)}, "
+        f"v={script_number(speed)})"
+    )
+    if chosen == "native":
+        native = native_program(plan, period=step, servo=servo, fallback=fallback)
+        body += native.lines
+        header += _native_header(native)
+    else:
+        body += _servo_body(plan, times, targets, servo, hold)
+        header.append(
+            f"# {len(times)} servoj targets every {step:g} s (t = k * {step:g} s, the last at "
+            f"the end), then the end held {hold} periods"
+        )
+    header.append("# Check the motion in the cell (kinplan run ... --html) before running it.")
+    lines = [ascii_comment(line) for line in header]
+    lines += ["def kinplan_motion():", *body, "end", "kinplan_motion()"]
+    return "\n".join(lines) + "\n"
+
+
+def _native_header(native: NativeProgram) -> list[str]:
+    lines = [
+        "# poses p[x, y, z, rx, ry, rz] [m, rad] in the controller's base frame, at the TCP "
+        "set below",
+        f"# {len(native.native)} native moves; {len(native.fallbacks)} as servoj "
+        f"({native.servo_targets} targets)",
     ]
-    lines += [f"  servoj({_script_list(q)}, {servo})" for q in targets]
+    lines += [f"# move {numbers} as servoj: {why}" for numbers, why in native.fallbacks]
+    return lines
+
+
+def _tool_lines(plan: SampledMotion, robot: Any) -> list[str]:
+    """``set_tcp`` (from the robot's tool, in ``tool0``) and ``set_payload`` (from the
+    program's ``payload:``) of a program plan; nothing for other motions."""
+    program = getattr(plan, "program", None)
+    if program is None:
+        return []
+    _, tcp, note = controller_frames(robot)
+    lines = [f"  set_tcp({script_pose(tcp)})"]
+    if note:
+        lines.append(ascii_comment(f"  # {note}"))
+    payload = getattr(program, "payload", None)
+    if payload is not None:
+        lines.append(f"  set_payload({script_number(payload.mass)}, {script_list(payload.cog)})")
+    else:
+        lines.append("  # no payload: in the program's tool: the controller's own setting holds")
+    return lines
+
+
+def _servo_body(plan: SampledMotion, times: Any, targets: Any, servo: str, hold: int) -> list[str]:
+    """The ``servoj`` stream with the plan's I/O events before the first target at or after
+    each event's time."""
+    events = sorted(getattr(plan, "io_events", []), key=lambda e: e.t)
+    start = float(plan.t[0])
+    lines = []
+    for when, q in zip(times.tolist(), targets, strict=True):
+        while events and events[0].t - start <= when + 1e-9:
+            event = events.pop(0)
+            level = "True" if event.value else "False"
+            label = f"arc {'on' if event.value else 'off'}" if event.kind == "arc" else event.key
+            lines.append(
+                f"  set_standard_digital_out({event.output}, {level})  # {label}, "
+                f"t = {event.t:.3f} s"
+            )
+        lines.append(f"  servoj({script_list(q)}, {servo})")
+    for event in events:
+        level = "True" if event.value else "False"
+        lines.append(f"  set_standard_digital_out({event.output}, {level})")
     lines += [
-        f"  kinplan_end = {_script_list(targets[-1])}",
+        f"  kinplan_end = {script_list(targets[-1])}",
         "  kinplan_hold = 0",
         f"  while kinplan_hold < {hold}:",
         f"    servoj(kinplan_end, {servo})",
         "    kinplan_hold = kinplan_hold + 1",
         "  end",
-        "end",
-        "kinplan_motion()",
     ]
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 def write_urscript(
     path: str | os.PathLike[str],
     plan: SampledMotion,
     *,
+    style: str | None = None,
     period: float = DEFAULT_SERVO_PERIOD,
     lookahead_time: float = 0.1,
     gain: float = 300.0,
     start_speed: float = 0.5,
     start_acceleration: float = 1.0,
+    fallback: str = "servoj",
 ) -> Path:
     """Write :func:`urscript` of a whole motion of a UR arm to a file (usually ``.script``).
 
     Args:
         path: File to write (its folder is created).
         plan: A whole motion of a UR arm, with its robot.
+        style: ``"native"`` or ``"servo"``; None: :func:`default_style`.
         period: Period of the ``servoj`` stream [s].
         lookahead_time: ``servoj`` lookahead time [s], 0.03 to 0.2.
         gain: ``servoj`` proportional gain [-], 100 to 2000.
         start_speed: Joint speed of the ``movej`` to the start [rad/s].
         start_acceleration: Joint acceleration of the ``movej`` to the start [rad/s²].
+        fallback: ``"servoj"`` or ``"refuse"`` (native style).
 
     Returns:
         The written path.
@@ -174,42 +249,13 @@ def write_urscript(
     target = Path(checks.file_path(path, "path"))
     text = urscript(
         plan,
+        style=style,
         period=period,
         lookahead_time=lookahead_time,
         gain=gain,
         start_speed=start_speed,
         start_acceleration=start_acceleration,
+        fallback=fallback,
     )
     write_text(target, text, "URScript")
     return target
-
-
-def _ur_robot(plan: SampledMotion, what: str) -> Robot:
-    """The robot of a whole motion when it is a UR arm; InputError otherwise."""
-    whole_motion(plan, what, limits=False)  # not a motion, or a failed plan: said first
-    robot = plan.robot
-    if robot is None:
-        raise InputError(
-            f"{what} needs the motion's robot (a UR arm): sample the trajectory with it, "
-            "kinplan.motion.sampled(trajectory, robot)"
-        )
-    problem = ur_arm_problem(robot)
-    if problem:
-        raise InputError(f"{problem}; export write_joint_trajectory or write_csv instead")
-    return robot
-
-
-def _script_number(value: float) -> str:
-    """A float as URScript reads it: fixed point, 10 decimals at most, no exponent."""
-    text = f"{value:.10f}".rstrip("0")
-    text = text + "0" if text.endswith(".") else text
-    return "0.0" if text == "-0.0" else text
-
-
-def _script_list(values: np.ndarray) -> str:
-    return "[" + ", ".join(_script_number(v) for v in values.tolist()) + "]"
-
-
-def _ascii(text: str) -> str:
-    """``text`` with anything outside printable ASCII replaced by ``?`` (a comment line)."""
-    return "".join(c if " " <= c <= "~" else "?" for c in text)

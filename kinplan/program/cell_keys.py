@@ -37,7 +37,8 @@ __all__ = ["SHAPE_KEYS", "read_cell"]
 SHAPE_KEYS = ("box", "cylinder", "sphere", "mesh")
 """The shapes of a body (an obstacle or a tool body)."""
 _POSE_KEYS = ("xyz", "rpy_deg")
-_TOOL_KEYS = ("xyz", "rpy_deg", "body")
+_TOOL_KEYS = ("xyz", "rpy_deg", "body", "payload")
+"""``payload:`` and obstacles' ``color:`` are read by :mod:`kinplan.program.process`."""
 
 
 def read_cell(
@@ -152,7 +153,9 @@ def _obstacles(
             else:
                 allowed = list(value)
             entry = {k: v for k, v in entry.items() if k != "allowed"}
-        body = _body(checker, entry, where, base_dir, extra=("allowed",))
+        if isinstance(entry, dict):  # its colour is read by kinplan.program.process
+            entry = {k: v for k, v in entry.items() if k != "color"}
+        body = _body(checker, entry, where, base_dir, extra=("allowed", "color"))
         if body is None:
             ok = False
         else:

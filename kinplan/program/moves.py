@@ -9,6 +9,7 @@ import numpy as np
 from cartesian.weave import WEAVE_PATTERNS
 from kinplan._profiles import PROFILES, PTP_PROFILES
 from kinplan.program.checker import Checker, describe, is_number, to_float
+from kinplan.program.process import read_signals
 from kinplan.program.schema import (
     MAX_SECONDS,
     MOVE_KINDS,
@@ -247,6 +248,9 @@ def _move_options(
         where = path + ("max_acceleration",)
         max_acceleration = checker.accelerations(spec["max_acceleration"], where, nq)
         ok &= max_acceleration is not None
+    signals = read_signals(checker, spec, path)
+    ok &= signals is not None
+    arc, io = signals if signals is not None else (None, ())
     name = spec.get("name")
     if name is not None and not isinstance(name, str):
         checker.error(path + ("name",), f"expected text, got {describe(name)}")
@@ -256,7 +260,7 @@ def _move_options(
     return {
         "duration": duration, "speed": speed, "profile": profile, "name": name, "blend": blend,
         "weave": weave, "torch": torch, "dwell": dwell, "times": times,
-        "max_acceleration": max_acceleration,
+        "max_acceleration": max_acceleration, "arc": arc, "io": io,
     }  # fmt: skip
 
 

@@ -9,6 +9,7 @@ A :class:`ProgramPlan` is the whole motion of a program (or of a
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -17,12 +18,28 @@ import cartesian
 from kinplan.cell import MotionCheck, WorkCell
 from kinplan.motion import MotionKind, PlannedPath, pose_to_track
 from kinplan.program.peaks import segment_peaks
-from kinplan.program.schema import DEFAULT_DT, Program
+from kinplan.program.schema import DEFAULT_DT, IoEvent, Program
 from kinplan.program.segments import hermite_segments
 from kinplan.robot import Robot, manipulability_of
 from kinplan.trajectory import Segment, Trajectory, Waypoints
 
-__all__ = ["MoveReport", "ProgramPlan"]
+__all__ = ["MoveReport", "ProgramPlan", "move_span"]
+
+_MOVE_KEY = re.compile(r"^moves\[(\d+)(?:\.\.(\d+))?\](\.dwell)?$")
+
+
+def move_span(key: str | None) -> tuple[int, int] | None:
+    """The 1-based numbers of the program moves a report stands for, from its key.
+
+    ``moves[2]`` → (3, 3); ``moves[6..9]`` (moves blended into one motion) → (7, 10); a
+    dwell (``moves[2].dwell``) belongs to its move: (3, 3). None for keys of moves built in
+    Python (no program) or anything else.
+    """
+    match = _MOVE_KEY.match(key or "")
+    if match is None:
+        return None
+    first = int(match.group(1)) + 1
+    return first, (int(match.group(2)) + 1 if match.group(2) else first)
 
 
 @dataclass
@@ -95,6 +112,20 @@ class MoveReport:
     def duration(self) -> float:
         """Duration of the move [s]."""
         return self.t1 - self.t0
+
+    @property
+    def is_dwell(self) -> bool:
+        """Whether this is the dwell after a move (the arm standing still)."""
+        return self.kind == "dwell"
+
+    @property
+    def numbers(self) -> str:
+        """The program move number(s) as printed: ``3``, or ``7–10`` for moves blended into
+        one motion."""
+        span = move_span(self.key)
+        if span is None or span[0] == span[1]:
+            return str(self.number)
+        return f"{span[0]}–{span[1]}"
 
 
 class ProgramPlan(Trajectory):
@@ -188,6 +219,7 @@ class ProgramPlan(Trajectory):
         self.paths = list(paths or [])
         self.program = program
         self.dt = dt
+        self.io_events: list[IoEvent] = []
         boundaries = sorted({0} | {m.first for m in moves} | {m.last for m in moves})
         super().__init__(
             hermite_segments(t, q, qd, qdd) if segments is None else segments,
@@ -205,9 +237,28 @@ class ProgramPlan(Trajectory):
     def __repr__(self) -> str:
         state = "ok" if self.ok else f"failed: {self.reason}"
         return (
-            f"ProgramPlan({self.robot.name}, {len(self.moves)} moves, {self.duration:.3f} s, "
+            f"ProgramPlan({self.robot.name}, {self.move_count} moves, {self.duration:.3f} s, "
             f"{len(self.t)} samples, {state})"
         )
+
+    @property
+    def move_count(self) -> int:
+        """Number of moves of the program (its ``moves:`` list), or of moves built in Python
+        (dwells not counted)."""
+        if self.program is not None:
+            return len(self.program.moves)
+        return len({m.number for m in self.moves})
+
+    @property
+    def moves_done(self) -> int:
+        """Number of the program's moves done (a blended motion counts each of its moves;
+        dwells are part of their move)."""
+        done: set[int] = set()
+        for m in self.moves:
+            if m.ok and not m.is_dwell:
+                span = move_span(m.key) or (m.number, m.number)
+                done.update(range(span[0], span[1] + 1))
+        return len(done)
 
     @property
     def knots(self) -> np.ndarray:
@@ -227,7 +278,7 @@ class ProgramPlan(Trajectory):
     @property
     def description(self) -> str:
         """The number of moves, for captions."""
-        return f"{len(self.moves)} moves"
+        return f"{self.move_count} moves"
 
     @property
     def planned_paths(self) -> list[PlannedPath]:
@@ -310,12 +361,12 @@ class ProgramPlan(Trajectory):
         """A text summary: one line per move (number, label, duration [s], peak joint speed /
         limit, status), the total, then the :attr:`notes`."""
         lines = [
-            f"{m.number:3d}. {m.label} ({m.key or '-'}): {m.duration:.3f} s, peak speed "
+            f"{m.numbers:>3}. {m.label} ({m.key or '-'}): {m.duration:.3f} s, peak speed "
             f"{m.peak_speed_ratio:.2f} of the limit, {m.status}"
             for m in self.moves
         ]
         lines.append(
-            f"total: {len(self.moves)} moves, {self.duration:.3f} s, "
+            f"total: {self.move_count} moves, {self.duration:.3f} s, "
             + ("ok" if self.ok else f"failed: {self.reason}")
         )
         lines += [f"note: {note}" for note in self.notes]
@@ -326,7 +377,7 @@ class ProgramPlan(Trajectory):
         speed / limit, min clearance [m] (inf without a cell), status."""
         return [
             {
-                "number": m.number,
+                "number": m.numbers,
                 "move": m.label,
                 "key": m.key or "",
                 "duration": m.duration,

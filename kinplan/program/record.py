@@ -17,7 +17,7 @@ import cartesian
 from kinplan.cell import MotionCheck
 from kinplan.program.errors import MoveError
 from kinplan.program.peaks import segment_peaks
-from kinplan.program.plan import MoveReport
+from kinplan.program.plan import MoveReport, move_span
 from kinplan.program.segments import hermite_segments
 from kinplan.trajectory import Segment
 
@@ -151,6 +151,15 @@ class MotionRecord:
         last = max(k for k, block in enumerate(self._q) if len(block))
         return self._q[last][-1:], self._qd[last][-1:], self._qdd[last][-1:]
 
+    def _number(self, kind: str, key: str | None) -> int:
+        """A report's move number: the program's (``moves[2]`` is move 3, its dwell too, moves
+        blended together the first's), else one more than the last (a dwell its move's)."""
+        span = move_span(key)
+        if span is not None:
+            return span[0]
+        last = self.reports[-1].number if self.reports else 0
+        return last if kind == "dwell" and self.reports else last + 1
+
     def _add(
         self,
         kind: str,
@@ -168,7 +177,7 @@ class MotionRecord:
     ) -> MoveReport:
         if check is None and plan is not None:
             check = plan.cell_check
-        number = len(self.reports) + 1
+        number = self._number(kind, key)
         first, t0 = self._count - 1, self._time
         peak = None
         if samples is not None and len(samples[0]) > 1:
@@ -197,7 +206,9 @@ class MotionRecord:
         message = ""
         if status != "ok":
             where = f"{label}, {key}" if key else label
-            message = f"move {number} ({where}): {why}"
+            span = move_span(key)
+            which = f"moves {span[0]}–{span[1]}" if span and span[1] > span[0] else f"move {number}"
+            message = f"{which} ({where}): {why}"
         report = MoveReport(
             number=number,
             kind=kind,

@@ -12,7 +12,7 @@ import pinocchio as pin
 from kinplan.program.build import MotionBuilder
 from kinplan.program.errors import MoveError
 from kinplan.program.plan import ProgramPlan
-from kinplan.program.schema import DEFAULT_DT, Move, Program
+from kinplan.program.schema import DEFAULT_DT, IoEvent, Move, Program
 from kinplan.program.validate import load_program
 
 __all__ = ["plan_program", "run_program"]
@@ -50,10 +50,12 @@ def plan_program(
     )  # fmt: skip
     total = len(program.moves)
     done = 0
+    events: list[IoEvent] = []
     try:
         for group in _motions(program.moves):
             if progress is not None:
                 progress(done, total, group[0].label)
+            events += _signals(group[0], builder.time, program.arc_output)
             if len(group) > 1:
                 _plan_blended(builder, program, group)
             else:
@@ -67,7 +69,19 @@ def plan_program(
     if progress is not None:
         progress(total, total, "done")
     points = {name: p.tool_position(robot) for name, p in program.points.items()}
-    return builder.finish(points=points, program=program)
+    plan = builder.finish(points=points, program=program)
+    plan.io_events = events
+    return plan
+
+
+def _signals(move: Move, t: float, arc_output: int) -> list[IoEvent]:
+    """The digital outputs a move sets when it starts, at program time ``t`` [s]."""
+    events = []
+    if move.arc is not None:
+        events.append(IoEvent(t, arc_output, move.arc, "arc", move.index + 1, f"{move.key}.arc"))
+    for output, value in move.io:
+        events.append(IoEvent(t, output, value, "io", move.index + 1, f"{move.key}.io"))
+    return events
 
 
 def _motions(moves: list[Move]) -> list[list[Move]]:

@@ -40,8 +40,10 @@ __all__ = [
     "TOP_KEYS",
     "TORCH_KEYS",
     "WEAVE_KEYS",
+    "IoEvent",
     "KeyPath",
     "Move",
+    "Payload",
     "Point",
     "Program",
     "ProgramLoader",
@@ -92,6 +94,7 @@ TOP_KEYS = (
     "points",
     "moves",
     "description",
+    "arc_output",
 )
 """The keys a program may have at its top level."""
 POSE_KEYS = ("xyz", "rpy_deg", "quat_xyzw")
@@ -100,7 +103,7 @@ POINT_KEYS = ("joints", "joints_deg", "xyz", "rpy_deg", "quat_xyzw")
 """The keys of a taught point."""
 MOVE_OPTIONS = (
     "via", "duration", "speed", "profile", "blend", "times", "weave", "torch", "dwell", "name",
-    "max_acceleration",
+    "max_acceleration", "arc", "io",
 )  # fmt: skip
 """The keys of a move besides its kind."""
 WEAVE_KEYS = ("pattern", "amplitude", "frequency", "dwell", "normal")
@@ -202,6 +205,41 @@ class TorchSpec:
     roll: float = 0.0
 
 
+@dataclass(frozen=True)
+class Payload:
+    """The ``tool:``'s ``payload:``: what the controller must know the flange carries.
+
+    Attributes:
+        mass: Mass of the tool and what it holds [kg], ≥ 0.
+        cog: Centre of gravity in the flange frame (the robot's tip before the tool) [m].
+    """
+
+    mass: float
+    cog: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class IoEvent:
+    """A digital output set at an instant of a planned program (``arc:`` or ``io:`` of a move).
+
+    Attributes:
+        t: Program time at which it takes effect [s]: the start of the move that carries it
+            (after the previous move's dwell).
+        output: Digital output number (0 to 7, the controller's standard outputs).
+        value: The level set (True = on / 1).
+        kind: ``"arc"`` (the move's ``arc:``) or ``"io"`` (its ``io:``).
+        move: 1-based number of the move in the program's ``moves:`` list.
+        key: Key path of the signal in the program (``moves[2].arc``).
+    """
+
+    t: float
+    output: int
+    value: bool
+    kind: str
+    move: int
+    key: str
+
+
 @dataclass
 class Move:
     """One move of a program.
@@ -228,6 +266,9 @@ class Move:
             times, the fastest timing within the limits).
         max_acceleration: The move's joint acceleration limits [rad/s² or m/s²]: one number
             for every joint or one per joint, or None (the program's ``max_acceleration:``).
+        arc: ``arc: on`` (True) or ``off`` (False): the arc output switched when the move
+            starts, or None.
+        io: The move's ``io:`` as (output, value) pairs, set when the move starts.
     """
 
     index: int
@@ -245,6 +286,8 @@ class Move:
     dwell: float = 0.0
     times: tuple[float, ...] | None = None
     max_acceleration: float | tuple[float, ...] | None = None
+    arc: bool | None = None
+    io: tuple[tuple[int, bool], ...] = ()
 
     @property
     def key(self) -> str:
@@ -282,6 +325,9 @@ class Program:
         clearance: The ``clearance:`` margin [m] (0: only contact fails).
         max_acceleration: The program's joint acceleration limits [rad/s² or m/s²], shape
             (nq,), on top of the robot's own, or None (the robot's alone).
+        payload: The ``tool:``'s ``payload:``, or None.
+        obstacle_colors: ``color:`` of each obstacle that gives one, ``"#rrggbb"``.
+        arc_output: The digital output ``arc: on|off`` switches (``arc_output:``, default 0).
     """
 
     source: str
@@ -295,6 +341,9 @@ class Program:
     cell: WorkCell | None = None
     clearance: float = 0.0
     max_acceleration: np.ndarray | None = None
+    payload: Payload | None = None
+    obstacle_colors: dict[str, str] = field(default_factory=dict)
+    arc_output: int = 0
 
 
 class ProgramLoader(yaml.SafeLoader):

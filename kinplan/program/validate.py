@@ -22,6 +22,7 @@ from kinplan.program.checker import Checker, describe, format_path
 from kinplan.program.errors import Issue, ProgramError
 from kinplan.program.moves import read_moves
 from kinplan.program.points import read_points, read_start
+from kinplan.program.process import check_signals, read_arc_output, read_colors, read_payload
 from kinplan.program.robot_keys import read_robot
 from kinplan.program.schema import TOP_KEYS, KeyPath, Program, ProgramLoader
 
@@ -170,6 +171,9 @@ def _read_program(checker: Checker, data: object, source: str, base_dir: Path) -
         where: KeyPath = ("max_acceleration",)
         max_acceleration = checker.accelerations(data["max_acceleration"], where, nq)
     moves = read_moves(checker, data.get("moves"), points, nq)
+    arc_output = read_arc_output(checker, data)
+    check_signals(checker, moves, arc_output)
+    payload, colors = read_payload(checker, data), read_colors(checker, data)
     description = data.get("description", "")
     if not isinstance(description, str):
         checker.error(("description",), f"expected text, got {describe(description)}")
@@ -186,6 +190,9 @@ def _read_program(checker: Checker, data: object, source: str, base_dir: Path) -
         warnings=checker.warnings,
         cell=cell,
         clearance=clearance,
+        payload=payload,
+        obstacle_colors=colors,
+        arc_output=arc_output,
         max_acceleration=None if max_acceleration is None else np.broadcast_to(
             np.asarray(max_acceleration, dtype=float), (robot.nq,)
         ).copy(),

@@ -192,9 +192,11 @@ def playback(robot: Robot, motion: MotionLike, fps: float) -> Playback:
         failed=[p for p in failed if p is not None],
         last_good=q[-1] if (not sampled.ok and len(q)) else None,
         via=_via_points(robot, sampled),
-        caption=_caption(robot, sampled, float(t[-1])),
+        caption=_caption(robot, sampled, float(t[-1]), None if collision is None else collision.t),
         collision=collision,
-        moves=[(float(m.t0), f"{m.number}. {m.label}") for m in sampled.moves],
+        moves=[
+            (float(m.t0), f"{getattr(m, 'numbers', m.number)}. {m.label}") for m in sampled.moves
+        ],
     )
 
 
@@ -241,8 +243,15 @@ def _path_points(path: ToolPath, s0: float, s1: float) -> np.ndarray | None:
     return points
 
 
-def _caption(robot: Robot, motion: SampledMotion, duration: float) -> list[str]:
-    """Caption lines: what the motion is, and where and why it failed."""
+def _caption(
+    robot: Robot, motion: SampledMotion, duration: float, collision_t: float | None = None
+) -> list[str]:
+    """Caption lines: what the motion is, and where and why it failed.
+
+    A collision's time is the instant the playback turns the bodies red (``collision_t``, on
+    the playback's clock: between the plan's last sample and the failing one), rounded up to
+    the millisecond, so that seeking to the printed time (``#t=``) shows them red.
+    """
     if motion.ok:
         return [f"{robot.name} · {motion.description} · {duration:.2f} s"]
     event = motion.events[0] if motion.events else None
@@ -250,7 +259,10 @@ def _caption(robot: Robot, motion: SampledMotion, duration: float) -> list[str]:
     where = ""
     if event is not None:
         of = "of the move" if motion.kind == "program" else "of the path"
-        where = f" at {100 * float(event.s):.0f} % {of} (t = {float(event.t):.2f} s)"
+        when = f"{float(event.t):.2f}"
+        if collision_t is not None:
+            when = f"{math.ceil(float(collision_t) * 1000.0 - 1e-6) / 1000.0:.3f}"
+        where = f" at {100 * float(event.s):.0f} % {of} (t = {when} s)"
     lines = [f"{robot.name} · {motion.description} · {status}{where}"]
     if event is not None and event.message:
         lines.append(str(event.message))

@@ -35,6 +35,8 @@ if TYPE_CHECKING:
 
 __all__ = [
     "LAYERS",
+    "OBSTACLE_PALETTE",
+    "SUPPORT_COLOUR",
     "Scene",
     "View",
     "animation_command",
@@ -44,6 +46,7 @@ __all__ = [
     "collision_commands",
     "environment_commands",
     "frame_view",
+    "obstacle_colours",
     "overlay_commands",
     "pose_commands",
     "robot_commands",
@@ -290,7 +293,12 @@ def overlay_commands(
     return commands, legend
 
 
-_OBSTACLE = ("#8c8c8c", (0.62, 0.60, 0.56))
+OBSTACLE_PALETTE = ("#5b7fa6", "#6a9a4a", "#8e6bb8", "#c9a227", "#3f9e9a", "#9c6b4e")
+"""Colours of obstacles without ``color:``, in turn (none of them the table's, the collision
+red, the tool path's blue or the markers' orange)."""
+SUPPORT_COLOUR = "#a39d94"
+"""Colour of an obstacle named like a support (table, floor, bench, stand, ground, wall)."""
+_SUPPORTS = ("table", "floor", "bench", "stand", "ground", "wall", "fence", "base")
 _COLLISION = ("#d62728", (0.90, 0.10, 0.10))
 _SWITCH_LEAD = 1e-4  # [s] the red bodies appear this long before the last key frame
 HIT = "hit"
@@ -319,17 +327,45 @@ def _body_object(path: str, body: Body, rgb: RGB, opacity: float) -> dict:
     return ms.scene_object(path, geometry, material, pose)
 
 
+def obstacle_colours(names: Sequence[str], given: dict[str, str] | None = None) -> dict[str, str]:
+    """The colour of each obstacle, ``"#rrggbb"``: its program's ``color:``, else
+    :data:`SUPPORT_COLOUR` for a support (a name starting with table, floor, bench, ...), else
+    the next colour of :data:`OBSTACLE_PALETTE` (so that a workpiece stands out from the table
+    and from the next workpiece)."""
+    given = dict(given or {})
+    colours, turn = {}, 0
+    for name in names:
+        if name in given:
+            colours[name] = given[name]
+        elif name.lower().startswith(_SUPPORTS):
+            colours[name] = SUPPORT_COLOUR
+        else:
+            colours[name] = OBSTACLE_PALETTE[turn % len(OBSTACLE_PALETTE)]
+            turn += 1
+    return colours
+
+
+def _rgb(colour: str) -> RGB:
+    value = int(colour.lstrip("#"), 16)
+    return ((value >> 16) / 255.0, ((value >> 8) & 0xFF) / 255.0, (value & 0xFF) / 255.0)
+
+
 def cell_commands(motion: object) -> tuple[list[ms.Command], list[tuple[str, str]]]:
-    """The obstacles of a motion's work cell (``motion.cell``), with their legend entry."""
+    """The obstacles of a motion's work cell (``motion.cell``), each opaque in its colour
+    (:func:`obstacle_colours`; a program plan's ``color:`` keys), with one legend entry each."""
     cell = getattr(motion, "cell", None)
     if cell is None or not cell.obstacles:
         return [], []
+    given = getattr(getattr(motion, "program", None), "obstacle_colors", None)
+    colours = obstacle_colours(list(cell.obstacles), given)
     root = LAYERS["cell"]
     commands = [
-        ms.set_object(f"{root}/{name}", _body_object(f"{root}/{name}", body, _OBSTACLE[1], 0.85))
+        ms.set_object(
+            f"{root}/{name}", _body_object(f"{root}/{name}", body, _rgb(colours[name]), 1.0)
+        )
         for name, body in cell.obstacles.items()
     ]
-    return commands, [(_OBSTACLE[0], "obstacles")]
+    return commands, [(colours[name], name) for name in cell.obstacles]
 
 
 def _red_copy(path: str, obj: dict) -> dict:

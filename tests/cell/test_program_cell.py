@@ -260,9 +260,12 @@ def test_the_page_of_a_plan_in_a_cell_draws_its_obstacles_and_the_collision(tmp_
         return drawn[path]["materials"][0]["color"]
 
     grey = colour("/kinplan/cell/table")
-    assert colour("/kinplan/cell/ball") == grey == colour("/kinplan/cell/post")
+    # each workpiece stands out from the table and from the others (issue 30)
+    colours = {colour(f"/kinplan/cell/{name}") for name in ("table", "post", "ball")}
+    assert len(colours) == 3
     red = colour("/kinplan/cell/ball/hit")  # the obstacle hit: a red copy, from the instant on
-    assert red != grey and red == colour("/kinplan/cell/collision")
+    assert red not in colours and red == colour("/kinplan/cell/collision")
+    assert grey == 0xA39D94  # a table: the supports' grey
     hits = [p for p in drawn if p.startswith("/kinplan/robot/") and p.endswith("/hit")]
     assert hits and all(p.startswith(f"/kinplan/robot/{link}") for p in hits)  # the link's parts
     assert all(colour(p) == red for p in hits)

@@ -74,7 +74,7 @@ def planar_plan():
 
 @pytest.mark.parametrize("period", [0.008, 0.002, 0.0123])
 def test_urscript_replays_the_plan_at_the_controller_period(ur_plan, period):
-    script = export.urscript(ur_plan, period=period)
+    script = export.urscript(ur_plan, style="servo", period=period)
     script.encode("ascii")  # plain ASCII: the controller's reader
     targets = SERVOJ.findall(script)
     # k · period for k = 0 .. ceil(duration / period), the last at the end
@@ -98,7 +98,7 @@ def test_urscript_replays_the_plan_at_the_controller_period(ur_plan, period):
 
 
 def test_urscript_program_structure(ur_plan):
-    script = export.urscript(ur_plan, lookahead_time=0.05, gain=500)
+    script = export.urscript(ur_plan, style="servo", lookahead_time=0.05, gain=500)
     lines = script.splitlines()
     header = [line for line in lines if line.startswith("#")]
     assert lines[: len(header)] == header and len(header) >= 3
@@ -107,7 +107,9 @@ def test_urscript_program_structure(ur_plan):
     assert f"{len(ur_plan.t)} plan samples" in header[1]
     assert "shoulder_pan_joint, shoulder_lift_joint, elbow_joint" in header[2]
     code = lines[len(header) :]
-    assert code[0] == "def kinplan_motion():" and code[1].lstrip().startswith("movej(")
+    assert code[0] == "def kinplan_motion():"
+    motion = [line.lstrip() for line in code if line.lstrip().startswith(("movej(", "servoj("))]
+    assert motion[0].startswith("movej(")  # to the start, after set_tcp / set_payload
     assert code[-2:] == ["end", "kinplan_motion()"]
     openers = sum(bool(re.match(r"\s*(def|while|if)\b.*:$", line)) for line in code)
     assert openers == sum(line.strip() == "end" for line in code) == 2
@@ -347,8 +349,9 @@ def one_line_error(err: str, *fragments: str) -> None:
 def test_run_writes_urscript_and_trajectory(capsys, tmp_path, ur_plan):
     script, document = tmp_path / "out" / "motion.script", tmp_path / "out" / "motion.yaml"
     code, out, err = run(
-        capsys, "run", str(UR_PROGRAM), "--urscript", str(script), "--trajectory", str(document)
-    )
+        capsys, "run", str(UR_PROGRAM), "--urscript", str(script), "--urscript-style", "servo",
+        "--trajectory", str(document),
+    )  # fmt: skip
     assert code == 0 and err == "", err
     count = math.ceil(ur_plan.duration / 0.008) + 1
     assert f"wrote {script} (URScript, {count} servoj targets every 0.008 s)" in out
@@ -364,6 +367,7 @@ def test_run_writes_urscript_and_trajectory(capsys, tmp_path, ur_plan):
 def test_run_servo_period(capsys, tmp_path):
     script = tmp_path / "motion.script"
     argv = ["run", str(UR_PROGRAM), "--urscript", str(script), "--servo-period", "0.002"]
+    argv += ["--urscript-style", "servo"]
     code, out, err = run(capsys, *argv)
     assert code == 0, err
     assert "every 0.002 s)" in out

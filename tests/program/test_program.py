@@ -522,7 +522,7 @@ def test_every_example_program_is_tested():
 
 EXAMPLE_PROGRAMS = (
     "ur5_pick_place", "weld_seam", "weld_cell", "lecture_2r", "weld_unreachable",
-    "weld_collision", "panda_on_table",
+    "weld_collision", "panda_on_table", "weld_native",
 )  # fmt: skip
 
 
