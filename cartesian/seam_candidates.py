@@ -51,6 +51,8 @@ class Candidates:
             "singular", "collision" (K,) each; and "limit_joint": (K, nq) how many solutions
             each joint put beyond its limits.
         pairs: Colliding body pairs (first pair of each colliding candidate) and their counts.
+        limited_ik: Whether the IK lists only solutions within the joint limits (panda-type
+            arms), so "solved" already counts those.
     """
 
     q: np.ndarray
@@ -61,6 +63,7 @@ class Candidates:
     manipulability: np.ndarray
     counts: dict[str, np.ndarray]
     pairs: dict[tuple[str, str], int] = field(default_factory=dict)
+    limited_ik: bool = False
 
 
 def _rz(angle: float) -> np.ndarray:
@@ -254,4 +257,5 @@ def generate(
         "collision": valid.sum(axis=(1, 2, 3)),
         "limit_joint": limit_joint,
     }
-    return Candidates(q, valid, rest, roll, tilt, manip, counts)
+    limited = isinstance(robot.closed_form_ik, PandaIK)
+    return Candidates(q, valid, rest, roll, tilt, manip, counts, limited_ik=limited)

@@ -196,11 +196,18 @@ class Ladder:
                 keep = (pred_row >= 0) & valid[k, node]
                 pred_row, node = pred_row[keep], node[keep]
             prev_cost = cost
-            delta, new_u, new_lo, new_hi, step_ok, range_ok, droll = self._evaluate(
-                k, pred_row, node, states[-1], q_flat, roll
-            )
-            ok = step_ok & range_ok
+            delta, step_ok, droll = self._steps(k, pred_row, node, states[-1], q_flat, roll)
+            # the edges within the caps only: their unwrapped values and ranges
+            every = pred_row, node
+            kept = np.flatnonzero(step_ok)
+            pred_row, node, delta, droll = pred_row[kept], node[kept], delta[kept], droll[kept]
+            U, lo, hi, _ = states[-1]
+            new_u = U[pred_row] + delta
+            new_lo = np.minimum(lo[pred_row], new_u)
+            new_hi = np.maximum(hi[pred_row], new_u)
+            ok = self._fits(new_lo, new_hi)
             if not ok.any():
+                pred_row, node = every
                 if not (self.start is not None and k == 1):  # diagnose on every slot pair
                     pred, node = self._edges(k, filtered=False)
                     lookup = np.full(valid.shape[1], -1)
@@ -208,9 +215,10 @@ class Ladder:
                     pred_row = lookup[pred]
                     keep = (pred_row >= 0) & valid[k, node]
                     pred_row, node = pred_row[keep], node[keep]
-                    delta, _, new_lo, new_hi, step_ok, _, _ = self._evaluate(
-                        k, pred_row, node, states[-1], q_flat, roll
-                    )
+                delta, step_ok, _ = self._steps(k, pred_row, node, states[-1], q_flat, roll)
+                new_u = U[pred_row] + delta
+                new_lo = np.minimum(lo[pred_row], new_u)
+                new_hi = np.maximum(hi[pred_row], new_u)
                 return [], self._blocked(k, delta, step_ok, new_lo, new_hi, bool(valid[k].any()))
             edge = (
                 prev_cost[pred_row]
@@ -236,22 +244,25 @@ class Ladder:
             )
         return self._paths(rows, backs, states, cost, count), None
 
-    def _evaluate(self, k, pred_row, node, state, q_flat, roll):
-        """Joint changes, unwrapped values and ranges, and the step / range / roll tests of
-        the edges (state row ``pred_row`` of rung k − 1 → node ``node`` of rung k)."""
-        U, lo, hi, R = state
-        w = self.wide
+    def _steps(self, k, pred_row, node, state, q_flat, roll):
+        """Joint changes (wide joints by the shortest turn), whether they fit the caps, and
+        the roll changes of the edges (state row ``pred_row`` of rung k − 1 → node ``node`` of
+        rung k)."""
+        U, _, _, R = state
         delta = q_flat[k, node] - U[pred_row]
-        delta = np.where(w, (delta + math.pi) % TAU - math.pi, delta)
-        new_u = U[pred_row] + delta
-        new_lo = np.minimum(lo[pred_row], new_u)
-        new_hi = np.maximum(hi[pred_row], new_u)
+        w = self.wide_columns
+        if len(w):
+            delta[:, w] = (delta[:, w] + math.pi) % TAU - math.pi
         step_ok = np.all(np.abs(delta) <= self.caps[k - 1], axis=1)
-        range_ok = self._fits(new_lo, new_hi)
         droll = (roll[node] - R[pred_row] + math.pi) % TAU - math.pi
         if self.start is not None and k == 1:
             step_ok &= np.abs(droll) <= self.roll_steps * self._roll_step() + 1e-9
-        return delta, new_u, new_lo, new_hi, step_ok, range_ok, droll
+        return delta, step_ok, droll
+
+    @property
+    def wide_columns(self) -> np.ndarray:
+        """Indices of the joints tracked unwrapped."""
+        return np.flatnonzero(self.wide)
 
     def _roll_step(self) -> float:
         roll = self.candidates.roll

@@ -27,9 +27,10 @@ which fractions and why.
 
 from __future__ import annotations
 
+import itertools
 import logging
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 import numpy as np
@@ -206,10 +207,14 @@ def plan_seam(
         follow_options=follow_options,
     )  # fmt: skip
     first: CartesianPlan | None = None
-    choices = paths + _other_starts(ladder, paths[0] if paths else None, OTHER_STARTS)
     # the grid may miss a way (the self-motion between its samples, a law smoothed away from
     # the nodes): then constant rolls that have candidates at every waypoint, from their starts
-    choices += _constant_roll_choices(robot, path, ladder, s, start)
+    # (computed only when the ladder's paths cannot be tracked)
+    choices = itertools.chain(
+        paths,
+        _lazy(lambda: _other_starts(ladder, paths[0] if paths else None, OTHER_STARTS)),
+        _lazy(lambda: _constant_roll_choices(robot, path, ladder, s, start)),
+    )
     for choice in choices:
         # the first attempt in full (its events say why, if all fail); the others screened
         plan = _track(robot, cached, s, choice, **track, screen=first is not None)
@@ -224,6 +229,10 @@ def plan_seam(
     assert blocked is not None  # no path and no constant roll: the ladder said why
     event = _blocked_event(robot, blocked, s, timing)
     return _refused(robot, path, event, float(singular_threshold))
+
+
+def _lazy(make: Callable[[], list[LadderPath]]) -> Iterator[LadderPath]:
+    yield from make()
 
 
 def _other_starts(ladder: Ladder, best: LadderPath | None, count: int) -> list[LadderPath]:
@@ -524,7 +533,12 @@ def _empty_stretches(
         what += " and tilt within the tolerances"
     joints = _joint_names(names, counts["limit_joint"][part].sum(axis=0))
     if counts["solved"][part].sum() == 0:
-        kind, why = Status.UNREACHABLE, f"no IK solution for {what} (out of the arm's reach)"
+        kind = Status.UNREACHABLE
+        why = (
+            f"no IK solution within the joint limits for {what}"
+            if c.limited_ik
+            else f"no IK solution for {what} (out of the arm's reach)"
+        )
     elif counts["limits"][part].sum() == 0:
         kind, why = Status.JOINT_LIMIT, f"{what} puts {joints} beyond its limits"
     elif counts["singular"][part].sum() == 0:

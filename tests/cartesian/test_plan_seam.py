@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import sys
+from collections.abc import Iterator
 from pathlib import Path as FilePath
 
 import numpy as np
@@ -111,12 +112,12 @@ def joint_travel(plan: cartesian.CartesianPlan) -> float:
     return float(np.abs(np.diff(plan.q, axis=0)).sum())
 
 
-def brute_force(
+def brute_force_plans(
     robot: kinplan.Robot, path: cartesian.Path, speed: float, roll_step: float, q7_samples: int
-) -> cartesian.CartesianPlan | None:
-    """The first ok plan of cartesian.follow over constant rolls (every ``roll_step`` rad,
-    nearest the taught roll first) × every IK solution of the first pose (UR: all branches,
-    the last joint also a turn away; panda: the solutions at ``q7_samples`` values of θ7)."""
+) -> Iterator[cartesian.CartesianPlan]:
+    """The ok plans of cartesian.follow over constant rolls (every ``roll_step`` rad, nearest
+    the taught roll first) × every IK solution of the first pose (UR: all branches, the last
+    joint also a turn away; panda: the solutions at ``q7_samples`` values of θ7)."""
     solver = robot.closed_form_ik
     rolls = np.arange(0.0, 2 * np.pi - 1e-9, roll_step)
     rolls = sorted(((r + np.pi) % (2 * np.pi) - np.pi for r in rolls), key=abs)
@@ -140,8 +141,22 @@ def brute_force(
                 continue
             plan = cartesian.follow(robot, seam, speed=speed, q_seed=start)
             if plan.ok:
-                return plan
-    return None
+                yield plan
+
+
+def brute_force(
+    robot: kinplan.Robot, path: cartesian.Path, speed: float, roll_step: float, q7_samples: int
+) -> cartesian.CartesianPlan | None:
+    """The first ok plan of :func:`brute_force_plans`, or None."""
+    return next(brute_force_plans(robot, path, speed, roll_step, q7_samples), None)
+
+
+def brute_force_all(
+    robot: kinplan.Robot, path: cartesian.Path, speed: float, roll_step: float, q7_samples: int
+) -> cartesian.CartesianPlan | None:
+    """The ok plan of least joint travel of :func:`brute_force_plans`, or None."""
+    plans = list(brute_force_plans(robot, path, speed, roll_step, q7_samples))
+    return min(plans, key=joint_travel) if plans else None
 
 
 # ------------------------------------------------------------------------------ planning
