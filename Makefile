@@ -4,6 +4,8 @@ VENV   ?= .venv
 BIN     = $(VENV)/bin
 STAMP   = $(VENV)/.kinplan-installed
 OUT    ?= out
+# Test workers (pytest-xdist): one per core of a 2-core CI machine; `make test JOBS=1` runs serially.
+JOBS   ?= 2
 
 .PHONY: install demo test soak lint bench chromium clean mutation
 
@@ -35,11 +37,11 @@ lint: install
 	$(BIN)/mypy kinplan cartesian
 
 test: install chromium lint
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n $(JOBS) --durations=15
 
 # The long soaks and property runs (marked `slow`, left out of `make test`); CI runs them too.
 soak: install
-	$(BIN)/python -m pytest -q -m slow
+	$(BIN)/python -m pytest -q -n $(JOBS) --durations=25 -m slow
 
 # Benchmarks print tables (never timed unit tests); the peers come from the `bench` extra.
 bench: install
