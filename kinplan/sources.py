@@ -60,6 +60,19 @@ EXAMPLE_ARMS: dict[str, _ExampleArm] = {
     ),
 }
 
+#: Universal Robots e-Series arms known by name: loaded from the first of these files found in
+#: example-robot-data's ``robots`` folder (none ships them as of 6.0), else refused with the
+#: path to pass.
+E_SERIES_ARMS: dict[str, tuple[str, ...]] = {
+    name: (
+        f"ur_description/urdf/{name}_robot.urdf",
+        f"ur_description/urdf/{name}.urdf",
+        f"ur_e_description/urdf/{name}_robot.urdf",
+        f"{name}_description/urdf/{name}.urdf",
+    )
+    for name in ("ur3e", "ur5e", "ur10e", "ur16e")
+}
+
 #: Default tool frames of the bundled robots.
 BUNDLED_TIPS: dict[str, str] = {"planar_2r": "tip"}
 
@@ -139,6 +152,8 @@ def resolve_source(source: str | os.PathLike[str]) -> RobotSpec:
             default_tip=arm.default_tip,
             locked_joints=arm.locked_joints,
         )
+    if text.lower() in E_SERIES_ARMS:
+        return _e_series(text.lower())
     path = Path(text).expanduser()
     if path.is_file():
         path = path.resolve()
@@ -151,6 +166,31 @@ def resolve_source(source: str | os.PathLike[str]) -> RobotSpec:
     raise RobotNotFoundError(
         f"unknown robot {text!r}; known robots: {', '.join(known_names())}; "
         "or give the path of a URDF file"
+    )
+
+
+def _e_series(name: str) -> RobotSpec:
+    """A UR e-Series arm from the installed packages, or the error naming the path to pass."""
+    share = example_robot_data_dir()
+    searched = []
+    if share is not None:
+        robots = share / "example-robot-data" / "robots"
+        for relative in E_SERIES_ARMS[name]:
+            path = robots / relative
+            searched.append(str(path))
+            if path.is_file():
+                return RobotSpec(
+                    name=name, urdf_path=path, package_dirs=(share,), default_tip="tool0"
+                )
+    where = f" (looked for {searched[0]} and {len(searched) - 1} other names)" if searched else (
+        " (example-robot-data is not installed)"
+    )  # fmt: skip
+    pretty = name[:-1].upper() + "e"
+    raise RobotNotFoundError(
+        f"robot {name!r}: no URDF of the {pretty} in the installed packages{where}; "
+        f"give the path of a {pretty} URDF file instead, e.g. kinplan info /path/to/"
+        f"{name}.urdf (Universal Robots' ur_description makes one: xacro ur.urdf.xacro "
+        f"ur_type:={name} name:={name} > {name}.urdf)"
     )
 
 
