@@ -10,6 +10,7 @@ cartesian.follow): every seam brute force can weld must be planned (≥ 98 % on 
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import sys
 from collections.abc import Iterator
@@ -352,3 +353,17 @@ def test_corpus_against_brute_force(name: str) -> None:
             misses.append(seam.name)
     print(f"{name}: planned {planned} of 20; brute force welds {feasible}; missed {misses}")
     assert planned >= 0.98 * feasible, misses
+
+
+def test_example_script_plans_the_tube_seam(tmp_path: FilePath) -> None:
+    """examples/seam_tube.py (the README's figure), on the UR5 alone."""
+    script = FilePath(__file__).parents[2] / "examples" / "seam_tube.py"
+    spec = importlib.util.spec_from_file_location("seam_tube", script)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    result = module.main(tmp_path, robots=("ur5",))
+    taught, planned = result["ur5"]["taught"], result["ur5"]["planned"]
+    check_plan(kinplan.load_robot("ur5"), module.tube_seam(module.CENTRES["ur5"]), planned)
+    assert joint_travel(planned) < 0.6 * joint_travel(taught)
+    assert result["figure"].stat().st_size > 10_000
