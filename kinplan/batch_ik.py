@@ -2,10 +2,11 @@
 
 Three solvers, chosen per arm:
 
-* **closed form, vectorised** (planar 2R, UR family): per target the branch and the
-  2π-equivalents nearest its seed, the choice :meth:`kinplan.Robot.ik` makes. The UR family
-  runs the single-pose formulas of ``URIK.nearest`` on arrays (:meth:`URIK.nearest_many`, in
-  passes of :data:`UR_CHUNK` targets); the targets that ``nearest`` leaves to the all-branch
+* **closed form, vectorised** (planar 2R, UR family, spherical wrist): per target the branch
+  and the 2π-equivalents nearest its seed, the choice :meth:`kinplan.Robot.ik` makes. The UR
+  family runs the single-pose formulas of ``URIK.nearest`` on arrays (:meth:`URIK.nearest_many`,
+  in passes of :data:`UR_CHUNK` targets), the spherical-wrist arms their compiled kernel
+  (:meth:`SphericalWristIK.nearest_many`); the targets that ``nearest`` leaves to the all-branch
   path near a singularity, and the planar 2R, list every branch in one numpy pass
   (``all_branches``) and keep the nearest. The solutions are checked by forward kinematics and
   polished by a few Newton steps where the rounding left them outside the tolerances, as
@@ -52,6 +53,7 @@ from kinplan.ik.numeric import (
     check_effort,
 )
 from kinplan.ik.panda import PandaIK
+from kinplan.ik.spherical_wrist import SphericalWristIK
 from kinplan.ik.ur import URIK
 
 if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
@@ -601,7 +603,7 @@ class BatchSolver:
     def _closed_form(self, positions, rotations, seeds, tolerances):
         solver = self.closed_form
         assert isinstance(solver, ClosedFormIK)  # vectorised: it lists every branch at once
-        if rotations is not None and isinstance(solver, URIK):
+        if rotations is not None and isinstance(solver, (URIK, SphericalWristIK)):
             # the single-pose formulas on arrays; near singularities, all branches (as ik)
             parts = [
                 solver.nearest_many(positions[part], rotations[part], seeds[part])

@@ -26,7 +26,7 @@ from kinplan.ik import (
     AnalyticIK,
     IKResult,
     IKSolver,
-    analytic_solver_for,
+    closed_form_report,
     finite_bounds,
     halton,
 )
@@ -389,9 +389,10 @@ class Robot:
     ) -> IKResult:
         """Joint configuration that puts the tool at ``target``.
 
-        Arms with a closed form (planar 2R, UR family, panda) get the solution nearest ``q_seed``
-        directly. Others iterate from ``q_seed`` (default: :meth:`neutral`) and, when that
-        attempt fails, restart from a deterministic low-discrepancy set of configurations. Starting
+        Arms with a closed form (planar 2R, UR family, spherical-wrist 6R arms, panda) get the
+        solution nearest ``q_seed`` directly (:attr:`ik_solver`'s ``description`` says which).
+        Others iterate from ``q_seed`` (default: :meth:`neutral`) and, when that attempt fails,
+        restart from a deterministic low-discrepancy set of configurations. Starting
         near a solution, it returns the solution on the seed's branch. Results always lie within
         the joint limits.
 
@@ -582,7 +583,10 @@ class Robot:
 
     @property
     def ik_solver(self) -> IKSolver:
-        """The robot's numerical IK solver (owns its ``pin.Data``; see :class:`IKSolver`)."""
+        """The robot's numerical IK solver (owns its ``pin.Data``; see :class:`IKSolver`). Its
+        ``description`` says which solver :meth:`ik` uses: the closed form the arm's screw axes
+        fit, or numerical and why no closed form fits."""
+        self.closed_form_ik  # noqa: B018 - found once; it sets the description
         return self._ik
 
     def reference_manipulability(self, position_only: bool) -> float:
@@ -601,13 +605,14 @@ class Robot:
 
     @property
     def closed_form_ik(self) -> AnalyticIK | None:
-        """The closed-form IK solver of this arm (planar 2R, UR family, panda), or None.
+        """The closed-form IK solver of this arm (planar 2R, UR family, spherical wrist, panda),
+        or None.
 
         Built on first use from the model's geometry and checked against its FK
         (:func:`kinplan.ik.analytic_solver_for`).
         """
         if not hasattr(self, "_closed_form"):
-            self._closed_form = analytic_solver_for(self)
+            self._closed_form, self._ik.description = closed_form_report(self)
         return self._closed_form
 
     def limit_overrides(self) -> dict[str, dict[str, float]]:

@@ -19,13 +19,19 @@ Modules, each importing only those before it:
   :mod:`~kinplan.ik.panda_batch` (the search over many poses) → :mod:`~kinplan.ik.panda` (the
   solver, :func:`panda_solver_for`); its per-θ7 solve compiled in :mod:`~kinplan.ik.panda_kernel`
   (numba, on :mod:`kinplan.compiled` and :mod:`~kinplan.ik.screws`, loaded on first use);
-* :mod:`~kinplan.ik.closed_form` — :func:`analytic_solver_for`: which closed form a robot has.
+* spherical-wrist 6R arms (ABB, KUKA, Fanuc, ...), :class:`SphericalWristIK`, by Paden–Kahan
+  subproblems (IK-Geo): :mod:`~kinplan.ik.subproblems` (subproblems 1, 2, 4 on arrays) →
+  :mod:`~kinplan.ik.spherical_wrist_geometry` (the structure read from the screw axes, or why
+  not) → :mod:`~kinplan.ik.spherical_wrist_kernel` (one pose, numba, loaded with the first
+  solver) → :mod:`~kinplan.ik.spherical_wrist` (the solver, vectorised over poses);
+* :mod:`~kinplan.ik.closed_form` — :func:`analytic_solver_for`: which closed form a robot has
+  (:func:`closed_form_report`: and why none fits).
 """
 
 from __future__ import annotations
 
 from kinplan.ik.base import AnalyticIK, ClosedFormIK, self_check
-from kinplan.ik.closed_form import analytic_solver_for
+from kinplan.ik.closed_form import analytic_solver_for, closed_form_report
 from kinplan.ik.numeric import (
     Evaluation,
     IKResult,
@@ -37,6 +43,7 @@ from kinplan.ik.numeric import (
 from kinplan.ik.panda import PandaIK, panda_solver_for
 from kinplan.ik.planar import Planar2RIK
 from kinplan.ik.screws import wrap_angle
+from kinplan.ik.spherical_wrist import SphericalWristIK
 from kinplan.ik.ur import URIK
 
 __all__ = [
@@ -47,8 +54,10 @@ __all__ = [
     "IKSolver",
     "PandaIK",
     "Planar2RIK",
+    "SphericalWristIK",
     "URIK",
     "analytic_solver_for",
+    "closed_form_report",
     "finite_bounds",
     "frobenius_tolerance",
     "halton",

@@ -51,6 +51,8 @@ from kinplan.ik.base import AnalyticIK, ClosedFormIK, self_check
 from kinplan.ik.panda import panda_solver_for
 from kinplan.ik.planar import planar_2r_solver
 from kinplan.ik.screws import screws_at_zero
+from kinplan.ik.spherical_wrist import SphericalWristIK
+from kinplan.ik.spherical_wrist_geometry import wrist_geometry
 from kinplan.ik.ur import URIK, ur_geometry
 
 if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
@@ -62,32 +64,64 @@ logger = logging.getLogger(__name__)
 def analytic_solver_for(robot: Robot, weights: np.ndarray | None = None) -> AnalyticIK | None:
     """A closed-form IK solver for ``robot`` when its geometry allows one, else None.
 
-    Planar 2R arms (two parallel revolute axes), UR-type arms (see :func:`ur_geometry`) and
-    panda-type 7-joint arms (closed form for a given θ7, θ7 searched; :mod:`kinplan.ik.panda`)
-    are recognised from the Pinocchio model's joint placements and tool frame; the solver is then
-    checked against Pinocchio's forward kinematics on a few random configurations. Any other arm
-    gives None, and the caller falls back to the numerical solver (:meth:`Robot.ik`).
+    Planar 2R arms (two parallel revolute axes), UR-type arms (see :func:`ur_geometry`),
+    spherical-wrist 6R arms (axes 4, 5, 6 meeting, axes 2 ∥ 3; see
+    :func:`~kinplan.ik.spherical_wrist_geometry.wrist_geometry`) and panda-type 7-joint arms
+    (closed form for a given θ7, θ7 searched; :mod:`kinplan.ik.panda`) are recognised from the
+    Pinocchio model's joint placements and tool frame; the solver is then checked against
+    Pinocchio's forward kinematics on a few random configurations. Any other arm gives None,
+    and the caller falls back to the numerical solver (:meth:`Robot.ik`).
 
     Args:
         robot: A :class:`kinplan.Robot`.
         weights: Joint weights w of the distance Σ wᵢ Δqᵢ² by which :meth:`nearest` and
             :meth:`nearest_batch` choose (default: all ones), shape (nq,).
     """
+    return closed_form_report(robot, weights)[0]
+
+
+def closed_form_report(
+    robot: Robot, weights: np.ndarray | None = None
+) -> tuple[AnalyticIK | None, str]:
+    """:func:`analytic_solver_for` with what it found: (solver or None, a sentence naming the
+    closed form, or why the arm has none), e.g. ``"numerical: no closed form (no spherical
+    wrist: axes 4 and 5 do not intersect (2.0e-02 m apart); not the UR structure)"``."""
     if robot.nq == 7:  # panda-type arms: semi-analytic, θ7 searched (see kinplan.ik.panda)
-        return panda_solver_for(robot, weights)
+        panda = panda_solver_for(robot, weights)
+        if panda is not None:
+            return panda, "closed form: panda-type 7-joint arm (θ7 searched)"
+        return None, _NUMERICAL + "a 7-joint arm without the panda's structure)"
     if robot.nq not in (2, 6):
-        return None
+        return None, _NUMERICAL + f"{robot.nq} joints; closed forms are for 2, 6 and 7)"
     screws = screws_at_zero(robot)
     if screws is None:
-        return None
+        return None, _NUMERICAL + "not a serial chain of revolute joints)"
+    solver: ClosedFormIK | None
     if robot.nq == 2:
-        solver: ClosedFormIK | None = planar_2r_solver(robot, screws, weights)
+        solver = planar_2r_solver(robot, screws, weights)
+        description = "closed form: planar 2R"
+        reason = "the two axes are not parallel"
     else:
         geometry = ur_geometry(screws)
-        solver = None if geometry is None else URIK(geometry, robot.lower, robot.upper, weights)
+        if geometry is not None:
+            solver = URIK(geometry, robot.lower, robot.upper, weights)
+            description = "closed form: UR family (axes 2 ∥ 3 ∥ 4)"
+            if solver._fast is None:
+                description += ", without the single-pose fast path (axes not orthonormal)"
+            reason = ""
+        else:
+            wrist, reason = wrist_geometry(screws)
+            reason += "; not the UR structure"
+            solver = None
+            if wrist is not None:
+                solver = SphericalWristIK(wrist, robot.lower, robot.upper, weights)
+                description = SphericalWristIK.description
     if solver is None:
-        return None
+        return None, _NUMERICAL + reason + ")"
     if not self_check(robot, lambda pose, q: solver.solutions(pose.translation, pose.rotation)):
         logger.debug("closed-form IK of %s disagrees with its forward kinematics", robot.name)
-        return None
-    return solver
+        return None, _NUMERICAL + f"the {description[13:]} disagrees with the model's FK)"
+    return solver, description
+
+
+_NUMERICAL = "numerical (Levenberg–Marquardt): no closed form ("

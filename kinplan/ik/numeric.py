@@ -262,6 +262,9 @@ class IKSolver:
         self._no_lower = np.full(model.nq, -np.inf)
         self._no_upper = np.full(model.nq, np.inf)
         self._restarts: np.ndarray = np.empty((0, model.nq))
+        #: Which solver :meth:`kinplan.Robot.ik` uses for this arm: a closed form, or numerical and
+        #: why no closed form fits (set by the robot when it looks for one).
+        self.description = "numerical (Levenberg–Marquardt)"
 
     def restart_configuration(self, attempt: int) -> np.ndarray:
         """Start of restart ``attempt`` (≥ 1): a Halton point spread over the joint limits."""

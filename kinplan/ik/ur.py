@@ -46,10 +46,12 @@ from kinplan.ik.ur_many import (
     stack_pair,
 )
 from kinplan.ik.ur_single import (
+    EXACT_DEFECT,
     FAST_DEFECT,
     FAST_EDGE,
     FAST_WRIST,
     URFast,
+    fast_defect,
     fast_elbow,
     fast_planar_target,
     fast_plane_axes,
@@ -110,6 +112,8 @@ class URIK(ClosedFormIK):
         super().__init__(lower, upper, weights)
         self.geometry = geometry
         self._fast = _ur_fast_constants(geometry)
+        #: The fast path is exact (else only ``nearest`` takes it, see EXACT_DEFECT).
+        self._fast_exact = fast_defect(geometry) <= EXACT_DEFECT
         self._limits = (tuple(self.lower.tolist()), tuple(self.upper.tolist()))
         self._weight_floats = tuple(self.weights.tolist())
         if min(self._weight_floats) < 0.0:  # the fast path's pruning needs a growing distance
@@ -117,7 +121,7 @@ class URIK(ClosedFormIK):
 
     # ------------------------------------------------------------ single pose, plain floats
     def solutions(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
-        if self._fast is not None:
+        if self._fast is not None and self._fast_exact:
             try:
                 raw = self._fast_all_branches(position, rotation)
             except NeedsBatch:

@@ -38,7 +38,14 @@ FAST_WRIST = 1e-4
 
 #: The fast path assumes exactly orthonormal shoulder (u1, a) and wrist (u5, u6) axes and a wrist
 #: centre on axes 5 and 6; a geometry further from that than this [m, –] uses the batch path.
-FAST_DEFECT = 1e-12
+#: URDFs that write π/2 rounded (``rpy="1.570796327 0 0"``, airo-models' UR5e and UR3e) are
+#: 2e-10 from orthonormal: their fast-path solutions then miss the pose by about that times
+#: the reach (< 1e-9 m), far inside the IK tolerances (beyond them, Robot.ik polishes).
+FAST_DEFECT = 1e-9
+#: Below this defect the fast path is exact to rounding; above it (up to FAST_DEFECT)
+#: :meth:`URIK.solutions <kinplan.ik.ur.URIK.solutions>`, which lists every branch to be
+#: checked, takes the vectorised path (exact for any axes), and only ``nearest`` the fast one.
+EXACT_DEFECT = 1e-12
 
 
 @dataclass(frozen=True, slots=True)
@@ -87,6 +94,26 @@ class URFast:
     signs: tuple[float, float, float]
 
 
+def fast_defect(g: URGeometry) -> float:
+    """How far ``g`` is from the orthonormal shoulder and wrist axes the fast path assumes
+    (unit lengths, right angles, the wrist centre on axes 5 and 6) [m, –]."""
+    centre = g.tool_position + g.tool_rotation @ g.centre_in_tool
+
+    def off_axis(point: np.ndarray, axis: np.ndarray) -> float:
+        offset = centre - point
+        return float(np.linalg.norm(offset - (offset @ axis) * axis))
+
+    return max(
+        *(abs(float(np.linalg.norm(v)) - 1.0) for v in (g.u1, g.a, g.u5, g.u6, g.e, g.f)),
+        *(
+            abs(float(x @ y))
+            for x, y in ((g.u1, g.a), (g.u5, g.u6), (g.e, g.a), (g.f, g.a), (g.e, g.f))
+        ),
+        off_axis(g.p5, g.u5),
+        off_axis(g.p6, g.u6),
+    )
+
+
 def ur_fast_constants(g: URGeometry) -> URFast | None:
     """The single-pose constants of ``g``, or None when its axes are not orthonormal enough.
 
@@ -97,17 +124,7 @@ def ur_fast_constants(g: URGeometry) -> URFast | None:
     """
     u1, a, b1, u5, u6 = g.u1, g.a, g.b1, g.u5, g.u6
     centre = g.tool_position + g.tool_rotation @ g.centre_in_tool
-
-    def off_axis(point: np.ndarray, axis: np.ndarray) -> float:
-        offset = centre - point
-        return float(np.linalg.norm(offset - (offset @ axis) * axis))
-
-    defect = max(
-        *(abs(float(np.linalg.norm(v)) - 1.0) for v in (u1, a, u5, u6, g.e, g.f)),
-        *(abs(float(x @ y)) for x, y in ((u1, a), (u5, u6), (g.e, a), (g.f, a), (g.e, g.f))),
-        off_axis(g.p5, u5),
-        off_axis(g.p6, u6),
-    )
+    defect = fast_defect(g)
     if defect > FAST_DEFECT:
         logger.debug("UR geometry %.1e from orthonormal: single poses use the batch path", defect)
         return None

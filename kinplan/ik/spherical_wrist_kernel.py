@@ -1,0 +1,337 @@
+"""The spherical-wrist closed form for one pose, compiled (numba): every branch, and the
+solution nearest a reference, for :meth:`SphericalWristIK.nearest
+<kinplan.ik.spherical_wrist.SphericalWristIK.nearest>` and its batch form ``nearest_many``.
+
+A twin of :meth:`SphericalWristIK._raw <kinplan.ik.spherical_wrist.SphericalWristIK>` (the
+same subproblems, tolerances, free-angle rules and branch order, in scalars) followed by the
+choice :meth:`kinplan.ik.ClosedFormIK.nearest` makes (per joint the 2π-equivalent within the
+limits nearest the reference, then the branch of least weighted distance, ties to the lower
+branch index). Tested against the numpy path in ``tests/ik/test_spherical_wrist_ik.py``.
+Without numba (or with ``KINPLAN_JIT=0``) :func:`available` is False and the numpy path runs.
+The geometry comes packed by :meth:`WristGeometry.constants
+<kinplan.ik.spherical_wrist_geometry.WristGeometry.constants>`.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from kinplan.compiled import jit, numba
+from kinplan.ik.screws import CLAMP, FREE_TOL, LIMIT_TOL, TAU
+from kinplan.ik.subproblems import FREE_ROOM
+
+#: What :func:`nearest` returns for an input with a NaN or inf (the caller reports it).
+NOT_FINITE = -2
+
+#: Private switch for tests and benchmarks: False makes :func:`available` False.
+ENABLED = os.environ.get("KINPLAN_JIT", "1") != "0"
+
+
+def available() -> bool:
+    """Whether the compiled solve can be used (numba installed and not switched off)."""
+    return ENABLED and numba is not None
+
+
+@jit
+def _rotate(axis, v, angle, out):
+    """``out`` = R(axis, angle) v (Rodrigues); ``out`` may be ``v``."""
+    _turn(axis, v, math.cos(angle), math.sin(angle), out)
+
+
+@jit
+def _turn(axis, v, c, s, out):
+    """``out`` = R(axis, θ) v for cos θ = ``c``, sin θ = ``s``; ``out`` may be ``v``."""
+    x, y, z = v[0], v[1], v[2]
+    ax, ay, az = axis[0], axis[1], axis[2]
+    k = (ax * x + ay * y + az * z) * (1.0 - c)
+    out[0] = x * c + (ay * z - az * y) * s + ax * k
+    out[1] = y * c + (az * x - ax * z) * s + ay * k
+    out[2] = z * c + (ax * y - ay * x) * s + az * k
+
+
+@jit
+def _sp1(k, p, q):
+    """Subproblem 1: the angle about unit ``k`` turning ``p`` towards ``q`` (0 when free)."""
+    kp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2]
+    kq = k[0] * q[0] + k[1] * q[1] + k[2] * q[2]
+    px, py, pz = p[0] - kp * k[0], p[1] - kp * k[1], p[2] - kp * k[2]
+    qx, qy, qz = q[0] - kq * k[0], q[1] - kq * k[1], q[2] - kq * k[2]
+    sine = k[0] * (py * qz - pz * qy) + k[1] * (pz * qx - px * qz) + k[2] * (px * qy - py * qx)
+    return math.atan2(sine, px * qx + py * qy + pz * qz)
+
+
+@jit
+def _wrap(angle):
+    return angle - TAU * np.round(angle / TAU)
+
+
+@jit
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@jit
+def free_wrist(theta6_at_zero, sigma, fill, lower4, upper4, lower6, upper6):
+    """θ4 [rad] at the wrist singularity, where only ψ = θ4 + σ·θ6 is fixed.
+
+    θ4 keeps ``fill`` (clipped into its limits) when θ6 = σ·(ψ − θ4) then has an equivalent
+    within its limits; else θ4 is the value nearest it (over 2π equivalents, within its own
+    limits) that puts θ6 on one of its limits, as the UR solver does for its free θ6.
+
+    Args:
+        theta6_at_zero: θ6 [rad] of the pose with θ4 = 0 (so ψ = σ·θ6(0)).
+        sigma: ±1, the direction of axis 6 along axis 4 at the singularity.
+        fill: The reference value of θ4 [rad].
+        lower4, upper4, lower6, upper6: The joints' limits [rad] (±inf allowed).
+    """
+    psi = sigma * theta6_at_zero
+    t4 = min(max(fill, lower4), upper4)
+    if not math.isnan(_choice(sigma * (psi - t4), 0.0, lower6, upper6)):  # θ6 fits
+        return t4
+    best, best_distance = t4, np.inf
+    for bound in (lower6, upper6):
+        edge = psi - sigma * bound
+        turns = np.round((t4 - edge) / TAU)
+        for shift in (-1.0, 0.0, 1.0):
+            candidate = edge + TAU * (turns + shift)
+            if lower4 - LIMIT_TOL <= candidate <= upper4 + LIMIT_TOL:
+                if abs(candidate - t4) < best_distance:
+                    best, best_distance = candidate, abs(candidate - t4)
+    return min(max(best, lower4), upper4)
+
+
+@jit
+def branches(k, position, rotation, fill, raw, ok, work, limits):
+    """Every branch of one pose: rows ``4·shoulder + 2·elbow + wrist`` of ``raw`` (8, 6) [rad]
+    (wrapped into [−π, π]) with ``ok`` (8,) where the branch has a solution.
+
+    Args:
+        k: The packed geometry (22, 3).
+        position: Tool position in the world frame [m] (3,).
+        rotation: Tool rotation in the world frame (3, 3).
+        fill: Values [rad] (6,) of joints that are free at a singularity (θ1, θ2, θ4 only).
+        raw, ok: Written.
+        work: Scratch space, shape (10, 3).
+        limits: Rows lower, upper [rad] (and weights), shape (3, 6): for θ4 at the wrist
+            singularity (:func:`free_wrist`).
+
+    Returns:
+        Whether some joint was free (took its ``fill`` value).
+    """
+    h1, h2, h3, h4, h5, h6 = k[0], k[1], k[2], k[3], k[4], k[5]
+    p1, p2 = k[6], k[7]
+    cit, e, f, x6 = k[13], k[14], k[15], k[19]
+    lateral, sign3 = k[16, 0], k[16, 1]
+    for b in range(8):
+        ok[b] = False
+    singular = False
+    v, t1s, q6, qx, n = work[0], work[1], work[2], work[3], work[4]
+    seen, w6, wx, z, zz = work[5], work[6], work[7], work[8], work[9]
+    for i in range(3):
+        v[i] = position[i] - p1[i]
+        for j in range(3):
+            v[i] += rotation[i, j] * cit[j]
+    # 1. θ1: subproblem 4, h2·R(h1, −θ1) v = lateral
+    hk = _dot(h2, h1)
+    kp = _dot(v, h1)
+    a = _dot(v, h2) - hk * kp
+    b = (
+        v[0] * (h2[1] * h1[2] - h2[2] * h1[1])
+        + v[1] * (h2[2] * h1[0] - h2[0] * h1[2])
+        + v[2] * (h2[0] * h1[1] - h2[1] * h1[0])
+    )
+    radius = math.hypot(a, b)
+    rhs = lateral - hk * kp
+    if radius < FREE_TOL:
+        if abs(rhs) > FREE_ROOM:
+            return False
+        singular = True
+        t1s[0] = fill[0]
+        t1s[1] = fill[0]
+    else:
+        ratio = rhs / radius
+        if abs(ratio) > 1.0 + CLAMP:
+            return False
+        half = math.acos(min(max(ratio, -1.0), 1.0))
+        base = math.atan2(b, a)
+        t1s[0] = -(base + half)
+        t1s[1] = -(base - half)
+    l1 = math.hypot(k[17, 0], k[17, 1])
+    l2 = math.hypot(k[18, 0], k[18, 1])
+    offset_b = math.atan2(k[17, 1], k[17, 0]) - math.atan2(k[18, 1], k[18, 0])
+    # the wrist's two vectors: Q h6 and Q x6 with Q = R_T R_Mᵀ
+    for i in range(3):
+        q6[i] = rotation[i, 0] * k[20, 0] + rotation[i, 1] * k[20, 1] + rotation[i, 2] * k[20, 2]
+        qx[i] = rotation[i, 0] * k[21, 0] + rotation[i, 1] * k[21, 1] + rotation[i, 2] * k[21, 2]
+    c45 = _dot(h5, h4)
+    n[0] = h5[1] * h4[2] - h5[2] * h4[1]
+    n[1] = h5[2] * h4[0] - h5[0] * h4[2]
+    n[2] = h5[0] * h4[1] - h5[1] * h4[0]
+    n2 = _dot(n, n)
+    kp5 = _dot(h6, h5)
+    for s in range(2):
+        t1 = t1s[s]
+        c1, s1 = math.cos(t1), -math.sin(t1)  # of −θ1
+        # 2. θ2, θ3: the planar elbow
+        _turn(h1, v, c1, s1, seen)
+        for i in range(3):
+            seen[i] += p1[i] - p2[i]
+        tx, ty = _dot(seen, e), _dot(seen, f)
+        d2 = tx * tx + ty * ty
+        cosine = (d2 - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
+        if abs(cosine) > 1.0 + CLAMP:
+            continue
+        elbow = math.acos(min(max(cosine, -1.0), 1.0))
+        for el in range(2):
+            psi_b = (elbow if el == 0 else -elbow) + offset_b
+            cb, sb = math.cos(psi_b), math.sin(psi_b)
+            vx = k[17, 0] + cb * k[18, 0] - sb * k[18, 1]
+            vy = k[17, 1] + sb * k[18, 0] + cb * k[18, 1]
+            if d2 < FREE_TOL * FREE_TOL:
+                t2 = fill[1]
+                singular = True
+            else:
+                t2 = _wrap(math.atan2(ty, tx) - math.atan2(vy, vx))
+            t3 = sign3 * _wrap(psi_b)
+            # 3. W h6, W x6 with W = (R1 R2 R3)ᵀ Q
+            c2, s2 = math.cos(t2), -math.sin(t2)
+            c3, s3 = cb, -sign3 * sb  # cos, sin of −θ3 = −sign3·ψb
+            _turn(h1, q6, c1, s1, w6)
+            _turn(h2, w6, c2, s2, w6)
+            _turn(h3, w6, c3, s3, w6)
+            _turn(h1, qx, c1, s1, wx)
+            _turn(h2, wx, c2, s2, wx)
+            _turn(h3, wx, c3, s3, wx)
+            # subproblem 2: R(h5, θ5) h6 = R(h4, −θ4) w6
+            kq = _dot(w6, h4)
+            alpha = (kp5 - c45 * kq) / n2
+            beta = (kq - c45 * kp5) / n2
+            length2 = 0.5 * (_dot(h6, h6) + _dot(w6, w6))
+            rest = length2 - alpha * alpha - beta * beta - 2.0 * alpha * beta * c45
+            if rest < -CLAMP * max(length2, 1e-300):
+                continue
+            gamma = math.sqrt(max(rest, 0.0) / n2)
+            ox, oy, oz = w6[0] - kq * h4[0], w6[1] - kq * h4[1], w6[2] - kq * h4[2]
+            free4 = ox * ox + oy * oy + oz * oz < FREE_TOL * FREE_TOL
+            if free4:
+                singular = True
+            for wr in range(2):
+                g = gamma if wr == 0 else -gamma
+                for i in range(3):  # on the free wrist, z = w6 exactly (as subproblems.sp2)
+                    z[i] = w6[i] if free4 else alpha * h5[i] + beta * h4[i] + g * n[i]
+                t5 = _sp1(h5, h6, z)
+                t4 = 0.0 if free4 else -_sp1(h4, w6, z)
+                # 4. θ6: R(h6, θ6) x6 = R5ᵀ R4ᵀ W x6
+                _rotate(h4, wx, -t4, zz)
+                _rotate(h5, zz, -t5, zz)
+                t6 = _sp1(h6, x6, zz)
+                if free4:  # θ4 + σ·θ6 fixed
+                    sigma = 1.0 if kq >= 0.0 else -1.0
+                    t4 = free_wrist(t6, sigma, fill[3], limits[0, 3], limits[1, 3],
+                                    limits[0, 5], limits[1, 5])  # fmt: skip
+                    t6 = t6 - sigma * t4
+                row = 4 * s + 2 * el + wr
+                raw[row, 0] = _wrap(t1)
+                raw[row, 1] = _wrap(t2)
+                raw[row, 2] = _wrap(t3)
+                raw[row, 3] = _wrap(t4)
+                raw[row, 4] = _wrap(t5)
+                raw[row, 5] = _wrap(t6)
+                ok[row] = True
+    return singular
+
+
+@jit
+def _choice(value, ref, lower, upper):
+    """The 2π-equivalent of ``value`` within [lower, upper] nearest ``ref`` clipped into
+    them (ties to the lower one, as :func:`kinplan.ik.screws.wrap_near`), or NaN."""
+    clipped = min(max(ref, lower), upper)
+    turns = np.round((clipped - value) / TAU)
+    best = np.nan
+    best_distance = np.inf
+    for shift in (-1.0, 0.0, 1.0):
+        candidate = value + TAU * (turns + shift)
+        if lower - LIMIT_TOL <= candidate <= upper + LIMIT_TOL:
+            distance = abs(candidate - clipped)
+            if distance < best_distance:
+                best, best_distance = candidate, distance
+    if best_distance == np.inf:
+        return np.nan
+    return min(max(best, lower), upper)
+
+
+@jit
+def _nearest_of(raw, ok, limits, ref, out):
+    """The branch of ``raw`` nearest ``ref`` (written into ``out``), −1 if none; and the mask
+    of branches with an equivalent within the limits."""
+    best = -1
+    best_cost = np.inf
+    mask = 0
+    for row in range(8):
+        if not ok[row]:
+            continue
+        cost = 0.0
+        inside = True
+        for j in range(6):
+            q = _choice(raw[row, j], ref[j], limits[0, j], limits[1, j])
+            if q != q:
+                inside = False
+                break
+            cost += limits[2, j] * (q - ref[j]) * (q - ref[j])
+        if not inside:
+            continue
+        mask |= 1 << row
+        if cost < best_cost:
+            best, best_cost = row, cost
+    if best >= 0:
+        for j in range(6):
+            out[j] = _choice(raw[best, j], ref[j], limits[0, j], limits[1, j])
+    return best, mask
+
+
+@jit
+def nearest(k, limits, position, rotation, ref, out):
+    """The solution nearest ``ref`` [rad] (6,) written into ``out``; returns its branch, −1
+    when no branch has a solution within the limits, :data:`NOT_FINITE` for an input with a
+    NaN or inf.
+
+    Args:
+        k: The packed geometry (22, 3).
+        limits: Rows lower, upper [rad] and weights, shape (3, 6).
+        position: Tool position in the world frame [m] (3,).
+        rotation: Tool rotation in the world frame (3, 3).
+        ref: Reference configuration; also the value of joints free at a singularity.
+        out: Written with the solution.
+    """
+    total = 0.0
+    for i in range(3):
+        total += position[i] + rotation[i, 0] + rotation[i, 1] + rotation[i, 2]
+    for j in range(6):
+        total += ref[j]
+    if not math.isfinite(total):
+        return NOT_FINITE
+    raw = np.empty((8, 6))
+    ok = np.empty(8, dtype=np.bool_)
+    branches(k, position, rotation, ref, raw, ok, np.empty((10, 3)), limits)
+    best, _ = _nearest_of(raw, ok, limits, ref, out)
+    return best
+
+
+@jit
+def nearest_many(k, limits, positions, rotations, refs, q, branch, mask):
+    """:func:`nearest` of many poses, each with its own reference: ``q`` (N, 6), ``branch``
+    (N,) (−1: none) and ``mask`` (N,) (bit b: branch b within the limits) written."""
+    raw = np.empty((8, 6))
+    ok = np.empty(8, dtype=np.bool_)
+    out = np.empty(6)
+    work = np.empty((10, 3))
+    for i in range(positions.shape[0]):
+        branches(k, positions[i], rotations[i], refs[i], raw, ok, work, limits)
+        best, bits = _nearest_of(raw, ok, limits, refs[i], out)
+        branch[i] = best
+        mask[i] = bits
+        for j in range(6):
+            q[i, j] = out[j] if best >= 0 else np.nan
