@@ -367,3 +367,27 @@ def test_example_script_plans_the_tube_seam(tmp_path: FilePath) -> None:
     check_plan(kinplan.load_robot("ur5"), module.tube_seam(module.CENTRES["ur5"]), planned)
     assert joint_travel(planned) < 0.6 * joint_travel(taught)
     assert result["figure"].stat().st_size > 10_000
+
+
+def test_cell_blocks_a_stretch_and_says_which_bodies(ur5: kinplan.Robot) -> None:
+    seam = t_joint_seam(np.array([0.5, -0.2, 0.05]), np.array([0.5, 0.25, 0.05]), 1.0)
+    coarse = {"resolution": math.radians(20), "waypoint_spacing": 0.05}
+    wall = kinplan.WorkCell(ur5)
+    wall.add_box("wall", [0.04, 0.3, 1.0], pin.SE3(np.eye(3), np.array([0.33, 0.2, 0.3])))
+    plan = cartesian.plan_seam(ur5, seam, speed=0.05, cell=wall, **coarse)
+    assert plan.status == "collision", plan.summary()
+    message = plan.events[0].message
+    assert message.startswith("s 0.") and message[6:12] == "–1.00:" and "into wall" in message
+    # the wall stands where the seam's last stretch is reached from: every configuration there
+    # collides (checked here by the cell itself at the IK solutions of every roll)
+    s = float(message[2:6]) + 0.05
+    pose = seam.pose(s)
+    for roll in np.linspace(-np.pi, np.pi, 12, endpoint=False):
+        turned = pose.rotation @ pin.rpy.rpyToMatrix(0.0, 0.0, roll)
+        for q in ur5.closed_form_ik.solutions(pose.translation, turned):
+            assert wall.collisions(q), (roll, q)
+    far = kinplan.WorkCell(ur5)
+    far.add_box("far", [0.1, 0.1, 0.1], pin.SE3(np.eye(3), np.array([-0.5, -0.5, 0.05])))
+    plan = cartesian.plan_seam(ur5, seam, speed=0.05, cell=far, **coarse)
+    check_plan(ur5, seam, plan)
+    assert plan.cell is not None and 0.0 < plan.min_clearance < np.inf
