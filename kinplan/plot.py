@@ -69,7 +69,8 @@ def plot_trajectory(
         dt: Sampling step of a joint trajectory [s]; default duration / 1000.
         title: Figure title.
         labels: One legend label per trajectory.
-        joint_names: One name per joint; default "joint 0", "joint 1", ...
+        joint_names: One name per joint; default the motion's robot's joint names (a planned
+            motion), else "joint 0", "joint 1", ...
         unit: Unit of position for the axis labels ("rad"; "m" for a path length).
         show_knots: Draw the segment boundaries.
 
@@ -91,12 +92,15 @@ def plot_trajectory(
     counts = [curve.values[0].shape[1] for curve in curves]
     if any(count != n for count in counts):
         raise InputError(f"all trajectories must have the same number of joints, got {counts}")
+    robot_names = getattr(getattr(items[0], "robot", None), "joint_names", None)
+    if joint_names is None and robot_names is not None and len(robot_names) == n:
+        joint_names = list(robot_names)  # a planned motion's joints by name
     names = _names(joint_names, n, "joint_names", "joint")
     labels = _names(labels, len(curves), "labels", "trajectory")
     clearance = getattr(items[0], "clearance", None) if len(items) == 1 else None
     if clearance is not None and not np.isfinite(clearance).any():
         clearance = None  # a cell without obstacles: nothing to draw
-    figure = _new_figure((8.0, 9.5 if clearance is not None else 7.5))
+    figure = _new_figure((9.5, 9.5 if clearance is not None else 7.5))
     axes = figure.subplots(3 if clearance is None else 4, 1, sharex=True)
     if clearance is not None:  # a plan in a work cell: robot–obstacle distance [mm]
         plan = items[0]
@@ -129,7 +133,7 @@ def plot_trajectory(
         ax.set_ylabel(f"{quantity} [{unit}{suffix}]")
         ax.grid(True, alpha=0.3)
     (clearance_axis if clearance is not None else axes[-1]).set_xlabel("time [s]")
-    axes[0].legend(fontsize="small", loc="best")
+    axes[0].legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))  # off the curves
     if title:
         figure.suptitle(title)
     _save(figure, path)
@@ -200,7 +204,7 @@ def plot_tip_path(
     if any(a.shape[1] != dimension for a in arrays):
         raise InputError("tip paths must all be planar (k, 2) or all spatial (k, 3)")
     labels = _names(labels, len(arrays), "labels", "path")
-    figure = _new_figure((7.0, 6.0))
+    figure = _new_figure((8.5, 6.0))
     ax = figure.add_subplot(projection="3d" if dimension == 3 else None)
     for k, xyz in enumerate(arrays):
         ax.plot(*xyz.T, _LINE_STYLES[k % len(_LINE_STYLES)], color=f"C{k % 10}", label=labels[k])
@@ -224,7 +228,7 @@ def plot_tip_path(
         getattr(ax, f"set_{axis}label")(f"{axis} [{unit}]")
     ax.set_aspect("equal")
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize="small", loc="best")
+    ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))  # off the curves
     if title:
         ax.set_title(title)
     _save(figure, path)

@@ -399,7 +399,9 @@ class ReachMap:
         if isinstance(axes, str):
             axes = tuple(axes)
         point = self.shoulder if at is None else checks.vector(at, "at", 3, "m")
-        figure, panels = plt.subplots(1, len(axes), figsize=(5.2 * len(axes), 4.6), squeeze=False)
+        figure, panels = plt.subplots(
+            1, len(axes), figsize=(5.2 * len(axes), 4.6), squeeze=False, layout="constrained"
+        )  # constrained: each panel's axis labels clear of its neighbour
         image = None
         for panel, axis in zip(panels[0], axes):
             values, extent, plane = self.slice(axis, point["xyz".index(axis)])

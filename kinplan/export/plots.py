@@ -5,6 +5,7 @@ its clearance. Matplotlib is imported when a plot is drawn.
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -22,7 +23,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["plot_motion"]
+__all__ = ["LABEL_ROWS", "LABEL_SPACING", "move_label_positions", "plot_motion"]
 
 
 def plot_motion(
@@ -67,6 +68,9 @@ def plot_motion(
         raise InputError(f"title must be a string or None, got {checks.describe(title)}")
     track = plan_tool_track(plan, "plot_motion")
     n = plan.q.shape[1]
+    robot_names = getattr(getattr(plan, "robot", None), "joint_names", None)
+    if joint_names is None and robot_names is not None and len(robot_names) == n:
+        joint_names = list(robot_names)  # joints by name, not "joint 0"
     names = (
         checked_joint_names(plan, joint_names, n)
         if joint_names is not None
@@ -91,7 +95,7 @@ def plot_motion(
         ax.grid(True, alpha=0.3)
     if clearances is not None:
         _plot_clearances(axes[4], plan.t, clearances)
-    _mark_moves(axes, plan.moves)
+    _mark_moves(axes, plan.moves, float(plan.t[-1] - plan.t[0]) if len(plan.t) else 0.0)
     axes[-1].set_xlabel("time [s]")
     axes[0].legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.0, 1.0))
     if title:
@@ -171,18 +175,50 @@ def _plot_clearances(ax: Axes, t: np.ndarray, clearances: _Clearances) -> None:
     ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.0, 1.0))
 
 
-def _mark_moves(axes: Sequence[Axes], moves: Sequence[MoveSpan]) -> None:
+LABEL_ROWS = 3
+"""Rows of move numbers above the first panel: a number too close to the one before it in a
+row goes up a row, and is left out when every row is taken there."""
+LABEL_SPACING = 0.022
+"""Horizontal room of one character of a move number, as a share of the time axis [-]."""
+
+
+def move_label_positions(
+    moves: Sequence[MoveSpan], duration: float
+) -> list[tuple[float, int, str, bool]]:
+    """Where :func:`plot_motion` writes the move numbers: (time [s], row, text, failed) of each
+    move that gets one, no two overlapping (dwells have their move's number, so none)."""
+    ends = [-math.inf] * LABEL_ROWS
+    placed = []
+    span = max(float(duration), 1e-9)
+    for move in moves:
+        if getattr(move, "is_dwell", False):
+            continue
+        text = str(getattr(move, "numbers", move.number))
+        middle = 0.5 * (float(move.t0) + float(move.t1))
+        half = 0.5 * (len(text) + 1) * LABEL_SPACING * span
+        for row in range(LABEL_ROWS):
+            if middle - half >= ends[row]:
+                ends[row] = middle + half
+                placed.append((middle, row, text, move.status != "ok"))
+                break
+    return placed
+
+
+def _mark_moves(axes: Sequence[Axes], moves: Sequence[MoveSpan], duration: float) -> None:
     for move in moves:
         failed = move.status != "ok"
         for ax in axes:
-            ax.axvline(move.t0, color="0.8", linewidth=0.6, zorder=0)
+            if not getattr(move, "is_dwell", False):
+                ax.axvline(move.t0, color="0.8", linewidth=0.6, zorder=0)
             if failed:
                 ax.axvspan(move.t0, max(move.t1, move.t0 + 1e-9), color="C3", alpha=0.12)
-        middle = 0.5 * (move.t0 + move.t1)
+    for middle, row, text, failed in move_label_positions(moves, duration):
         axes[0].annotate(
-            str(getattr(move, "numbers", move.number)),
+            text,
             (middle, 1.0),
             xycoords=("data", "axes fraction"),
+            xytext=(0.0, 1.0 + 8.0 * row),
+            textcoords="offset points",
             ha="center",
             va="bottom",
             fontsize="x-small",
