@@ -213,6 +213,7 @@ def plan_seam(
     choices = itertools.chain(
         paths,
         _lazy(lambda: _other_starts(ladder, paths[0] if paths else None, OTHER_STARTS)),
+        _lazy(lambda: _constant_roll_paths(ladder)),
         _lazy(lambda: _constant_roll_choices(robot, path, ladder, s, start)),
     )
     for choice in choices:
@@ -224,15 +225,35 @@ def plan_seam(
             return plan
         logger.debug("seam tracking from ladder path of cost %.3f: %s", choice.cost, plan.status)
         first = first or plan
-    if first is not None:
+    if blocked is None:
+        assert first is not None  # the ladder's best path was tracked, and failed
         return first
-    assert blocked is not None  # no path and no constant roll: the ladder said why
+    # the search found no way through: the ladder says where and why (the constant rolls
+    # tried after it found none either)
     event = _blocked_event(robot, blocked, s, timing)
     return _refused(robot, path, event, float(singular_threshold))
 
 
 def _lazy(make: Callable[[], list[LadderPath]]) -> Iterator[LadderPath]:
     yield from make()
+
+
+def _constant_roll_paths(ladder: Ladder) -> list[LadderPath]:
+    """The ladder's least-cost paths that keep their start roll (one per roll, best first, up
+    to :data:`FALLBACKS`): a constant roll is the simplest law to track."""
+    if not ladder.factored or ladder.roll_steps == 0:
+        return []
+    steps, ladder.roll_steps = ladder.roll_steps, 0
+    try:
+        paths, _ = ladder.solve(4 * FALLBACKS)
+    finally:
+        ladder.roll_steps = steps
+    chosen: dict[float, LadderPath] = {}
+    for candidate in paths:
+        key = round(float(candidate.roll[0]), 6)
+        if key not in chosen:
+            chosen[key] = candidate
+    return list(chosen.values())[:FALLBACKS]
 
 
 def _other_starts(ladder: Ladder, best: LadderPath | None, count: int) -> list[LadderPath]:
