@@ -114,6 +114,31 @@ class PlacementSearch:
         """The best candidate."""
         return self.placements[0]
 
+    @property
+    def best_on_edge(self) -> list[str]:
+        """Where the best candidate sits on the edge of the search grid (a better base pose may
+        lie beyond it): one phrase per axis, e.g. ``x = 0.2 m (the grid's upper end)``; empty
+        when it is inside the grid (or fails, or the axis has one value; yaw covering the whole
+        circle has no edge)."""
+        best = self.best
+        if not best.ok:
+            return []
+        values = (best.xyz[0], best.xyz[1], best.xyz[2], best.rpy_deg[2])
+        edges = []
+        for name, unit, grid, value in zip(
+            ("x", "y", "z", "yaw"), ("m", "m", "m", "deg"),
+            (self.x, self.y, self.z, self.yaw_deg), values, strict=True,
+        ):  # fmt: skip
+            grid = np.asarray(grid, dtype=float)
+            if len(grid) < 2:
+                continue
+            if name == "yaw" and np.ptp(grid) + float(np.min(np.diff(np.sort(grid)))) >= 360 - 1e-6:
+                continue  # the whole circle: no edge
+            for end, which in ((np.min(grid), "lower"), (np.max(grid), "upper")):
+                if abs(value - end) <= 1e-9 * max(1.0, abs(end)):
+                    edges.append(f"{name} = {value:g} {unit} (the grid's {which} end)")
+        return edges
+
     def write_best(self, path: str | os.PathLike[str], rank: int = 0) -> Path:
         """Write the program with the base pose of ``placements[rank]`` (atomically)."""
         text = Path(self.program).read_text(encoding="utf-8")
@@ -226,7 +251,7 @@ def _evaluate(candidates: list[tuple[float, ...]], payload: dict[str, Any]) -> l
                     xyz,
                     rpy,
                     bool(plan.ok),
-                    sum(1 for m in plan.moves if m.ok),
+                    plan.moves_done,
                     len(program.moves),
                     plan.reason,
                     manip,

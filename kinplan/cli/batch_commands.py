@@ -8,7 +8,9 @@ import argparse
 import contextlib
 import math
 import sys
+import time
 from pathlib import Path
+from typing import TextIO
 
 import numpy as np
 
@@ -16,11 +18,62 @@ from kinplan.cli.output import console, fail, fmt, plot_file
 from kinplan.cli.robot_args import robot_of
 from kinplan.errors import KinplanError
 
+PROGRESS_DELAY = 3.0
+"""Work shorter than this prints no progress lines off a terminal [s] (its stderr stays the
+one-line error of a failure)."""
+
+
+class PlainProgress:
+    """Progress as plain log lines on a stream that is not a terminal (a pipe, a CI log):
+    once the work has run ``delay`` seconds, ``kinplan: LABEL: DONE/TOTAL UNIT (P %), T s`` at
+    every tenth of it and at least every ``interval`` seconds, and when it ends.
+
+    Args:
+        label: What is being done.
+        unit: What ``done`` and ``total`` count.
+        stream: Where the lines go (stderr).
+        interval: Longest time between two lines while work goes on [s].
+        delay: Time before the first line [s] (default :data:`PROGRESS_DELAY`).
+    """
+
+    def __init__(
+        self, label: str, unit: str, stream: TextIO, interval: float = 10.0,
+        delay: float | None = None,
+    ) -> None:  # fmt: skip
+        self.label, self.unit, self.stream, self.interval = label, unit, stream, interval
+        self.delay = PROGRESS_DELAY if delay is None else delay
+        self.start = time.monotonic()
+        self.last_time = -math.inf
+        self.last_tenth = -1
+        self.last_done = -1
+
+    def __call__(self, done: int, total: int) -> None:
+        now = time.monotonic()
+        if now - self.start < self.delay:
+            return
+        tenth = int(10 * done / total) if total else 10
+        if done == self.last_done and now - self.last_time < self.interval:
+            return
+        if done < total and tenth == self.last_tenth and now - self.last_time < self.interval:
+            return
+        share = f" ({100.0 * done / total:.0f} %)" if total else ""
+        print(
+            f"kinplan: {self.label}: {done}/{total} {self.unit}{share}, {now - self.start:.1f} s",
+            file=self.stream,
+            flush=True,
+        )
+        self.last_time, self.last_tenth, self.last_done = now, tenth, done
+
 
 @contextlib.contextmanager
 def _work_progress(label: str, unit: str):
-    """A progress bar on stderr (a terminal only) and its ``progress(done, total)`` callback."""
+    """A progress bar on stderr (a terminal), else plain log lines (:class:`PlainProgress`),
+    and its ``progress(done, total)`` callback."""
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    if not sys.stderr.isatty():
+        yield PlainProgress(label, unit, sys.stderr)
+        return
 
     bar = Progress(
         TextColumn(label),
@@ -38,6 +91,10 @@ def _work_progress(label: str, unit: str):
             bar.update(task, completed=done, total=total)
 
         yield update
+
+
+SMALL_BATCH = 8
+"""Fewer programs than this with ``--jobs`` get a note that in-process planning is faster."""
 
 
 def _engine_options(args: argparse.Namespace) -> dict:
@@ -72,6 +129,13 @@ def cmd_run_many(args: argparse.Namespace) -> int:
         raise KinplanError(
             f"{', '.join(extra)} write the motion of a program planned here; leave out --jobs "
             "and --scheduler to write them"
+        )
+    if args.jobs is not None and args.jobs > 1 and len(args.program) < SMALL_BATCH:
+        print(
+            f"kinplan: note: --jobs {args.jobs} starts a local Dask cluster (seconds of start-up "
+            f"and a copy of every program per worker); for {len(args.program)} programs "
+            "planning in this process (without --jobs) is usually faster",
+            file=sys.stderr,
         )
     with _work_progress("planning programs", "programs") as progress:
         summaries = plan_many(args.program, dt=args.dt, progress=progress, **_engine_options(args))
@@ -162,6 +226,15 @@ def cmd_place(args: argparse.Namespace) -> int:
             **_engine_options(args),
         )
     planned = [p for p in search.placements if p.ok]
+    edges = search.best_on_edge
+    if edges:
+        print(
+            "kinplan: warning: the best base pose is on the edge of the search grid ("
+            + "; ".join(edges)
+            + "): a better one may lie beyond it; widen the range (--x, --y, --z, --yaw-deg) "
+            "around it",
+            file=sys.stderr,
+        )
     table = Table(
         title=f"{args.program}: {len(planned)} of {len(search.placements)} base poses plan"
     )
