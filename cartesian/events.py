@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from kinplan.cell import MotionCheck
 from kinplan.ik import IKResult
 from kinplan.robot import Robot
 
@@ -117,3 +118,32 @@ def small_length(metres: float) -> str:
     if millimetres == 0 or abs(millimetres) >= 0.1:
         return f"{millimetres:.1f} mm"
     return f"{millimetres:.2g} mm"
+
+
+def collision_event(
+    check: MotionCheck, t: np.ndarray, s: np.ndarray, position: np.ndarray
+) -> Event:
+    """The "collision" event of a failed :meth:`~kinplan.WorkCell.check_motion`: the two bodies,
+    where (at sample ``check.index`` or between it and the one before) and how deep."""
+    k = check.index
+    assert k is not None and check.bodies is not None  # a failed check: its sample and bodies
+    first, second = check.bodies
+    when = (
+        f"between samples at t = {t[k - 1]:.4f} and {t[k]:.4f} s"
+        if check.between
+        else f"at the sample at t = {t[k]:.4f} s"
+    )
+    if check.kind == "obstacle" and check.clearance > 0 and check.distance > 0:
+        what = (
+            f"{first} comes within {small_length(check.distance)} of {second}, "
+            f"{small_length(check.penetration)} inside the clearance "
+            f"{small_length(check.clearance)}"
+        )
+    else:
+        what = f"{first} collides with {second} ({small_length(check.penetration)} deep)"
+    point = "" if check.point is None else f" near {where(check.point)}"
+    return Event(
+        Status.COLLISION, float(t[k]), float(s[k]), k, f"{what} {when}{point}", position,
+        value=float(check.distance), limit=float(check.clearance),
+        remedy="move the path or the obstacle, or start from another configuration (q_seed)",
+    )  # fmt: skip

@@ -6,10 +6,12 @@ timed path (q̇ = J⁺ẋ, q̈ = dq̇/dt = J⁺(ẍ − J̇q̇) plus, for a redu
 of the derivative of its minimum-norm q̇), and stops at the first sample that is unreachable,
 beyond a joint limit, needs a branch flip ("jump"), is near a singularity or too fast for a
 joint. The plan says where and why (:class:`Event`) and how much of the path was achieved.
-On arms with a vectorised closed form (UR family, planar 2R) a path that raises no flag is
-solved whole instead (:mod:`cartesian.batch_track`: the same samples, exact); on other arms by
-the lean loop (:mod:`cartesian.lean_track`: the loop's IK alone per sample, monitored after it);
-every other path, and every one that comes near a flag, goes through the per-sample loop.
+The samples come from :func:`cartesian.tracking.track`, which chooses the engine in one place:
+on arms with a vectorised closed form (UR family, planar 2R) a path that raises no flag is
+solved whole (:mod:`cartesian.batch_track`: the same samples, exact); on other arms by the lean
+loop (:mod:`cartesian.lean_track`: the loop's IK alone per sample, monitored after it); every
+other path, and every one that comes near a flag, by the monitored per-sample loop
+(:mod:`cartesian.loop_track`).
 :func:`check_reachability` runs the same monitoring on the geometry alone, before any timing.
 """
 
@@ -21,10 +23,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from cartesian import batch_track, lean_track
 from cartesian.between import check_between
-from cartesian.events import Event, Status, small_length, where
-from cartesian.geometry import trace_between, trace_geometry
+from cartesian.events import Status
+from cartesian.geometry import trace_geometry
 from cartesian.paths import Path
 from cartesian.plan import CartesianPlan
 from cartesian.remedies import offer_finer_sampling, offer_slower
@@ -33,16 +34,16 @@ from cartesian.timing import PathTiming, time_path
 from cartesian.tracker import (
     SINGULAR_FRACTION,
     Tracker,
-    adams_bashforth_weights,
     path_targets,
     resolve_task,
 )
+from cartesian.tracking import track
 from kinplan import checks
 from kinplan._profiles import PROFILES
-from kinplan.cell import MotionCheck, WorkCell
+from kinplan.cell import WorkCell
 from kinplan.errors import InputError
 from kinplan.robot import Robot
-from kinplan.sampling import MIN_INTERVALS, joint_speeds
+from kinplan.sampling import MIN_INTERVALS
 
 
 def follow(
@@ -211,7 +212,7 @@ def _planned(
     caller's, or finer for a short motion: :func:`check_parts`), then checked between the
     samples returned (:func:`_between_samples`)."""
     parts = check_parts(timing)
-    fine = _track(tracker, path, timing.refined(parts), seed)
+    fine = track(tracker, path, timing.refined(parts), seed)
     plan = _on_caller_grid(fine, parts)
     plan.check_step = float(np.diff(timing.t).max(initial=0.0)) / parts
     plan.interpolation_tolerance = interpolation_tolerance
@@ -348,35 +349,6 @@ def _limit_excess(plan: CartesianPlan) -> float | None:
     return ratio if ratio > 1.0 else None
 
 
-def collision_event(
-    check: MotionCheck, t: np.ndarray, s: np.ndarray, position: np.ndarray
-) -> Event:
-    """The "collision" event of a failed :meth:`~kinplan.WorkCell.check_motion`: the two bodies,
-    where (at sample ``check.index`` or between it and the one before) and how deep."""
-    k = check.index
-    assert k is not None and check.bodies is not None  # a failed check: its sample and bodies
-    first, second = check.bodies
-    when = (
-        f"between samples at t = {t[k - 1]:.4f} and {t[k]:.4f} s"
-        if check.between
-        else f"at the sample at t = {t[k]:.4f} s"
-    )
-    if check.kind == "obstacle" and check.clearance > 0 and check.distance > 0:
-        what = (
-            f"{first} comes within {small_length(check.distance)} of {second}, "
-            f"{small_length(check.penetration)} inside the clearance "
-            f"{small_length(check.clearance)}"
-        )
-    else:
-        what = f"{first} collides with {second} ({small_length(check.penetration)} deep)"
-    point = "" if check.point is None else f" near {where(check.point)}"
-    return Event(
-        Status.COLLISION, float(t[k]), float(s[k]), k, f"{what} {when}{point}", position,
-        value=float(check.distance), limit=float(check.clearance),
-        remedy="move the path or the obstacle, or start from another configuration (q_seed)",
-    )  # fmt: skip
-
-
 def _check_robot_and_path(robot: object, path: object) -> None:
     if not isinstance(robot, Robot):
         raise InputError(
@@ -387,217 +359,3 @@ def _check_robot_and_path(robot: object, path: object) -> None:
             "path must be a cartesian path (cartesian.Line, Arc, Circle, Polyline, PathSequence, "
             f"FunctionPath), got {checks.describe(path)}"
         )
-
-
-def _track(tracker: Tracker, path: Path, timing: PathTiming, seed: np.ndarray) -> CartesianPlan:
-    robot = tracker.robot
-    position_only = tracker.position_only
-    t, s, sd, sdd = timing.t, timing.s, timing.sd, timing.sdd
-    n, nq = len(t), robot.nq
-
-    targets = path_targets(path, s, position_only, tracker.rows)
-    xd = targets.rate * sd[:, None]  # task velocity ẋ = x' ṡ
-    xdd = targets.curvature * (sd**2)[:, None] + targets.rate * sdd[:, None]  # x'' ṡ² + x' s̈
-    # a clean path on an arm with a vectorised closed form: every sample at once
-    clean = batch_track.track(tracker, targets, timing, xd, xdd, seed)
-    if clean is None:  # any other arm: the lean loop, monitored after it
-        clean = lean_track.track(tracker, targets, timing, xd, xdd, seed)
-    if clean is not None:
-        return _clean_plan(tracker, path, timing, targets.positions, clean)
-
-    positions, position_floats = targets.positions, targets.positions.tolist()
-    rotations: Sequence[np.ndarray | None]
-    rotation_floats: Sequence[list[float] | None]
-    if targets.rotations is None:
-        rotations, rotation_floats = [None] * n, [None] * n
-    else:
-        rotations = list(targets.rotations)
-        rotation_floats = targets.rotations.reshape(n, 9).tolist()
-
-    # per sample: IK, Jacobian, manipulability, q̇ (for the next prediction); q̈ after the loop
-    qs: list[np.ndarray] = []
-    qds: list[np.ndarray] = []
-    jacobians: list[np.ndarray] = []
-    tools: list[tuple[float, float, float]] = []
-    manips: list[float] = []
-    events: list[Event] = []
-    q_prev: np.ndarray | None = None
-    qd_prev: np.ndarray | None = None
-    qd_before: np.ndarray | None = None
-    qdd_first = np.zeros(nq)  # q̈ at the first sample when it is at rest, for the second's guess
-    steps = np.diff(t, prepend=0.0).tolist()  # h_k = t_k − t_(k−1) [s]
-    weights = adams_bashforth_weights(np.diff(t))
-    for k in range(n):
-        if k == 0:
-            guess = tracker.start(positions[0], rotations[0], seed)
-        elif qd_before is None:  # second sample: Taylor, with q̈ = J⁺ẍ when starting at rest
-            assert q_prev is not None and qd_prev is not None  # sample k − 1 was kept
-            guess = q_prev + qd_prev * steps[k] + (0.5 * steps[k] ** 2) * qdd_first
-        else:
-            assert q_prev is not None and qd_prev is not None  # sample k − 1 was kept
-            w_prev, w_before = weights[k]
-            guess = q_prev + qd_prev * w_prev + qd_before * w_before
-        # most predictions are within tolerance: one kinematics pass, else Newton steps
-        evaluation, corrections = tracker.evaluate(guess, position_floats[k], rotation_floats[k]), 0
-        if not tracker.within(evaluation):
-            _, ok, _, _, corrections, evaluation = tracker.solve(
-                guess, positions[k], rotations[k], evaluated=evaluation
-            )
-            if not ok:
-                found = tracker.rescue(k, t[k], s[k], guess, q_prev, positions[k], rotations[k])
-                if isinstance(found, Event):
-                    events.append(found)
-                    break
-                evaluation = tracker.evaluate(found, position_floats[k], rotation_floats[k])
-                corrections = 1
-        q = evaluation.q
-        event, J, m, qd = tracker.check_sample(
-            k, t[k], s[k], evaluation, q_prev, qd_prev, steps[k], xd[k], positions[k], corrections
-        )
-        if event is not None and k > 0 and event.kind in (Status.JOINT_LIMIT, Status.JUMP):
-            assert q_prev is not None  # sample k − 1 was kept
-            # a limit or a branch flip, or only a step too coarse for a fast motion?
-            traced = trace_between(tracker, path, s[k - 1], s[k], q_prev)
-            if isinstance(traced, Event):  # met between the samples: reported at sample k
-                traced.t, traced.s, traced.index = float(t[k]), float(s[k]), k
-                traced.position = positions[k]
-                event = traced
-            elif traced is not None:  # the continuous solution
-                evaluation = tracker.evaluate(traced, position_floats[k], rotation_floats[k])
-                q = traced
-                event, J, m, qd = tracker.check_sample(
-                    k, t[k], s[k], evaluation, q_prev, qd_prev, steps[k], xd[k], positions[k], 1
-                )
-                if event is not None and event.kind == Status.JUMP:
-                    assert qd is not None  # a jump is checked after the rates
-                    event = tracker.coarse_step_event(
-                        k, t, s[k], q, q_prev, qd, qd_prev, steps[k], positions[k], qs, qds
-                    )
-        if event is not None:
-            events.append(event)
-            break
-        assert J is not None and qd is not None  # no event: the sample's Jacobian and rates
-        if k == 0 and not qd.any():
-            qdd_first = tracker.rates(xdd[0])
-        qs.append(q)
-        qds.append(qd)
-        jacobians.append(J)
-        tools.append(evaluation.tool_position)
-        manips.append(m)
-        q_prev, qd_prev, qd_before = q, qd, qd_prev
-
-    done = len(qs)
-    q_out = np.array(qs).reshape(done, nq)
-    qd_out = np.array(qds).reshape(done, nq)
-    # joint speeds are checked once, vectorised (rates and mean speeds between samples); a
-    # sample too fast comes before any event the loop stopped at (those stop the loop at index
-    # `done`), so it is the first event
-    ratios = joint_speeds(q_out, qd_out, t[:done]) / tracker.speed_limit
-    over = np.flatnonzero((ratios > 1.0).any(axis=1))
-    peak = float(ratios.max(initial=0.0))
-    if len(over):
-        k = int(over[0])
-        events = [tracker.speed_event(k, t[k], s[k], ratios[k], peak, positions[k])]
-        done = k
-    q_out, qd_out = q_out[:done], qd_out[:done]
-    jacobian_stack = np.array(jacobians[:done]).reshape(done, 6, nq)
-    qdd_out = tracker.accelerations(q_out, jacobian_stack, qd_out, xdd[:done])
-    peak_accel = 0.0
-    if np.isfinite(tracker.acceleration_limit).any() and done:
-        # accelerations are checked where they are limited; q̈ is exact at every sample (the
-        # profiles' s̈ jumps at their knots: a knot's sample carries the later segment's)
-        accel_ratios = np.abs(qdd_out) / tracker.acceleration_limit
-        peak_accel = float(accel_ratios.max())
-        hard = np.flatnonzero((accel_ratios > 1.0 + 1e-9).any(axis=1))
-        if len(hard):
-            k = int(hard[0])
-            events = [
-                tracker.acceleration_event(k, t[k], s[k], qdd_out[k], peak_accel, positions[k])
-            ]
-            done = k
-            q_out, qd_out, qdd_out = q_out[:done], qd_out[:done], qdd_out[:done]
-    min_clearance = min_self_clearance = np.inf
-    check = None
-    if tracker.cell is not None and done:
-        check = tracker.cell.check_motion(q_out, tracker.clearance)
-        min_clearance, min_self_clearance = check.min_obstacle_clearance, check.min_self_clearance
-        if check.index is not None:
-            k = check.index
-            events = [collision_event(check, t, s, positions[k])]
-            done = k
-            q_out, qd_out, qdd_out = q_out[:done], qd_out[:done], qdd_out[:done]
-    tool = np.array(tools[:done]).reshape(done, 3)
-    manip = np.array(manips[:done])
-
-    ok = not events
-    deviation = np.linalg.norm(tool - positions[:done], axis=1)
-    return CartesianPlan(
-        t=t[:done].copy(),
-        q=q_out,
-        qd=qd_out,
-        qdd=qdd_out,
-        s=s[:done].copy(),
-        ok=ok,
-        status=Status.OK if ok else events[0].kind,
-        peak_speed_ratio=peak,
-        peak_acceleration_ratio=peak_accel,
-        fraction=1.0 if ok else (float(s[done - 1]) if done else 0.0),
-        events=events,
-        max_deviation=float(deviation.max()) if done else 0.0,
-        min_manipulability=float(manip.min()) if done else 0.0,
-        duration=float(timing.duration),
-        path=path,
-        position_only=position_only,
-        singular_threshold=float(tracker.singular_threshold),
-        tool_positions=tool,
-        manipulability=manip,
-        robot=robot,
-        min_clearance=float(min_clearance),
-        min_self_clearance=float(min_self_clearance),
-        cell=tracker.cell,
-        cell_check=check,
-    )
-
-
-def _clean_plan(
-    tracker: Tracker,
-    path: Path,
-    timing: PathTiming,
-    positions: np.ndarray,
-    clean: batch_track.BatchTrack,
-) -> CartesianPlan:
-    """The plan of a path :func:`cartesian.batch_track.track` solved whole (status ok).
-
-    Args:
-        positions: The path's tool positions at the samples [m], (N, 3).
-    """
-    check = clean.check
-    deviation = np.linalg.norm(clean.tool_positions - positions, axis=1)
-    return CartesianPlan(
-        t=timing.t.copy(),
-        q=clean.q,
-        qd=clean.qd,
-        qdd=clean.qdd,
-        s=timing.s.copy(),
-        ok=True,
-        status=Status.OK,
-        peak_speed_ratio=clean.peak_speed_ratio,
-        peak_acceleration_ratio=float(
-            (np.abs(clean.qdd) / tracker.acceleration_limit).max(initial=0.0)
-        ),
-        fraction=1.0,
-        events=[],
-        max_deviation=float(deviation.max()),
-        min_manipulability=float(clean.manipulability.min()),
-        duration=float(timing.duration),
-        path=path,
-        position_only=tracker.position_only,
-        singular_threshold=float(tracker.singular_threshold),
-        tool_positions=clean.tool_positions,
-        manipulability=clean.manipulability,
-        robot=tracker.robot,
-        min_clearance=np.inf if check is None else float(check.min_obstacle_clearance),
-        min_self_clearance=np.inf if check is None else float(check.min_self_clearance),
-        cell=tracker.cell,
-        cell_check=check,
-    )

@@ -22,7 +22,7 @@ import numpy as np
 import pinocchio as pin
 
 import cartesian
-from cartesian.follow import collision_event
+from cartesian.events import collision_event
 from kinplan import checks
 from kinplan.cell import MotionCheck, WorkCell
 from kinplan.errors import InputError, KinplanError
