@@ -9,12 +9,43 @@ SciPy's BLAS.
 
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 
 try:
     import numba
 except ImportError:  # pragma: no cover - numba is a dependency; the callers fall back
     numba = None  # type: ignore[assignment]
+
+logger = logging.getLogger(__name__)
+
+COMPILE_NOTE = (
+    "compiling kinplan's numba loops on first use (some seconds, once: cached on disk for the "
+    "next runs; KINPLAN_JIT=0 runs the pure-Python loops instead)"
+)
+"""Logged (INFO, ``kinplan.compiled``) when numba starts compiling for the first time in a
+process (a load from numba's disk cache compiles nothing and logs nothing); the ``kinplan``
+command prints it as a one-line note."""
+
+
+if numba is not None:
+    from numba.core import event as _numba_event
+
+    class _FirstCompile(_numba_event.Listener):
+        """Logs :data:`COMPILE_NOTE` at the first compilation of the process."""
+
+        noted = False
+
+        def on_start(self, event: object) -> None:
+            if not _FirstCompile.noted:
+                _FirstCompile.noted = True
+                logger.info(COMPILE_NOTE)
+
+        def on_end(self, event: object) -> None:
+            pass
+
+    _numba_event.register("numba:compile", _FirstCompile())
 
 
 def jit(function):

@@ -44,6 +44,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.verbose:
         logging.basicConfig(level=logging.INFO, format="%(name)s: %(message)s")
         logging.captureWarnings(True)  # Python warnings become log lines
+    else:
+        _notes_on_stderr()
     with warnings.catch_warnings():
         if not args.verbose:  # stderr holds kinplan's own lines only (one line on failure)
             warnings.simplefilter("ignore")
@@ -68,6 +70,28 @@ def _dispatch(args: argparse.Namespace) -> int:
             f"internal error ({type(exc).__name__}: {one_line(exc)}); please report it with the "
             "command that caused it (kinplan -v ... logs the traceback)"
         )
+
+
+def interactive() -> bool:
+    """Whether stderr is a terminal (a person waiting, not a log that must stay one line)."""
+    return bool(getattr(sys.stderr, "isatty", lambda: False)())
+
+
+class _NoteHandler(logging.Handler):
+    """Log records as ``kinplan: note: ...`` lines on the current stderr, when it is a
+    terminal (off one, stderr keeps the one-line error of a failure)."""
+
+    def emit(self, record: logging.LogRecord) -> None:
+        if interactive():
+            print(f"kinplan: note: {record.getMessage()}", file=sys.stderr, flush=True)
+
+
+def _notes_on_stderr() -> None:
+    """Print the library's one-line notes (numba compiling on first use) on stderr."""
+    compiled = logging.getLogger("kinplan.compiled")
+    if not any(isinstance(h, _NoteHandler) for h in compiled.handlers):
+        compiled.addHandler(_NoteHandler(logging.INFO))
+        compiled.setLevel(logging.INFO)
 
 
 def _silence_stdout() -> None:

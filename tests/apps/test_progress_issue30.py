@@ -99,3 +99,40 @@ def test_best_on_edge_names_each_axis_where_the_best_pose_is_at_an_end():
     ]
     assert search((0.0, 0.0, 0.0), 270.0, [0.0, 90.0, 180.0, 270.0]).best_on_edge == []
     assert search((0.1, 0.1, 0.0), 0.0, [0.0], ok=False).best_on_edge == []
+
+
+def test_a_note_while_numba_compiles_for_the_first_time(capsys, caplog, monkeypatch):
+    import logging
+
+    import numba
+
+    import sys
+
+    import kinplan.compiled as compiled
+    from kinplan.cli import main
+
+    cli_main = sys.modules["kinplan.cli.main"]  # the module (kinplan.cli.main is the function)
+
+    monkeypatch.setattr(cli_main, "interactive", lambda: True)  # as at a terminal
+
+    assert main(["info", "planar_2r"]) == 0  # installs the note's printer
+    capsys.readouterr()
+    compiled._FirstCompile.noted = False  # as in a fresh process
+
+    @numba.njit(cache=False)
+    def fresh(x):
+        return 2 * x + 1
+
+    with caplog.at_level(logging.INFO, logger="kinplan.compiled"):
+        assert fresh(3) == 7  # compiles: the first compilation of "this process"
+        assert fresh(4) == 9  # compiled already: nothing more
+
+        @numba.njit(cache=False)
+        def other(x):
+            return x
+
+        other(1)  # a second compilation: no second note
+    notes = [r.getMessage() for r in caplog.records if r.name == "kinplan.compiled"]
+    assert notes == [compiled.COMPILE_NOTE]
+    err = capsys.readouterr().err
+    assert err.splitlines() == [f"kinplan: note: {compiled.COMPILE_NOTE}"]
