@@ -103,10 +103,9 @@ def test_best_on_edge_names_each_axis_where_the_best_pose_is_at_an_end():
 
 def test_a_note_while_numba_compiles_for_the_first_time(capsys, caplog, monkeypatch):
     import logging
+    import sys
 
     import numba
-
-    import sys
 
     import kinplan.compiled as compiled
     from kinplan.cli import main
