@@ -72,12 +72,19 @@ logger = logging.getLogger(__name__)
 #: Share of a joint's speed limit a waypoint-to-waypoint change may use (the smooth law
 #: between waypoints moves faster than their average).
 SPEED_MARGIN = 0.7
+#: Candidates this many times the follower's singularity threshold or nearer to a singularity
+#: are left out (the ladder's cost keeps its paths farther away).
+SINGULAR_MARGIN = 1.05
 #: Largest joint change between waypoints [rad]: more is a branch flip.
 JUMP_CAP = math.pi / 3
 #: How many ladder paths (distinct start candidates) are tracked before giving up.
 ATTEMPTS = 4
-#: Constant-roll starts tracked when no ladder path could be (see _constant_roll_choices).
+#: Constant-roll paths of the ladder tracked when its best paths could not be.
 FALLBACKS = 8
+#: Constant-roll attempts (screened) after those (see _constant_roll_choices), and how many
+#: start candidates per roll.
+SWEEP = 16
+START_CANDIDATES = 3
 #: Other start configurations of a redundant arm tried with the best roll law.
 OTHER_STARTS = 6
 #: Distance [m] / angle [rad] within which ``q_start`` counts as on the path's start.
@@ -185,7 +192,7 @@ def plan_seam(
         singular_threshold = SINGULAR_FRACTION * robot.reference_manipulability(False)
     ladder = _build_ladder(
         robot, path, s, rotations, frames, timing, free, fixed_roll, resolution,
-        work_tolerance, travel_tolerance, self_motion, 1.5 * float(singular_threshold),
+        work_tolerance, travel_tolerance, self_motion, SINGULAR_MARGIN * float(singular_threshold),
         velocity_scale, retime, cell, clearance,
     )  # fmt: skip
     if start is not None:
@@ -214,7 +221,7 @@ def plan_seam(
         paths,
         _lazy(lambda: _other_starts(ladder, paths[0] if paths else None, OTHER_STARTS)),
         _lazy(lambda: _constant_roll_paths(ladder)),
-        _lazy(lambda: _constant_roll_choices(robot, path, ladder, s, start)),
+        _constant_roll_choices(robot, path, ladder, s, start),
     )
     for choice in choices:
         # the first attempt in full (its events say why, if all fail); the others screened
@@ -277,45 +284,54 @@ def _other_starts(ladder: Ladder, best: LadderPath | None, count: int) -> list[L
 
 def _constant_roll_choices(
     robot: Robot, path: Path, ladder: Ladder, s: np.ndarray, start: np.ndarray | None
-) -> list[LadderPath]:
-    """Up to :data:`FALLBACKS` ladder-like paths of one constant roll and no tilt, each from a
-    start of that roll: the rolls with a candidate at every waypoint, nearest the taught roll
-    first; from the IK solution nearest the arm's neutral configuration, then from the start
-    candidate farthest from singularities."""
+) -> Iterator[LadderPath]:
+    """Up to :data:`SWEEP` constant-roll attempts without tilt, as a brute-force search makes
+    them but in a better order: the rolls with a candidate at every waypoint, nearest the taught
+    roll first; first from each roll's IK solution nearest the arm's neutral configuration,
+    then from its start candidates (every branch and self-motion sample), farthest from
+    singularities first. Generated lazily: each is made when the one before has failed."""
     c = ladder.candidates
     K, S, B, I = c.valid.shape
     untilted = np.flatnonzero(~c.tilt.any(axis=1))
     if start is not None or not untilted.size:
-        return []
+        return
     valid = c.valid[:, untilted]  # (K, S0, B, I)
     rolls = c.roll[untilted]  # (S0, I)
-    choices: list[LadderPath] = []
     values = np.unique(np.round(rolls, 9))
+    masks = [np.isclose(rolls, r) for r in values]
     everywhere = [
-        r for r in values if all(valid[k][np.isclose(rolls, r)[:, None, :].repeat(B, 1)].any()
-                                 for k in range(K))
-    ]  # fmt: skip
-    everywhere.sort(key=lambda r: abs(_wrap(r)))
-    for r in everywhere:
-        at_start = np.isclose(rolls, r)[:, None, :].repeat(B, 1) & valid[0]
-        nodes = np.argwhere(at_start)
-        costs = c.manipulability[0, untilted][nodes[:, 0], nodes[:, 1]]
-        rotation = path.rotation(np.zeros(1))
-        assert rotation is not None
+        (r, mask)
+        for r, mask in zip(values.tolist(), masks)
+        if (valid & mask[None, :, None, :]).any(axis=(1, 2, 3)).all()
+    ]
+    everywhere.sort(key=lambda item: abs(_wrap(item[0])))
+    rotation = path.rotation(np.zeros(1))
+    assert rotation is not None
+    position = path.position(np.zeros(1))[0]
+
+    def attempt(q: np.ndarray, r: float) -> LadderPath:
+        return LadderPath(
+            np.zeros(K, int), np.tile(q, (K, 1)), np.full(K, r), np.zeros((K, 2)), 0.0
+        )
+
+    made = 0
+    for r, _ in everywhere:  # pass 1: the start a person would take, per roll
         cr, sr = math.cos(r), math.sin(r)
         turned = rotation[0] @ np.array([[cr, -sr, 0.0], [sr, cr, 0.0], [0.0, 0.0, 1.0]])
-        home = robot.ik(pin.SE3(turned, path.position(np.zeros(1))[0]), q_seed=robot.neutral())
-        starts = [home.q] if home.success else []
-        starts += [c.q[0, untilted[slot], b, i] for slot, b, i in nodes[np.argsort(-costs)][:1]]
-        for q in starts:
-            choices.append(
-                LadderPath(
-                    np.zeros(K, int), np.tile(q, (K, 1)), np.full(K, r), np.zeros((K, 2)), 0.0
-                )
-            )
-            if len(choices) >= FALLBACKS:
-                return choices
-    return choices
+        home = robot.ik(pin.SE3(turned, position), q_seed=robot.neutral())
+        if home.success:
+            yield attempt(home.q, r)
+            made += 1
+            if made >= SWEEP // 2:
+                break
+    for r, mask in everywhere:  # pass 2: the candidates of the first waypoint
+        nodes = np.argwhere(mask[:, None, :] & valid[0])
+        manipulability = c.manipulability[0, untilted][nodes[:, 0], nodes[:, 1]]
+        for slot, b, i in nodes[np.argsort(-manipulability)][:START_CANDIDATES].tolist():
+            yield attempt(c.q[0, untilted[slot], b, i], r)
+            made += 1
+            if made >= SWEEP:
+                return
 
 
 # ------------------------------------------------------------------------------ inputs
