@@ -77,6 +77,7 @@ Modules, each importing only those above it:
 - :mod:`~kinplan.program.checker`: collects issues with key path and line, reads checked values;
 - :mod:`~kinplan.program.robots` (source resolution, cache), then one module per section:
   :mod:`~kinplan.program.robot_keys`, :mod:`~kinplan.program.points`,
+  :mod:`~kinplan.program.process` (``arc:``, ``io:``, ``payload:``, ``color:``),
   :mod:`~kinplan.program.moves`;
 - :mod:`~kinplan.program.validate`: :func:`load_program`, :func:`parse_program`;
 - :mod:`~kinplan.program.peaks` (exact peaks of polynomial motions),
