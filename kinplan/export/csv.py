@@ -19,7 +19,22 @@ from kinplan.export.common import checked_joint_names, logger, name_list, plan_t
 from kinplan.export.limits import check_limits
 from kinplan.motion import SampledMotion
 
-__all__ = ["csv_header", "write_csv"]
+__all__ = ["csv_header", "output_levels", "write_csv"]
+
+
+def output_levels(plan: SampledMotion) -> dict[int, np.ndarray]:
+    """The level (0 or 1) of each digital output a plan's I/O events set, at its samples.
+
+    An event sets its output from its instant ``t`` on (samples at ``t`` or later, with a
+    1e-9 s tolerance); outputs start at 0. Empty for a motion without ``io_events``.
+    """
+    events = sorted(getattr(plan, "io_events", None) or [], key=lambda e: e.t)
+    t = np.asarray(plan.t, dtype=float)
+    levels: dict[int, np.ndarray] = {}
+    for event in events:
+        column = levels.setdefault(int(event.output), np.zeros(len(t)))
+        column[t >= float(event.t) - 1e-9] = 1.0 if event.value else 0.0
+    return dict(sorted(levels.items()))
 
 
 def csv_header(joint_names: Sequence[str]) -> list[str]:
@@ -38,6 +53,9 @@ def write_csv(
     """Write the samples of a plan as CSV, one row per sample, with a header line.
 
     Units: s, rad (or m for prismatic joints), rad/s, rad/s², m; the quaternion is (x, y, z, w).
+    A program plan with I/O (``arc:``, ``io:``) has one more column per digital output it sets,
+    ``do<N>``: the output's level (0 or 1) at each sample, an event counting from its instant
+    on (outputs start at 0).
 
     Args:
         path: File to write (its folder is created).
@@ -58,6 +76,10 @@ def write_csv(
     header = csv_header(checked_joint_names(plan, joint_names, np.shape(plan.q)[-1]))
     check_limits(plan, "write_csv")
     table = np.column_stack([plan.t, plan.q, plan.qd, plan.qdd, track.positions, track.quaternions])
+    levels = output_levels(plan)
+    if levels:
+        header += [f"do{output}" for output in levels]
+        table = np.column_stack([table, *levels.values()])
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
         np.savetxt(

@@ -168,3 +168,15 @@ def test_servo_style_sets_the_outputs_at_their_instant(plan):
         index = stream.index(after[0])
         assert index == int(np.ceil(event.t / 0.008 - 1e-9)), (event, index)
     assert "set_payload(1.5, [0.0, 0.01, 0.1])" in script
+
+
+def test_csv_has_a_column_per_output_with_its_level(plan, tmp_path):
+    path = export.write_csv(tmp_path / "io.csv", plan, plan.robot.joint_names)
+    header = path.read_text().splitlines()[0].split(",")
+    assert header[-3:] == ["do0", "do2", "do5"]
+    table = np.loadtxt(path, delimiter=",", skiprows=1)
+    t, do0, do2, do5 = table[:, 0], table[:, -3], table[:, -2], table[:, -1]
+    on, off = (e.t for e in plan.io_events if e.kind == "arc")
+    np.testing.assert_array_equal(do0, ((t >= on - 1e-9) & (t < off - 1e-9)).astype(float))
+    np.testing.assert_array_equal(do2, (t < off - 1e-9).astype(float))  # on from 0, off at move 3
+    np.testing.assert_array_equal(do5, (t >= off - 1e-9).astype(float))
