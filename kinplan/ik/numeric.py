@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import eigenpy
 import numpy as np
@@ -262,6 +262,9 @@ class IKSolver:
         self._no_lower = np.full(model.nq, -np.inf)
         self._no_upper = np.full(model.nq, np.inf)
         self._restarts: np.ndarray = np.empty((0, model.nq))
+        #: The compiled solve: None until first needed, then (module, screws, tool) or False.
+        self._kernel: tuple[Any, np.ndarray, np.ndarray] | bool | None = None
+        self._limits = np.ascontiguousarray(np.vstack([lower, upper]))
         #: Which solver :meth:`kinplan.Robot.ik` uses for this arm: a closed form, or numerical and
         #: why no closed form fits (set by the robot when it looks for one).
         self.description = "numerical (Levenberg–Marquardt)"
@@ -497,6 +500,12 @@ class IKSolver:
                     )
                 if perr <= position_tolerance and rerr <= rotation_tolerance:
                     return IKResult(q, True, perr, rerr, its, 1, "analytic")
+        compiled = self._compiled_solve(
+            position, rotation, q_seed, position_tolerance, rotation_tolerance,
+            max_iterations, max_restarts,
+        )  # fmt: skip
+        if compiled is not None:
+            return compiled
         for attempt in range(max_restarts + 1):
             start = q_seed if attempt == 0 else self.restart_configuration(attempt)
             q, ok, perr, rerr, its, _ = self.descend(
@@ -518,6 +527,56 @@ class IKSolver:
             q, perr, rerr, its = rescued
             return IKResult(q, True, perr, rerr, total + its, max_restarts + 2)
         return IKResult(q, False, perr, rerr, total, max_restarts + 1)
+
+    def _compiled_solve(
+        self,
+        position: np.ndarray,
+        rotation: np.ndarray | None,
+        q_seed: np.ndarray,
+        position_tolerance: float,
+        rotation_tolerance: float,
+        max_iterations: int,
+        max_restarts: int,
+    ) -> IKResult | None:
+        """The seeded attempt, the restarts and the polish compiled
+        (:mod:`kinplan.ik.numeric_kernel`), for serial revolute arms: the result when it
+        converged (its errors measured by Pinocchio), else None (the Python loop then runs the
+        whole solve, with the solve without limits). None also without numba, for other arms
+        and for a target with a NaN."""
+        if self._kernel is None:
+            from kinplan.ik import numeric_kernel  # numba loads on first use
+
+            found = numeric_kernel.screw_constants(self.model, self.frame_id)
+            self._kernel = (numeric_kernel, *found) if found is not None else False
+        if not isinstance(self._kernel, tuple):
+            return None
+        kernel, screws, tool = self._kernel
+        target = np.eye(4)
+        target[:3, 3] = position
+        if rotation is not None:
+            target[:3, :3] = rotation
+        settings = np.array(
+            [position_tolerance**2, frobenius_tolerance(rotation_tolerance), max_iterations,
+             DAMPING_GAIN, DAMPING_FLOOR, STALL_ITERATIONS, MAX_STEP]
+        )  # fmt: skip
+        polish = settings.copy()
+        polish[2] = POLISH_ITERATIONS * max_iterations if max_restarts > 0 else 0
+        polish[4], polish[5] = POLISH_DAMPING_FLOOR, POLISH_STALL_ITERATIONS
+        if max_restarts > 0:
+            self.restart_configuration(max_restarts)  # the Halton starts, made once
+        restarts = self._restarts[:max_restarts]
+        q = np.empty(self.nq)
+        limits = self._limits
+        ok, attempts, its, _, _ = kernel.solve(
+            np.asarray(q_seed, dtype=float), target, rotation is not None, limits, screws,
+            tool, settings, polish, restarts, q,
+        )  # fmt: skip
+        if not ok:
+            return None
+        perr, rerr = self.errors(q, position, rotation)
+        if perr > position_tolerance or rerr > rotation_tolerance:
+            return None
+        return IKResult(q, True, perr, rerr, its, attempts)
 
     def _rescue(
         self,

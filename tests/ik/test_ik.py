@@ -341,7 +341,8 @@ def test_success_after_restarts_counts_the_iterations_of_every_attempt(panda):
         ]
         assert [r[1] for r in runs] == [False] * (res.attempts - 1) + [True]
         assert res.iterations == sum(r[4] for r in runs)
-        np.testing.assert_array_equal(res.q, runs[-1][0])
+        # solve() runs compiled (kinplan.ik.numeric_kernel): the same steps in another rounding
+        np.testing.assert_allclose(res.q, runs[-1][0], rtol=0, atol=1e-9)
     assert found >= 3
 
 

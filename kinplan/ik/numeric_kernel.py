@@ -1,0 +1,337 @@
+"""The numerical IK of :class:`kinplan.ik.IKSolver` compiled (numba), for serial arms of
+revolute joints: the seeded attempt, the Halton restarts and the polish of the best attempt.
+
+:meth:`IKSolver.solve <kinplan.ik.numeric.IKSolver.solve>` iterates Levenberg–Marquardt steps
+on Pinocchio from Python, ~20 µs an iteration on a quiet machine (the Python around the
+kinematics pass and a 6×6 solve); arms without a closed form need 10–40 iterations, more with
+restarts. :func:`solve` runs the same steps compiled: kinematics as a product of exponentials
+of the joint screws at q = 0 (checked against Pinocchio's tool pose and Jacobian when the
+solver is built, :func:`screw_constants`), the error ``[p* − p; log(R* Rᵀ)]``, the damped
+normal equations ``(JᵀJ + λI) Δq = Jᵀe`` with λ = ``DAMPING_GAIN``·½‖e‖² + floor solved by
+Cholesky, the joint limits as an active set, the step cap, the stall rule; then restarts from
+the configurations the caller passes (the solver's Halton set) and, when all fail, a polish of
+the best attempt with the polish floor and patience. The rest of a failed solve (the solve
+without limits, turned into them by whole turns) stays in Python. Answers are those of the
+Python loop in another rounding (``tests/ik/test_numeric_kernel.py``).
+
+numba loads with this module, which :class:`~kinplan.ik.numeric.IKSolver` imports on its first
+numerical solve; without numba (or with ``KINPLAN_JIT=0``) :func:`available` is False and the
+Python loop runs.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from kinplan.compiled import jit, numba, product_into, rotation_about
+
+#: Private switch for tests and benchmarks: False makes :func:`available` False.
+ENABLED = os.environ.get("KINPLAN_JIT", "1") != "0"
+
+#: Largest difference between the screw kinematics and Pinocchio's tool pose and Jacobian
+#: (entries, [m] or [–]) on the check configurations for the kernel to be used.
+AGREEMENT = 1e-12
+
+
+def available() -> bool:
+    """Whether the compiled solve can be used (numba installed and not switched off)."""
+    return ENABLED and numba is not None
+
+
+@jit
+def kinematics(q, directions, points, tool, pose, jacobian):
+    """Tool pose (4, 4) and LOCAL_WORLD_ALIGNED Jacobian (6, nq) at ``q`` [rad] by the product
+    of exponentials T(q) = exp(S1 q1) ⋯ exp(Sn qn) M of the joint screws at q = 0 (unit axes
+    ``directions`` through ``points`` [m], tool pose ``tool`` at q = 0), written into ``pose``
+    and ``jacobian``. Joint i's column is (ωᵢ × (p_tool − xᵢ), ωᵢ)."""
+    nq = q.shape[0]
+    rotation = np.eye(3)
+    translation = np.zeros(3)
+    origins = np.empty((nq, 3))
+    step = np.empty((3, 3))
+    turned = np.empty((3, 3))
+    for i in range(nq):
+        px, py, pz = points[i, 0], points[i, 1], points[i, 2]
+        for a in range(3):
+            jacobian[3 + a, i] = (
+                rotation[a, 0] * directions[i, 0]
+                + rotation[a, 1] * directions[i, 1]
+                + rotation[a, 2] * directions[i, 2]
+            )
+            origins[i, a] = (
+                rotation[a, 0] * px + rotation[a, 1] * py + rotation[a, 2] * pz + translation[a]
+            )
+        rotation_about(directions[i], math.cos(q[i]), math.sin(q[i]), step)
+        sx = px - (step[0, 0] * px + step[0, 1] * py + step[0, 2] * pz)
+        sy = py - (step[1, 0] * px + step[1, 1] * py + step[1, 2] * pz)
+        sz = pz - (step[2, 0] * px + step[2, 1] * py + step[2, 2] * pz)
+        for a in range(3):
+            translation[a] += rotation[a, 0] * sx + rotation[a, 1] * sy + rotation[a, 2] * sz
+        product_into(rotation, step, turned)
+        rotation, turned = turned, rotation
+    product_into(rotation, tool[:3, :3], pose[:3, :3])
+    for a in range(3):
+        pose[a, 3] = (
+            rotation[a, 0] * tool[0, 3]
+            + rotation[a, 1] * tool[1, 3]
+            + rotation[a, 2] * tool[2, 3]
+            + translation[a]
+        )
+    pose[3, 0] = pose[3, 1] = pose[3, 2] = 0.0
+    pose[3, 3] = 1.0
+    for i in range(nq):
+        wx, wy, wz = jacobian[3, i], jacobian[4, i], jacobian[5, i]
+        rx = pose[0, 3] - origins[i, 0]
+        ry = pose[1, 3] - origins[i, 1]
+        rz = pose[2, 3] - origins[i, 2]
+        jacobian[0, i] = wy * rz - wz * ry
+        jacobian[1, i] = wz * rx - wx * rz
+        jacobian[2, i] = wx * ry - wy * rx
+
+
+@jit
+def log_rotation(m, out):
+    """The rotation vector of the rotation matrix ``m`` (as ``pinocchio.log3``) into ``out``
+    (3,), for every angle in [0, π]."""
+    vx = 0.5 * (m[2, 1] - m[1, 2])
+    vy = 0.5 * (m[0, 2] - m[2, 0])
+    vz = 0.5 * (m[1, 0] - m[0, 1])
+    cosine = min(max(0.5 * (m[0, 0] + m[1, 1] + m[2, 2] - 1.0), -1.0), 1.0)
+    sine = math.sqrt(vx * vx + vy * vy + vz * vz)
+    angle = math.atan2(sine, cosine)
+    if cosine > -0.9:  # the antisymmetric part is well conditioned
+        factor = angle / sine if sine > 1e-8 else 1.0 + angle * angle / 6.0
+        out[0], out[1], out[2] = factor * vx, factor * vy, factor * vz
+        return
+    # near a half turn: the axis from the symmetric part, its sign from the antisymmetric one
+    big = 0
+    for i in range(1, 3):
+        if m[i, i] > m[big, big]:
+            big = i
+    axis = np.empty(3)
+    for i in range(3):
+        axis[i] = 0.5 * (m[i, big] + m[big, i])
+    axis[big] = m[big, big] - cosine
+    norm = math.sqrt(axis[0] ** 2 + axis[1] ** 2 + axis[2] ** 2)
+    if axis[0] * vx + axis[1] * vy + axis[2] * vz < 0.0:
+        norm = -norm
+    for i in range(3):
+        out[i] = angle * axis[i] / norm
+
+
+@jit
+def _cholesky_solve(a, b, n):
+    """x with a x = b for the symmetric positive definite leading (n, n) block of ``a``
+    (copied); NaN when it is not positive definite."""
+    low = np.zeros((n, n))
+    for j in range(n):
+        total = a[j, j]
+        for k in range(j):
+            total -= low[j, k] * low[j, k]
+        if not total > 0.0:
+            return np.full(n, np.nan)
+        low[j, j] = math.sqrt(total)
+        for i in range(j + 1, n):
+            total = a[i, j]
+            for k in range(j):
+                total -= low[i, k] * low[j, k]
+            low[i, j] = total / low[j, j]
+    y = np.empty(n)
+    for i in range(n):
+        total = b[i]
+        for k in range(i):
+            total -= low[i, k] * y[k]
+        y[i] = total / low[i, i]
+    x = np.empty(n)
+    for i in range(n - 1, -1, -1):
+        total = y[i]
+        for k in range(i + 1, n):
+            total -= low[k, i] * x[k]
+        x[i] = total / low[i, i]
+    return x
+
+
+@jit
+def descend(q0, target, with_rotation, limits, screws, tool, settings, q):
+    """One attempt of :meth:`IKSolver.descend <kinplan.ik.numeric.IKSolver.descend>` (with the
+    limits), compiled.
+
+    Args:
+        q0: Start [rad] (nq,), clipped into the limits here.
+        target: Target pose (4, 4) in the world frame.
+        with_rotation: Whether the rotation counts (else 3 task rows).
+        limits: Rows lower, upper [rad] (2, nq).
+        screws: Rows of directions then points (2·nq, 3).
+        tool: Tool pose at q = 0 (4, 4).
+        settings: (position tolerance² [m²], ‖R* − R‖_F² tolerance, max iterations, damping
+            gain, damping floor, stall patience, step cap [rad]).
+        q: Written with the last iterate.
+
+    Returns:
+        (converged, iterations, position error² [m²], ‖R* − R‖_F²).
+    """
+    nq = q0.shape[0]
+    directions, points = screws[:nq], screws[nq:]
+    tol_p2, tol_f2, max_iterations = settings[0], settings[1], int(settings[2])
+    gain, floor, patience, max_step = settings[3], settings[4], int(settings[5]), settings[6]
+    rows = 6 if with_rotation else 3
+    for i in range(nq):
+        q[i] = min(max(q0[i], limits[0, i]), limits[1, i])
+    pose = np.empty((4, 4))
+    jacobian = np.empty((6, nq))
+    relative = np.empty((3, 3))
+    error = np.zeros(6)
+    normal = np.empty((nq, nq))
+    gradient = np.empty(nq)
+    best_cost = np.inf
+    stalled = 0
+    perr2 = frob2 = np.inf
+    touching = True
+    it = 0
+    for it in range(max_iterations + 1):
+        kinematics(q, directions, points, tool, pose, jacobian)
+        for a in range(3):
+            error[a] = target[a, 3] - pose[a, 3]
+        perr2 = error[0] ** 2 + error[1] ** 2 + error[2] ** 2
+        frob2 = 0.0
+        if with_rotation:
+            for a in range(3):
+                for b in range(3):
+                    frob2 += (target[a, b] - pose[a, b]) ** 2
+        if perr2 <= tol_p2 and frob2 <= tol_f2:
+            return True, it, perr2, frob2
+        rerr2 = 0.0
+        if with_rotation:
+            for a in range(3):
+                for b in range(3):
+                    relative[a, b] = (
+                        target[a, 0] * pose[b, 0]
+                        + target[a, 1] * pose[b, 1]
+                        + target[a, 2] * pose[b, 2]
+                    )
+            log_rotation(relative, error[3:])
+            rerr2 = error[3] ** 2 + error[4] ** 2 + error[5] ** 2
+        if it == max_iterations:
+            break
+        cost = 0.5 * (perr2 + rerr2)
+        if cost < 0.999 * best_cost:
+            best_cost, stalled = cost, 0
+        else:
+            stalled += 1
+            if stalled >= patience:
+                break
+        damping = gain * cost + floor
+        for i in range(nq):
+            total = 0.0
+            for r in range(rows):
+                total += error[r] * jacobian[r, i]
+            gradient[i] = total
+            for j in range(i, nq):
+                total = 0.0
+                for r in range(rows):
+                    total += jacobian[r, i] * jacobian[r, j]
+                normal[i, j] = normal[j, i] = total
+            normal[i, i] += damping
+        dq = _cholesky_solve(normal, gradient, nq)
+        if touching:  # joints on a limit pushed outwards leave the step (active set)
+            blocked = False
+            for i in range(nq):
+                if (q[i] <= limits[0, i] and dq[i] < 0.0) or (q[i] >= limits[1, i] and dq[i] > 0.0):
+                    blocked = True
+                    for j in range(nq):
+                        normal[i, j] = 0.0
+                        normal[j, i] = 0.0
+                    normal[i, i] = 1.0
+                    gradient[i] = 0.0
+            if blocked:
+                dq = _cholesky_solve(normal, gradient, nq)
+        step = 0.0
+        for i in range(nq):
+            step = max(step, abs(dq[i]))
+        if not step < np.inf:  # NaN or inf: the normal matrix broke down
+            break
+        scale = max_step / step if step > max_step else 1.0
+        touching = False
+        for i in range(nq):
+            free = q[i] + scale * dq[i]
+            clamped = min(max(free, limits[0, i]), limits[1, i])
+            touching = touching or clamped != free
+            q[i] = clamped
+    return False, it, perr2, frob2
+
+
+@jit
+def solve(q_seed, target, with_rotation, limits, screws, tool, settings, polish, restarts, q):
+    """The seeded attempt, then the restarts, then the polish of the best attempt.
+
+    Args:
+        q_seed, target, with_rotation, limits, screws, tool, settings: As :func:`descend`.
+        polish: ``settings`` of the polish (its iterations, floor and patience).
+        restarts: Start configurations of the restarts (R, nq), in order.
+        q: Written with the answer (the best attempt when none converged).
+
+    Returns:
+        (converged, attempts (1 = the seed; R + 2 = the polish), iterations, position error²,
+        ‖R* − R‖_F²).
+    """
+    nq = q_seed.shape[0]
+    attempt_q = np.empty(nq)
+    best_q = np.empty(nq)
+    best_score = np.inf
+    total = 0
+    for attempt in range(restarts.shape[0] + 1):
+        start = q_seed if attempt == 0 else restarts[attempt - 1]
+        ok, its, perr2, frob2 = descend(
+            start, target, with_rotation, limits, screws, tool, settings, attempt_q
+        )
+        total += its
+        if ok:
+            q[:] = attempt_q
+            return True, attempt + 1, total, perr2, frob2
+        score = math.sqrt(perr2) + 2.0 * math.asin(min(math.sqrt(frob2) / math.sqrt(8.0), 1.0))
+        if score < best_score:
+            best_score = score
+            best_q[:] = attempt_q
+    ok, its, perr2, frob2 = descend(best_q, target, with_rotation, limits, screws, tool, polish, q)
+    return ok, restarts.shape[0] + 2, total + its, perr2, frob2
+
+
+def screw_constants(model, frame_id: int) -> tuple[np.ndarray, np.ndarray] | None:
+    """(screws (2·nq, 3): unit axes then points [m]; tool pose at q = 0 (4, 4)) of a serial
+    chain of revolute joints, when :func:`kinematics` with them matches Pinocchio's tool pose
+    and LOCAL_WORLD_ALIGNED Jacobian within :data:`AGREEMENT` on three seeded random
+    configurations; else None (another joint type or chain, or numba missing)."""
+    import pinocchio as pin
+
+    if not available():
+        return None
+    serial = all(model.parents[j] == j - 1 for j in range(1, model.njoints))
+    if not serial or model.nq != model.nv or model.nq != model.njoints - 1:
+        return None
+    data = model.createData()
+    jacobian = pin.computeJointJacobians(model, data, np.zeros(model.nq))
+    tool = np.ascontiguousarray(pin.updateFramePlacement(model, data, frame_id).homogeneous)
+    linear, angular = jacobian[:3].T, jacobian[3:].T
+    if np.any(np.abs(np.linalg.norm(angular, axis=1) - 1.0) > 1e-9) or np.any(
+        np.abs(np.sum(linear * angular, axis=1)) > 1e-9
+    ):
+        return None  # a prismatic or helical joint
+    screws = np.ascontiguousarray(np.vstack([angular, np.cross(angular, linear)]))
+    rng = np.random.default_rng(0)
+    lwa = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+    nq = model.nq
+    for q in rng.uniform(-np.pi, np.pi, size=(3, nq)):
+        pose, found = np.empty((4, 4)), np.empty((6, nq))
+        kinematics(q, screws[:nq], screws[nq:], tool, pose, found)
+        pin.computeJointJacobians(model, data, q)
+        expected = pin.updateFramePlacement(model, data, frame_id).homogeneous
+        expected_jacobian = pin.getFrameJacobian(model, data, frame_id, lwa)
+        if not (
+            np.abs(pose - expected).max() <= AGREEMENT
+            and np.abs(found - expected_jacobian).max() <= AGREEMENT
+        ):
+            return None
+    return screws, tool
