@@ -378,8 +378,11 @@ def _cell(ctx: _Context, q: np.ndarray) -> str:
     check = cell.check_motion(q, ctx.clearance)
     if check.ok:
         return ""
-    bodies = " and ".join(check.bodies) if check.bodies else "two bodies"
-    return f"{check.kind} between {bodies} (clearance {1e3 * ctx.clearance:g} mm)"
+    first, second = check.bodies if check.bodies else ("the robot", "a body")
+    depth = float(getattr(check, "penetration", 0.0) or 0.0)
+    if depth > 0.0 or ctx.clearance <= 0.0:
+        return f"{first} collides with {second}"
+    return f"{first} comes closer to {second} than the clearance {1e3 * ctx.clearance:g} mm"
 
 
 def _tool_check(ctx: _Context, report: Any, track: ToolTrack, blend: float) -> str:
@@ -399,7 +402,12 @@ def _tool_check(ctx: _Context, report: Any, track: ToolTrack, blend: float) -> s
     speeds = (
         np.max(np.abs(np.diff(q, axis=0)) / dt[:, None], axis=0) if len(dt) else np.zeros(robot.nq)
     )
-    why = _limits(robot, q, speeds, None) or _cell(ctx, q)
+    accelerations = None
+    if np.any(np.isfinite(robot.acceleration_limit)) and len(dt) > 1:
+        rates = np.diff(q, axis=0) / dt[:, None]
+        steps = 0.5 * (dt[1:] + dt[:-1])
+        accelerations = np.max(np.abs(np.diff(rates, axis=0)) / steps[:, None], axis=0)
+    why = _limits(robot, q, speeds, accelerations) or _cell(ctx, q)
     if why:
         return why
     return _deviation(ctx, report, track, blend)

@@ -23,7 +23,7 @@ from kinplan.export.controller_model import (
     movej_samples,
     trapezoid_law,
 )
-from kinplan.program import load_program, plan_program
+from kinplan.program import load_program, parse_program, plan_program
 
 DEMOS = Path(kinplan.__file__).parent / "demo_programs"
 NUMBER = r"-?\d+(?:\.\d+)?"
@@ -261,3 +261,39 @@ def test_circular_blend_of_a_right_angle():
     assert track.length == pytest.approx(2.0 - 0.4 + 0.2 * math.pi / 2)
     with pytest.raises(ValueError, match="more than half the segment after it"):
         blended_track(start, [corner, np.array([1.0, 0.3, 0.0])], [0.2], np.eye(3), 0.05, 1, 1e-3)
+
+
+def test_a_replay_that_breaks_the_cell_is_not_written_natively():
+    """The controller model's replay is checked against the plan's cell: an obstacle put where
+    the flange passes in the middle of the seam after planning (the plan itself never saw it)
+    makes that movel a servoj stream, the reason naming the obstacle, or a refusal."""
+    text = """robot: ur5
+tool: {xyz: [0, 0, 0.2]}
+obstacles:
+  table: {box: [1.0, 1.2, 0.04], xyz: [0.25, 0, -0.3], allowed: [base_link]}
+start: {joints_deg: [0, -90, 90, -90, -90, 0]}
+points:
+  a: {xyz: [0.4, -0.1, 0.2], rpy_deg: [180, 0, 90]}
+  b: {xyz: [0.4, 0.1, 0.2]}
+moves:
+  - {ptp: a}
+  - {lin: b, speed: 0.05}
+"""
+    plan = plan_program(parse_program(text))
+    assert plan.ok
+    clean = export.urscript(plan)
+    assert "servoj(" not in clean and len(MOVEL.findall(clean)) == 1
+    seam = next(m for m in plan.moves if m.key == "moves[1]")
+    middle = plan.q[(seam.first + seam.last) // 2]
+    model = plan.robot.model
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, middle)
+    flange = data.oMf[model.getFrameId("tool0")].translation
+    plan.cell.add_box("intruder", [0.03, 0.03, 0.03], pin.SE3(np.eye(3), flange + [0, 0, 0.02]))
+    script = export.urscript(plan)
+    assert len(MOVEL.findall(script)) == 0 and "servoj(" in script
+    (reason,) = [line for line in script.splitlines() if line.startswith("# move 2 as servoj")]
+    assert "movel as the controller runs it" in reason and "intruder" in reason, reason
+    assert "wrist_3_link collides with intruder" in reason
+    with pytest.raises(InputError, match=r"cannot be written as a native move: .*intruder"):
+        export.urscript(plan, fallback="refuse")
