@@ -401,3 +401,12 @@ def test_cell_blocks_a_stretch_and_says_which_bodies(ur5: kinplan.Robot) -> None
     plan = cartesian.plan_seam(ur5, seam, speed=0.05, cell=far, **coarse)
     check_plan(ur5, seam, plan)
     assert plan.cell is not None and 0.0 < plan.min_clearance < np.inf
+
+
+def test_retimed_seam(ur5: kinplan.Robot) -> None:
+    """retime=True: the seam with its chosen roll law is timed optimally, as follow times it,
+    and keeps every invariant."""
+    seam = corpus("ur5", 2)[1].path
+    plan = cartesian.plan_seam(ur5, seam, speed=0.05, retime=True, max_acceleration=10.0)
+    assert plan.retimed
+    check_plan(ur5, seam, plan)
