@@ -64,6 +64,22 @@ def _sp1(k, p, q):
 
 
 @jit
+def _sp1_turn(k, p, q):
+    """:func:`_sp1` with the cosine and sine of its angle: (θ, cos θ, sin θ) ((0, 1, 0) when
+    free)."""
+    kp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2]
+    kq = k[0] * q[0] + k[1] * q[1] + k[2] * q[2]
+    px, py, pz = p[0] - kp * k[0], p[1] - kp * k[1], p[2] - kp * k[2]
+    qx, qy, qz = q[0] - kq * k[0], q[1] - kq * k[1], q[2] - kq * k[2]
+    sine = k[0] * (py * qz - pz * qy) + k[1] * (pz * qx - px * qz) + k[2] * (px * qy - py * qx)
+    cosine = px * qx + py * qy + pz * qz
+    radius = math.hypot(sine, cosine)
+    if radius == 0.0:
+        return 0.0, 1.0, 0.0
+    return math.atan2(sine, cosine), cosine / radius, sine / radius
+
+
+@jit
 def _wrap(angle):
     return angle - TAU * np.round(angle / TAU)
 
@@ -222,11 +238,15 @@ def branches(k, position, rotation, fill, raw, ok, work, limits):
                 g = gamma if wr == 0 else -gamma
                 for i in range(3):  # on the free wrist, z = w6 exactly (as subproblems.sp2)
                     z[i] = w6[i] if free4 else alpha * h5[i] + beta * h4[i] + g * n[i]
-                t5 = _sp1(h5, h6, z)
-                t4 = 0.0 if free4 else -_sp1(h4, w6, z)
+                t5, c5, s5 = _sp1_turn(h5, h6, z)
+                if free4:
+                    t4, c4, s4 = 0.0, 1.0, 0.0  # of −θ4
+                else:
+                    minus4, c4, s4 = _sp1_turn(h4, w6, z)
+                    t4 = -minus4
                 # 4. θ6: R(h6, θ6) x6 = R5ᵀ R4ᵀ W x6
-                _rotate(h4, wx, -t4, zz)
-                _rotate(h5, zz, -t5, zz)
+                _turn(h4, wx, c4, s4, zz)
+                _turn(h5, zz, c5, -s5, zz)
                 t6 = _sp1(h6, x6, zz)
                 if free4:  # θ4 + σ·θ6 fixed
                     sigma = 1.0 if kq >= 0.0 else -1.0
