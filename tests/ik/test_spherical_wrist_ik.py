@@ -16,14 +16,19 @@ import kinplan
 from kinplan.ik import ClosedFormIK, SphericalWristIK, closed_form_report, wrap_angle
 from kinplan.ik.subproblems import sp1, sp2, sp4
 
-#: (seed, skewed wrist, lateral offset) of the synthetic arms.
-ARMS = [(0, False, False), (1, False, True), (2, True, True), (3, True, False), (4, False, True)]
+#: (seed, skewed wrist, lateral offset) of the synthetic arms; seeds ≥ 10 also tilt axes 2 ∥ 3
+#: by 0.4 rad out of the plane normal to axis 1.
+ARMS = [
+    (0, False, False), (1, False, True), (2, True, True), (3, True, False), (4, False, True),
+    (10, True, True),
+]  # fmt: skip
 
 
 @functools.cache
 def arm(seed: int, skew: bool, lateral: bool, folder: str) -> kinplan.Robot:
     path = Path(folder) / f"wrist_{seed}_{skew}_{lateral}.urdf"
-    path.write_text(wrist_arm_urdf(seed, skew_wrist=skew, lateral=lateral))
+    tilt = 0.4 if seed >= 10 else 0.0
+    path.write_text(wrist_arm_urdf(seed, skew_wrist=skew, lateral=lateral, tilt=tilt))
     return kinplan.load_robot(path, tip="tool0")
 
 

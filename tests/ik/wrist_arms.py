@@ -14,12 +14,15 @@ def _xyz(values) -> str:
     return " ".join(f"{x:.17g}" for x in values)
 
 
-def wrist_arm_urdf(seed: int, *, skew_wrist: bool = False, lateral: bool = True) -> str:
+def wrist_arm_urdf(
+    seed: int, *, skew_wrist: bool = False, lateral: bool = True, tilt: float = 0.0
+) -> str:
     """An industrial-style arm: axis 1 vertical, 2 ∥ 3 horizontal, a spherical wrist.
 
     Random: base pose, shoulder offset (along x and z), lateral offset along axis 2 (when
     ``lateral``), link 2 length and direction, elbow offset, forearm length, axis signs,
-    tool pose; with ``skew_wrist`` the wrist axes are not perpendicular (still meeting).
+    tool pose; with ``skew_wrist`` the wrist axes are not perpendicular (still meeting); ``tilt``
+    [rad] turns axes 2 and 3 (together) out of the plane normal to axis 1.
     Limits: ±(π/2 … 2π) per joint.
     """
     rng = np.random.default_rng(seed)
@@ -39,7 +42,7 @@ def wrist_arm_urdf(seed: int, *, skew_wrist: bool = False, lateral: bool = True)
     axis5, axis6 = sign() * axis5 / np.linalg.norm(axis5), sign() * axis6 / np.linalg.norm(axis6)
     joints = [
         ("j1", "base", "l1", [0, 0, d1], "0 0 0", [0, 0, sign()]),
-        ("j2", "l1", "l2", [a1, lat, 0], "0 0 0", [0, sign(), 0]),
+        ("j2", "l1", "l2", [a1, lat, 0], f"{tilt:.17g} 0 0", [0, sign(), 0]),
         ("j3", "l2", "l3", [rng.uniform(-0.3, 0.3), 0, a2], "0 0 0", [0, sign(), 0]),
         ("j4", "l3", "l4", [0.1, 0, a3], "0 0 0", [sign(), 0, 0]),
         ("j5", "l4", "l5", [d4, 0, 0], "0 0 0", list(axis5)),
