@@ -30,7 +30,9 @@ def plan_failure(plan: SampledMotion) -> str:
         return ""
     failed = [move for move in plan.moves if move.status != "ok"]
     if failed:
-        return f"the plan failed at move {failed[0].number} ({failed[0].status})"
+        numbers = str(getattr(failed[0], "numbers", failed[0].number))
+        which = f"moves {numbers}" if "–" in numbers else f"move {numbers}"
+        return f"the plan failed at {which} ({failed[0].status})"
     if plan.events:
         event = plan.events[0]
         return f"the plan stopped at t = {event.t:.3f} s ({event.kind})"

@@ -13,6 +13,10 @@ roll|pitch|yaw <deg>  rotate the tool about the world x|y|z axis through the too
 step <m>              set the linear step [m]
 astep <deg>           set the angle step for joints and rotations [deg]
 r [name]              record the current configuration (default names p1, p2, ...)
+r [name] lin [m/s]    ... reached by a straight line (r [name] circ <via> [m/s]: an arc)
+tool X Y Z [R P Y]    put a tool on the flange: the TCP [m, deg] (tool off removes it)
+weave|torch ...|off   weave (pattern mm Hz) or torch angles (work travel deg) of lin/circ
+arc on|off            the next recorded move switches the arc when it starts
 rec start [hz]        record a continuous path: the jogs that follow, sampled at hz (default 50)
 rec stop [tol_deg]    end it: store a smooth spline timed as recorded, within tol_deg of the
                       recording (default 0.0573° = 1e-3 rad), and report its deviation
@@ -54,6 +58,9 @@ Example: astep 1""",
 r [name]  |  rec [name]  |  record [name]
 Record the current configuration as a point named <name> (letters, digits, _ and -, not first a
 digit; default p1, p2, ...). The program moves to each point with a ptp move, in teaching order.
+r [name] lin [m/s]  |  r [name] circ <via> [m/s]
+The program reaches the point on a straight tool line (or an arc through the recorded point
+<via>) at the tool speed given (default 0.05 m/s), with the weave and torch angles set.
 rec start [hz]
 Record a continuous path: every jog that follows (and home) is captured as a motion at the jog
 speed (10 % of the joint velocity limits) and sampled <hz> times a second (default 50, > 0, at
@@ -66,6 +73,23 @@ was recorded, each sample compared with the spline at its recorded time. Reports
 the knots kept and the largest deviation, in joint space [rad] and at the tool [mm]. The program
 plays it as one ptp through the knots (profile: spline, times: the recorded times), as
 recorded; slower only if the spline would exceed a joint velocity limit (the report says so).""",
+    "tool": """\
+tool X Y Z [R P Y]  |  tool off  |  tool
+Put a tool on the flange: the TCP at X Y Z metres and R P Y degrees (roll, pitch, yaw) in the
+flange frame. Tool jogs (x, yaw, ...) then move the TCP, and the program gets tool: {xyz,
+rpy_deg}. tool off removes it; tool alone shows it. Example: tool 0 0 0.2""",
+    "weave": """\
+weave sine|triangle|trapezoid <amplitude mm> <frequency Hz>  |  weave off
+Weave on the lin and circ moves recorded next (r NAME lin ...): the torch oscillates across the
+seam by ±amplitude at frequency oscillations per second of travel. Example: weave sine 1.5 2""",
+    "torch": """\
+torch <work angle deg> <travel angle deg>  |  torch off
+Hold the torch at these welding angles on the lin and circ moves recorded next (the surface
+normal +z). Example: torch 45 10""",
+    "arc": """\
+arc on  |  arc off
+The next recorded move switches the arc (digital output 0) when it starts: arc on before the
+seam's point, arc off before the retreat's. Example: arc on, then r seam_end lin 0.008""",
     "del": """\
 del <name>                                                          (also: delete)
 Forget a recorded point or path (list shows them).""",

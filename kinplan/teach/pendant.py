@@ -9,12 +9,13 @@ from kinplan.teach.help import command_help
 from kinplan.teach.jogging import JogCommands
 from kinplan.teach.parsing import AXES, JOG, ROTATIONS, control_message
 from kinplan.teach.points import PointCommands
+from kinplan.teach.process import ProcessCommands
 from kinplan.teach.recording import RecordingCommands
 from kinplan.teach.state import Reply
 from kinplan.teach.writer import ProgramWriter
 
 
-class TeachPendant(JogCommands, PointCommands, RecordingCommands, ProgramWriter):
+class TeachPendant(JogCommands, ProcessCommands, PointCommands, RecordingCommands, ProgramWriter):
     """The state of a teach session and its commands.
 
     Args:
@@ -31,6 +32,9 @@ class TeachPendant(JogCommands, PointCommands, RecordingCommands, ProgramWriter)
     Attributes:
         q: Current configuration [rad].
         points: Recorded points: name → configuration [rad], in recording order.
+        move_specs: How the program reaches each point (``r NAME lin ...``).
+        tool_pose: The pendant's tool (``tool X Y Z [R P Y]``): (xyz [m], rpy [deg]) in the
+            flange frame, or None.
         paths: Recorded continuous paths: name → :class:`RecordedPath`, in recording order.
     """
 
@@ -80,6 +84,9 @@ class TeachPendant(JogCommands, PointCommands, RecordingCommands, ProgramWriter)
             if arguments and arguments[0].lower() == "stop":
                 return self._stop_recording(arguments[1:])
             return self._record(arguments)
+        if command in ("tool", "weave", "torch", "arc"):
+            return {"tool": self._tool, "weave": self._weave, "torch": self._torch,
+                    "arc": self._arc}[command](arguments)  # fmt: skip
         if command in ("del", "delete"):
             return self._delete(arguments)
         if command == "step":

@@ -6,16 +6,22 @@ from __future__ import annotations
 import numpy as np
 
 from kinplan.teach.parsing import NAME
-from kinplan.teach.state import PendantState, Reply
+from kinplan.teach.state import MoveSpec, PendantState, Reply
 
 
 class PointCommands(PendantState):
     """The pendant's commands on recorded points (and the list of points and paths)."""
 
     def _record(self, arguments: list[str]) -> Reply:
-        if len(arguments) > 1:
-            raise ValueError("usage: r [name], rec start [hz] or rec stop [tol_deg]")
+        if arguments and arguments[0].lower() in ("ptp", "lin", "circ"):
+            arguments = [self._next_name(), *arguments]
+        if len(arguments) > 1 and arguments[1].lower() not in ("ptp", "lin", "circ"):
+            raise ValueError(
+                "usage: r [name] [ptp | lin [speed] | circ <via> [speed]], rec start [hz] or "
+                "rec stop [tol_deg]"
+            )
         name = arguments[0] if arguments else self._next_name()
+        spec = self._move_spec(arguments[1:])
         if not NAME.match(name):
             raise ValueError(
                 f"point name {name!r}: use letters, digits, _ and -, not first a digit"
@@ -27,8 +33,17 @@ class PointCommands(PendantState):
             return Reply(f"refused: {name!r} is taken by the path {taken}; give another name")
         self.points[name] = self.q.copy()
         self._order.append(("point", name))
+        self.move_specs[name] = spec
         xyz = ", ".join(f"{v:.4f}" for v in self.robot.fk(self.q).translation)
-        return Reply(f"recorded {name} (tool at ({xyz}) m); {len(self.points)} points")
+        how = "" if spec == MoveSpec() else f", reached by {spec.yaml(name)}"
+        return Reply(f"recorded {name} (tool at ({xyz}) m{how}); {len(self.points)} points")
+
+    def _move_spec(self, arguments: list[str]) -> MoveSpec:
+        """How the program reaches a point recorded with ``arguments`` after its name
+        (:class:`kinplan.teach.process.ProcessCommands` reads them; a plain ptp here)."""
+        if arguments:
+            raise ValueError("usage: r [name]")
+        return MoveSpec()
 
     def _path_point_owner(self, name: str) -> str | None:
         """The recorded path whose name or program point names include ``name``, if any."""
@@ -50,6 +65,7 @@ class PointCommands(PendantState):
         name = arguments[0]
         if name in self.points:
             del self.points[name]
+            self.move_specs.pop(name, None)
             self._order.remove(("point", name))
         elif name in self.paths:
             del self.paths[name]

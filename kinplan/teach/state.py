@@ -65,6 +65,47 @@ class Reply:
     write: bool = False
 
 
+@dataclass(frozen=True)
+class MoveSpec:
+    """How the program reaches a recorded point.
+
+    Attributes:
+        kind: ``ptp``, ``lin`` or ``circ``.
+        via: The via point of a ``circ``, or None.
+        speed: Tool speed [m/s] of a lin/circ, or None (the program's default).
+        weave: (pattern, amplitude [m], frequency [Hz]) of a lin/circ, or None.
+        torch: (work angle, travel angle) [deg] of a lin/circ, or None.
+        arc: ``on`` / ``off`` when the move switches the arc, else None.
+    """
+
+    kind: str = "ptp"
+    via: str | None = None
+    speed: float | None = None
+    weave: tuple[str, float, float] | None = None
+    torch: tuple[float, float] | None = None
+    arc: str | None = None
+
+    def yaml(self, name: str) -> str:
+        """The move as a YAML flow mapping, e.g. ``{lin: b, speed: 0.01, arc: on}``."""
+        parts = [f"{self.kind}: {name}"]
+        if self.via is not None:
+            parts.append(f"via: {self.via}")
+        if self.speed is not None:
+            parts.append(f"speed: {self.speed:g}")
+        if self.weave is not None:
+            pattern, amplitude, frequency = self.weave
+            parts.append(
+                f"weave: {{pattern: {pattern}, amplitude: {amplitude:g}, frequency: {frequency:g}}}"
+            )
+        if self.torch is not None:
+            parts.append(
+                f"torch: {{work_angle_deg: {self.torch[0]:g}, travel_angle_deg: {self.torch[1]:g}}}"
+            )
+        if self.arc is not None:
+            parts.append(f"arc: {self.arc}")
+        return "{" + ", ".join(parts) + "}"
+
+
 class PendantState:
     """A teach session's state, shared by the pendant's commands (:class:`TeachPendant
     <kinplan.teach.TeachPendant>` documents the arguments and attributes)."""
@@ -125,6 +166,12 @@ class PendantState:
         self.paths: dict[str, RecordedPath] = {}
         self._order: list[tuple[str, str]] = []  # ("point" | "path", name), in teaching order
         self._recording: Recording | None = None
+        self.flange_robot = robot  # the robot without the pendant's tool
+        self.tool_pose: tuple[tuple[float, ...], tuple[float, ...]] | None = None  # m, deg
+        self.weave: tuple[str, float, float] | None = None  # for the next lin/circ moves
+        self.torch: tuple[float, float] | None = None  # work, travel angle [deg]
+        self.arc: str | None = None  # "on" / "off" on the next recorded move
+        self.move_specs: dict[str, MoveSpec] = {}  # how the program reaches each point
 
     @property
     def recording(self) -> bool:

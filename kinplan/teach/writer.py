@@ -52,8 +52,9 @@ class ProgramWriter(PendantState):
             f"# Taught with `kinplan teach` on {stamp}.",
             "# Points are the recorded joint values; run with `kinplan run <this file>`.",
             f"robot: {_yaml_scalar(self._robot_entry(output))}",
-            f"tip: {_yaml_scalar(self.robot.tip_frame)}",
+            f"tip: {_yaml_scalar(self.flange_robot.tip_frame)}",
             *self._locked_lines(),
+            *self._tool_lines(),
             f"start: {{joints_deg: {_degrees(self.start)}}}",
             "points:",
         ]
@@ -63,7 +64,8 @@ class ProgramWriter(PendantState):
             if kind == "point":
                 q = self.points[name]
                 lines.append(f"  {name}: {{joints_deg: {_degrees(q)}}}  # tool at {self._at(q)}")
-                moves.append(f"  - {{ptp: {name}}}")
+                spec = self.move_specs.get(name)
+                moves.append(f"  - {spec.yaml(name) if spec is not None else f'{{ptp: {name}}}'}")
                 current = q
                 continue
             path = self.paths[name]
@@ -105,6 +107,16 @@ class ProgramWriter(PendantState):
     def _at(self, q: np.ndarray) -> str:
         """The tool position at ``q``, for a comment [m]."""
         return "(" + ", ".join(f"{v:.4f}" for v in self.robot.fk(q).translation) + ") m"
+
+    def _tool_lines(self) -> list[str]:
+        """The program's ``tool:`` line (none without a pendant tool)."""
+        if self.tool_pose is None:
+            return []
+        xyz, rpy = self.tool_pose
+        return [
+            f"tool: {{xyz: [{', '.join(f'{v:g}' for v in xyz)}], "
+            f"rpy_deg: [{', '.join(f'{v:g}' for v in rpy)}]}}  # the TCP in the flange frame"
+        ]
 
     def _locked_lines(self) -> list[str]:
         """The program's ``locked_joints:`` line (none when no joint is locked)."""
