@@ -37,6 +37,8 @@ def cmd_teach(args: argparse.Namespace) -> int:
     robot = robot_of(args)
     start = None if args.start is None else joint_values(robot, args.start, args.deg, "--start")
     pendant = teach.TeachPendant(robot, q_start=start, robot_source=args.robot)
+    if getattr(args, "cell", None):
+        print(pendant.use_cell(args.cell))
     view = _teach_viewer(robot) if args.view else None
     on_move = None
     if view is not None:

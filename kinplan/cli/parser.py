@@ -154,6 +154,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     teach.add_argument("--deg", action="store_true", help="--start in degrees")
     teach.add_argument("--view", action="store_true", help="live MeshCat view in the browser")
+    teach.add_argument(
+        "--cell",
+        metavar="PROGRAM.yaml",
+        help="check every jog against this program's obstacles: (and clearance:) and write "
+        "them into the taught program",
+    )
     teach.set_defaults(handler=cmd_teach)
 
     reach = commands.add_parser("reach", help="reachability (capability) map of a robot")

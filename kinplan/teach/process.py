@@ -9,10 +9,13 @@ point's move, e.g. ``{lin: b, speed: 0.008, weave: {...}, torch: {...}, arc: on}
 from __future__ import annotations
 
 import math
+import os
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 
+from kinplan.errors import KinplanError
 from kinplan.teach.parsing import NAME
 from kinplan.teach.state import MoveSpec, PendantState, Reply
 
@@ -47,6 +50,8 @@ class ProcessCommands(PendantState):
         if [a.lower() for a in arguments] == ["off"]:
             self.tool_pose = None
             self.robot = self.flange_robot
+            if self.cell is not None:
+                self.cell = self.cell.for_robot(self.robot)
             return Reply("tool removed: the tool frame is the flange")
         if len(arguments) not in (3, 6):
             raise ValueError("usage: tool X Y Z [R P Y]  (m, deg, in the flange frame) | tool off")
@@ -57,8 +62,60 @@ class ProcessCommands(PendantState):
         pose = pin.SE3(pin.rpy.rpyToMatrix(*np.radians(rpy)), np.array(xyz))
         self.robot = self.flange_robot.with_tool(pose)
         self.tool_pose = (tuple(xyz), tuple(rpy))
+        if self.cell is not None:
+            self.cell = self.cell.for_robot(self.robot)
         where = ", ".join(f"{v:.4f}" for v in self.robot.fk(self.q).translation)
         return Reply(f"tool: {self._tool_text()}; the TCP is at ({where}) m")
+
+    def use_cell(self, program: str | os.PathLike[str]) -> str:
+        """Check every jog against the ``obstacles:`` (and ``clearance:``) of a program file and
+        write them into the taught program (mesh paths made absolute).
+
+        Returns:
+            A one-line description of the cell.
+
+        Raises:
+            KinplanError: the file cannot be read, has no obstacles, or they are invalid.
+        """
+        import yaml
+
+        from kinplan.program.cell_keys import read_cell
+        from kinplan.program.checker import Checker
+        from kinplan.program.schema import ProgramLoader
+
+        file = Path(program)
+        try:
+            data = yaml.load(file.read_text(encoding="utf-8"), Loader=ProgramLoader)
+        except (OSError, yaml.YAMLError) as exc:
+            raise KinplanError(f"cannot read the cell of {file}: {exc}") from None
+        if not isinstance(data, dict) or not isinstance(data.get("obstacles"), dict):
+            raise KinplanError(f"{file} has no obstacles: mapping to check the jogs against")
+        keys = {key: data[key] for key in ("obstacles", "clearance") if key in data}
+        checker = Checker({})
+        _, cell, clearance = read_cell(checker, keys, file.resolve().parent, self.robot)
+        if checker.issues or cell is None:
+            problems = "; ".join(f"{i.path}: {i.message}" for i in checker.issues)
+            raise KinplanError(f"the cell of {file} cannot be used: {problems or 'invalid'}")
+        obstacles = {}
+        for name, entry in keys["obstacles"].items():
+            entry = dict(entry)
+            if isinstance(entry.get("mesh"), str):
+                mesh = Path(entry["mesh"]).expanduser()
+                entry["mesh"] = str(mesh if mesh.is_absolute() else file.resolve().parent / mesh)
+            obstacles[str(name)] = entry
+        self.cell, self.clearance = cell, float(clearance)
+        lines = yaml.safe_dump({"obstacles": obstacles}, sort_keys=False, width=10**6)
+        self.cell_lines = lines.rstrip("\n").splitlines()
+        if "clearance" in keys:
+            self.cell_lines.append(f"clearance: {self.clearance:g}")
+        if not cell.check_motion(self.q[None, :], self.clearance).ok:
+            raise KinplanError(
+                f"the start configuration collides with the cell of {file}; give --start"
+            )
+        return (
+            f"cell of {file.name}: {', '.join(obstacles)} (jogs are checked, clearance "
+            f"{1e3 * self.clearance:g} mm)"
+        )
 
     def _tool_text(self) -> str:
         assert self.tool_pose is not None

@@ -11,6 +11,7 @@ import numpy as np
 import pinocchio as pin
 
 from kinplan import checks
+from kinplan.cell import WorkCell
 from kinplan.errors import InputError
 from kinplan.program.schema import FALLBACK_JOINT_SPEED, PTP_RAMP_TIME
 from kinplan.robot import Robot
@@ -172,6 +173,9 @@ class PendantState:
         self.torch: tuple[float, float] | None = None  # work, travel angle [deg]
         self.arc: str | None = None  # "on" / "off" on the next recorded move
         self.move_specs: dict[str, MoveSpec] = {}  # how the program reaches each point
+        self.cell: WorkCell | None = None  # jogs are checked against it (use_cell)
+        self.clearance = 0.0  # [m] from its obstacles
+        self.cell_lines: list[str] = []  # its obstacles: and clearance: for the program
 
     @property
     def recording(self) -> bool:
@@ -193,6 +197,15 @@ class PendantState:
     def _go(self, q: np.ndarray, along: tuple[np.ndarray, np.ndarray] | None = None) -> Reply:
         """Move to ``q`` (captured by a running recording: along the joint path ``along``, path
         fractions and configurations, or joint-interpolated)."""
+        if self.cell is not None:
+            rows = [self.q, *(along[1] if along is not None else []), q]
+            check = self.cell.check_motion(np.array(rows, dtype=float), self.clearance)
+            if not check.ok:
+                first, second = check.bodies if check.bodies else ("the robot", "the cell")
+                return Reply(
+                    f"refused: {first} would hit {second} (clearance {1e3 * self.clearance:g} "
+                    "mm); jog another way"
+                )
         if self._recording is not None:
             refusal = capture(
                 self._recording, self.q, q, along, self._jog_velocity, self._jog_acceleration

@@ -55,6 +55,7 @@ class ProgramWriter(PendantState):
             f"tip: {_yaml_scalar(self.flange_robot.tip_frame)}",
             *self._locked_lines(),
             *self._tool_lines(),
+            *self.cell_lines,
             f"start: {{joints_deg: {_degrees(self.start)}}}",
             "points:",
         ]

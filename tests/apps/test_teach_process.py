@@ -94,3 +94,38 @@ def test_tool_off_and_help(pendant):
     assert pendant.robot is pendant.flange_robot and pendant.tool_pose is None
     for command in ("tool", "weave", "torch", "arc"):
         assert pendant.execute(f"help {command}").text.startswith(command)
+
+
+def test_a_cell_checks_the_jogs_and_goes_into_the_program(pendant, tmp_path):
+    """``use_cell`` (``kinplan teach --cell``): a jog into an obstacle is refused, naming it;
+    the taught program carries the obstacles and clearance and plans in that cell."""
+    tcp = pendant.robot.fk(HOME).translation
+    cell_program = tmp_path / "cell.yaml"
+    cell_program.write_text(
+        "robot: ur5\nobstacles:\n"
+        f"  plate: {{box: [0.3, 0.3, 0.01], xyz: [{tcp[0]:.4f}, {tcp[1]:.4f}, "
+        f"{tcp[2] - 0.12:.4f}], color: '#5b7fa6'}}\n"
+        "clearance: 0.005\nstart: {joints_deg: [0, -90, 90, -90, -90, 0]}\n"
+        "points: {a: {joints_deg: [0, -90, 90, -90, -90, 0]}}\nmoves: [{ptp: a}]\n"
+    )
+    assert "plate" in pendant.use_cell(cell_program)
+    before = pendant.q.copy()
+    reply = pendant.execute("z -0.2")
+    assert reply.text.startswith("refused: ") and "plate" in reply.text, reply.text
+    np.testing.assert_array_equal(pendant.q, before)  # did not move
+    run(pendant, "z -0.05", "r above", "y 0.05", "r side lin 0.02")
+    text = pendant.program_text()
+    assert "obstacles:" in text and "plate:" in text and "clearance: 0.005" in text
+    program = parse_program(text)
+    assert list(program.cell.obstacles) == ["plate"] and program.clearance == 0.005
+    assert program.obstacle_colors == {"plate": "#5b7fa6"}
+    assert plan_program(program).ok
+
+
+def test_a_cell_without_obstacles_is_refused(pendant, tmp_path):
+    from kinplan.errors import KinplanError
+
+    empty = tmp_path / "empty.yaml"
+    empty.write_text("robot: ur5\n")
+    with pytest.raises(KinplanError, match="has no obstacles"):
+        pendant.use_cell(empty)
