@@ -243,3 +243,26 @@ def test_robot_ik_and_batch_on_random_targets(folder, seed, skew, lateral):
     q, success = robot.ik_batch(targets, seeds)
     assert success.all()
     np.testing.assert_allclose(q, np.array(loop), atol=1e-9)
+
+
+@pytest.mark.parametrize("seed, skew, lateral", ARMS[:3])
+def test_near_singular_targets(folder, seed, skew, lateral):
+    """Within 1e-9–1e-5 rad of the wrist singularity: every closed-form solution within 1e-7 of
+    the target (√ε rounding where the cones of subproblem 2 touch), ik within 1e-6."""
+    robot = arm(seed, skew, lateral, folder)
+    solver = robot.closed_form_ik
+    rng = np.random.default_rng(300 + seed)
+    h = solver.geometry.axes
+    for _ in range(40):
+        q = robot.random_configuration(rng)
+        offset = 10.0 ** rng.uniform(-9, -5) * rng.choice([-1.0, 1.0])
+        # θ5 at which R5 h6 ∥ h4 (the wrist singularity), nudged by ``offset``
+        found, _ = sp1(h[4], h[5], h[3])
+        q[4] = float(np.clip(found + offset, robot.lower[4], robot.upper[4]))
+        target = robot.fk(q)
+        for s in solver.solutions(target.translation, target.rotation):
+            position, rotation = pose_errors(robot, s, target)
+            assert position < 1e-7 and rotation < 1e-7, (s, position, rotation)
+        result = robot.ik(target, robot.random_configuration(rng))
+        assert result.success
+        assert result.position_error <= 1e-6 and result.rotation_error <= 1e-6
