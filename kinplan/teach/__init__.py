@@ -32,6 +32,8 @@ imports included; none imports from ``kinplan.teach`` itself):
 - :mod:`~kinplan.teach.state`: the session's state, :class:`Reply`, status, moving the arm;
 - :mod:`~kinplan.teach.jogging`: jog commands (``j``, ``x``, ``yaw+``, ``step``, ``home``);
 - :mod:`~kinplan.teach.points`: point commands (``r``, ``del``, ``list``);
+- :mod:`~kinplan.teach.process`: process commands (``tool``, ``r NAME lin|circ``, ``weave``,
+  ``torch``, ``arc``) and the cell the jogs are checked against (``use_cell``);
 - :mod:`~kinplan.teach.recording`: continuous-path commands (``rec start``, ``rec stop``);
 - :mod:`~kinplan.teach.writer`: the program's YAML text and file (``program_text``, ``save``);
 - :mod:`~kinplan.teach.pendant`: :class:`TeachPendant`, one command line dispatched by kind;
