@@ -58,10 +58,11 @@ def empty_stretch(ladder: Ladder, s: np.ndarray, has_start: bool, names: list[st
     else:
         bodies = ", ".join(f"{a} into {b}" for a, b in list(c.pairs)[:2])
         kind, why = Status.COLLISION, f"{what} puts {bodies or 'the robot into the cell'}"
+    remedy = "widen work_tolerance / travel_tolerance, "
+    remedy += "" if c.roll.size > 1 else "free the roll (roll='free'), "
+    remedy += "or move the seam or the robot's base"
     return Event(
-        kind, 0.0, float(s[first]), 0, f"{_range(s, first, last)}: {why}",
-        remedy="widen work_tolerance / travel_tolerance, free the roll, or move the seam or the "
-        "robot's base",
+        kind, 0.0, float(s[first]), 0, f"{_range(s, first, last)}: {why}", remedy=remedy
     )  # fmt: skip
 
 
