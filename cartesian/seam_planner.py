@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from cartesian.events import Status
 from cartesian.follow import follow
 from cartesian.geometry import check_reachability
 from cartesian.paths import Path
@@ -198,7 +199,8 @@ def plan_seam(
     if empty is not None:
         return refused(robot, path, empty, float(singular_threshold))
     paths, blocked = ladder.solve(ATTEMPTS)
-    if blocked is not None and blocked.kind == "velocity_limit":
+    too_fast = blocked is not None and blocked.kind == "velocity_limit"
+    if too_fast:
         # the speed caps are the search's estimate: follow judges the speed itself
         caps = ladder.caps
         ladder.caps = np.broadcast_to(ladder.jump_caps, caps.shape).copy()
@@ -230,6 +232,8 @@ def plan_seam(
             return plan
         logger.debug("seam tracking from ladder path of cost %.3f: %s", choice.cost, plan.status)
         first = first or plan
+        if too_fast and plan.status in (Status.VELOCITY_LIMIT, Status.ACCELERATION_LIMIT):
+            break  # the ladder found the seam too fast, and the follower agrees: no sweep
     if blocked is None:
         assert first is not None  # the ladder's best path was tracked, and failed
         return first
