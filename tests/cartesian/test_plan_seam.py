@@ -410,3 +410,16 @@ def test_retimed_seam(ur5: kinplan.Robot) -> None:
     plan = cartesian.plan_seam(ur5, seam, speed=0.05, retime=True, max_acceleration=10.0)
     assert plan.retimed
     check_plan(ur5, seam, plan)
+
+
+def test_panda_with_q_start_and_tolerances(panda: kinplan.Robot) -> None:
+    """A 7-joint arm from a given start, its torch tilted within bands."""
+    seam = corpus("panda", 20)[18].path  # a T-joint the panda welds
+    first = cartesian.plan_seam(panda, seam, speed=0.02)
+    check_plan(panda, seam, first)
+    work = travel = math.radians(8)
+    plan = cartesian.plan_seam(
+        panda, seam, speed=0.02, q_start=first.q[0], work_tolerance=work, travel_tolerance=travel
+    )
+    check_plan(panda, seam, plan, work_tolerance=work, travel_tolerance=travel)
+    np.testing.assert_allclose(plan.q[0], first.q[0], atol=1e-9)
