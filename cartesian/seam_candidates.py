@@ -29,6 +29,10 @@ from kinplan.ik.panda import PandaIK
 from kinplan.robot import Robot, manipulability_of
 
 TAU = 2.0 * math.pi
+#: Self-motion slots of a panda-type arm (roll factored) for the ends of the elbow's θ7
+#: intervals at each pose, where joint 4 reaches a limit: a narrow interval (the elbow pinned
+#: at its limit) falls between the uniform samples.
+EDGE_SLOTS = 4
 #: Joint-limit slack [rad] of a candidate (the closed forms' own).
 LIMIT_SLACK = 1e-9
 
@@ -134,18 +138,25 @@ def _solve_slots(
     if isinstance(solver, PandaIK):
         out = np.full((count, len(psi), 8, 7), np.nan)
         middle = 0.5 * float(robot.lower[-1] + robot.upper[-1])
-        for p, value in enumerate(psi.tolist()):
-            if sign:
-                turn = _rz(-sign * (value - middle))
-                turned = rotations @ turn
-                at = middle
-            else:
-                turned, at = rotations, value
+        edge_slots = np.flatnonzero(np.isnan(psi))
+        values = np.tile(psi, (count, 1))  # ψ per pose and slot
+        if sign and len(edge_slots):
             for m in range(count):
-                found = solver.solutions_q7(positions[m], turned[m], at)
+                edges = _elbow_edges(solver, positions[m], rotations[m], sign, robot)
+                values[m, edge_slots[: len(edges)]] = edges[: len(edge_slots)]
+        for p in range(len(psi)):
+            for m in range(count):
+                value = float(values[m, p])
+                if math.isnan(value):
+                    continue
+                if sign:
+                    turned, at = rotations[m] @ _rz(-sign * (value - middle)), middle
+                else:
+                    turned, at = rotations[m], value
+                found = solver.solutions_q7(positions[m], turned, at)
                 out[m, p, : len(found)] = found[:8]
-            if sign:
-                out[:, p, :, -1] = np.where(np.isnan(out[:, p, :, -1]), np.nan, value)
+                if sign:
+                    out[m, p, : len(found), -1] = value
         return out
     if isinstance(solver, ClosedFormIK) and robot.nq == 6:
         raw, _ = solver.all_branches(positions, rotations, np.zeros((count, robot.nq)))
@@ -159,6 +170,29 @@ def _solve_slots(
         q, ok = robot.ik_batch(targets, q_seed=np.tile(seed, (count, 1)))
         out[ok, 0, b] = q[ok]
     return out
+
+
+def _elbow_edges(
+    solver: PandaIK, position: np.ndarray, rotation: np.ndarray, sign: int, robot: Robot
+) -> list[float]:
+    """The ψ values [rad] (θ7 at roll 0, any angle) where the elbow joint reaches a limit for
+    this pose, 1e-6 rad inside the ranges where it is within them, sorted: the ends of the
+    panda closed form's θ7 intervals (its ``_elbow_q7_intervals``), for the pose and for the
+    pose turned half a turn (θ7's range is not a whole turn). Empty when the solver offers no
+    intervals."""
+    lo7, hi7 = float(robot.lower[-1]), float(robot.upper[-1])
+    edges: set[float] = set()
+    for shift in (0.0, math.pi):
+        turned = rotation @ _rz(-sign * shift)  # (P·Rz(ρ), θ7 = ψ + sign·ρ): ψ = θ7 + shift
+        try:
+            intervals = solver._elbow_q7_intervals(solver._prepare(*solver._pose(position, turned)))
+        except AttributeError:  # pragma: no cover - another closed form without intervals
+            return []
+        for start, end in intervals:
+            for value, inward in ((start, 1e-6), (end, -1e-6)):
+                if lo7 + 1e-9 < value < hi7 - 1e-9:  # the elbow's end, not θ7's own limit
+                    edges.add(round((value + inward + shift + math.pi) % TAU - math.pi, 9))
+    return sorted(edges)
 
 
 def _seeds(robot: Robot, count: int = 8) -> np.ndarray:
@@ -176,8 +210,9 @@ def self_motion_samples(robot: Robot, count: int, factored: bool) -> np.ndarray:
     its limits, or, when the roll is factored, the roll-0 θ7 all round [−π, π)."""
     if not isinstance(robot.closed_form_ik, PandaIK):
         return np.array([np.nan])
-    if factored:
-        return -math.pi + TAU * np.arange(count) / count
+    if factored:  # the uniform samples, then slots for the elbow's ends (NaN: per pose)
+        uniform = -math.pi + TAU * np.arange(count) / count
+        return np.concatenate([uniform, np.full(EDGE_SLOTS, np.nan)])
     lo, hi = float(robot.lower[-1]), float(robot.upper[-1])
     return lo + (hi - lo) * (np.arange(count) + 0.5) / count
 

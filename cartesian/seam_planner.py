@@ -500,14 +500,17 @@ def _build_ladder(
     if cell is not None:
         _check_cell(candidates, cell, robot, clearance)
     # slot adjacency: the roll slot by up to `steps`, tilts and self-motion by one
-    P = len(psi)
+    # (the elbow-end slots of a panda-type arm, NaN in psi, neighbour every ψ slot)
+    P, uniform = len(psi), int(np.isfinite(psi).sum())
     coords = np.concatenate([np.repeat(grid, P, axis=0), np.tile(np.arange(P), T)[:, None]], axis=1)
+    edge = np.tile(np.isnan(psi), T)
     steps = 2 if free else 0
     diff = np.abs(coords[:, None, :] - coords[None, :, :])
     if not factored and free and len(slot_rolls) > 1:
         diff[..., 0] = np.minimum(diff[..., 0], len(slot_rolls) - diff[..., 0])
-    if factored and P > 1:  # ψ goes all round
-        diff[..., 3] = np.minimum(diff[..., 3], P - diff[..., 3])
+    if factored and uniform > 1:  # ψ goes all round
+        diff[..., 3] = np.minimum(diff[..., 3], uniform - diff[..., 3])
+    diff[edge, :, 3] = diff[:, edge, 3] = 0
     near = np.all(diff[..., 1:3] <= 1, axis=-1) & (diff[..., 3] <= 2)
     near &= diff[..., 0] <= (0 if factored else steps)
     adjacency = np.argwhere(near)
