@@ -33,6 +33,7 @@ from kinplan.program.ptp import (
     PtpLimitError,
     acceleration_limits,
     limit_problem,
+    motion_limits,
     plan_ptp,
     plan_ptp_through,
 )
@@ -50,6 +51,7 @@ from kinplan.program.remedies import (
     trajectory_remedy,
 )
 from kinplan.program.schema import (
+    AVOID_TIME_LIMIT,
     DEFAULT_DT,
     DEFAULT_TOOL_SPEED,
     JOIN_TOLERANCE,
@@ -357,6 +359,52 @@ class MotionBuilder:
         if not total <= MAX_SAMPLES:  # also NaN and inf
             why = too_many_samples_reason(what, self.dt, total)
             self._fail(kind, label, key, status="invalid", why=why)
+
+    def ptp_around(
+        self,
+        q_goal: np.ndarray | Sequence[float],
+        *,
+        speed: float | None = None,
+        label: str = "ptp",
+        key: str | None = None,
+        max_acceleration: float | Sequence[float] | np.ndarray | None = None,
+        seed: int = 0,
+        time_limit: float = AVOID_TIME_LIMIT,
+    ) -> MoveReport:
+        """Joint move to joint values around the cell's obstacles (``avoid: true``).
+
+        :func:`kinplan.free_motion` finds waypoints whose straight segments the cell's motion
+        check certifies (with the builder's clearance) and times the motion through them
+        time-optimally within ``speed`` × the joint limits; the motion is then checked like
+        any ptp. The report's label says how many waypoints it needed.
+
+        Args:
+            q_goal: Joint values [rad], shape (nq,).
+            speed: Share of the joint velocity and acceleration limits (0, 1]; default
+                :data:`~kinplan.program.DEFAULT_PTP_SPEED`.
+            label, key, max_acceleration: As in :meth:`ptp_joints`.
+            seed: Seed of the search (the same seed, the same motion).
+            time_limit: Longest search [s].
+        """
+        from kinplan.planning import free_motion  # the planners load on first use
+
+        self._check_open()
+        q_goal = self.robot.check_q(q_goal, "ptp goal")
+        limit = self._acceleration_limit(max_acceleration)
+        velocity, acceleration = motion_limits(self.robot, None, speed, limit)
+        cell = self.cell if self.cell is not None else WorkCell(self.robot)
+        try:
+            plan = free_motion(
+                self.robot, self.q, q_goal, cell, clearance=self.clearance, seed=seed,
+                time_limit=time_limit, max_velocity=velocity, max_acceleration=acceleration,
+            )  # fmt: skip
+        except KinplanError as exc:
+            self._fail("ptp", label, key, status="invalid", why=f"invalid: {exc}")
+        if not plan.ok:
+            why = f"collision: avoid: {plan.events[0]}"
+            self._fail("ptp", label, key, status="collision", why=why)
+        label = f"{label} around the obstacles ({len(plan.waypoints)} waypoints)"
+        return self._joint_motion(plan.trajectory, label, key, limit)
 
     def _acceleration_limit(self, max_acceleration: object) -> np.ndarray:
         """A move's acceleration limits [rad/s²]: its own ``max_acceleration`` (on top of the

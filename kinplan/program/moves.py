@@ -248,6 +248,10 @@ def _move_options(
         where = path + ("max_acceleration",)
         max_acceleration = checker.accelerations(spec["max_acceleration"], where, nq)
         ok &= max_acceleration is not None
+    avoid = None
+    if "avoid" in spec:
+        avoid = _avoid(checker, spec, path, kind, several)
+        ok &= avoid is not None
     signals = read_signals(checker, spec, path)
     ok &= signals is not None
     arc, io = signals if signals is not None else (None, ())
@@ -260,8 +264,34 @@ def _move_options(
     return {
         "duration": duration, "speed": speed, "profile": profile, "name": name, "blend": blend,
         "weave": weave, "torch": torch, "dwell": dwell, "times": times,
-        "max_acceleration": max_acceleration, "arc": arc, "io": io,
+        "max_acceleration": max_acceleration, "arc": arc, "io": io, "avoid": avoid,
     }  # fmt: skip
+
+
+def _avoid(checker: Checker, spec: dict, path: KeyPath, kind: str, several: int) -> bool | None:
+    """A move's ``avoid:`` (true or false); None after reporting a problem."""
+    value = spec["avoid"]
+    where = path + ("avoid",)
+    if not isinstance(value, bool):
+        checker.error(where, f"expected true or false, got {describe(value)}")
+        return None
+    if value and (kind != "ptp" or several):
+        checker.error(
+            where,
+            "avoid: true plans a ptp to one point around the obstacles (kinplan.free_motion); "
+            "lin, circ and ptp through several points follow their own path",
+        )
+        return None
+    if value:
+        for key in ("duration", "profile", "times"):
+            if key in spec:
+                checker.error(
+                    path + (key,),
+                    f"a ptp with avoid: true is timed time-optimally along the waypoints it "
+                    f"finds, within the joint limits (scaled by speed); remove {key}",
+                )
+                return None
+    return value
 
 
 def _times(

@@ -100,7 +100,8 @@ def ptp_collision_reason(kind: str | None, s: float, message: str) -> str:
         "move a point of the move, or go through joint values that keep the arm "
         "clear of itself (a ptp through several points)"
         if kind == "self"
-        else "move a point of the move, add a via point around the obstacle, or use lin moves"
+        else "move a point of the move, add a via point around the obstacle, use lin moves, or "
+        "give the move avoid: true (plans it around the obstacles)"
     )
     return f"collision at s = {s:.2f}: {message}; {fix}"
 

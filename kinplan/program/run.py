@@ -141,6 +141,12 @@ def _plan_move(builder: MotionBuilder, program: Program, move: Move) -> None:
             blend=move.blend or 0.0, times=move.times, label=move.label, key=move.key,
             max_acceleration=move.max_acceleration,
         )  # fmt: skip
+    elif move.kind == "ptp" and (program.avoid if move.avoid is None else move.avoid):
+        (q_goal,) = _joint_points(builder, program, [move.target], move)
+        builder.ptp_around(
+            q_goal, speed=move.speed, label=move.label, key=move.key,
+            max_acceleration=move.max_acceleration,
+        )  # fmt: skip
     elif move.kind == "ptp":
         if target.joints is not None:
             builder.ptp_joints(target.joints, **options)

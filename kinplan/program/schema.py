@@ -19,6 +19,7 @@ from kinplan.cell import WorkCell
 from kinplan.robot import Robot
 
 __all__ = [
+    "AVOID_TIME_LIMIT",
     "DEFAULT_DT",
     "DEFAULT_PTP_SPEED",
     "DEFAULT_TOOL_SPEED",
@@ -63,6 +64,8 @@ PTP_JERK_TIME = 0.1
 """Time an ``scurve`` ``ptp`` joint takes to build up its acceleration (sets the jerk) [s]."""
 FALLBACK_JOINT_SPEED = 1.0
 """Velocity limit assumed for joints whose URDF gives none [rad/s]."""
+AVOID_TIME_LIMIT = 2.0
+"""Longest search for a ptp with ``avoid: true`` [s] (:func:`kinplan.free_motion`)."""
 DEFAULT_TOOL_SPEED = 0.05
 """Tool cruise speed of ``lin``/``circ`` moves without ``speed``/``duration`` [m/s]."""
 JOIN_TOLERANCE = 1e-6
@@ -89,6 +92,7 @@ TOP_KEYS = (
     "tool",
     "obstacles",
     "clearance",
+    "avoid",
     "max_acceleration",
     "start",
     "points",
@@ -103,7 +107,7 @@ POINT_KEYS = ("joints", "joints_deg", "xyz", "rpy_deg", "quat_xyzw")
 """The keys of a taught point."""
 MOVE_OPTIONS = (
     "via", "duration", "speed", "profile", "blend", "times", "weave", "torch", "dwell", "name",
-    "max_acceleration", "arc", "io",
+    "max_acceleration", "arc", "io", "avoid",
 )  # fmt: skip
 """The keys of a move besides its kind."""
 WEAVE_KEYS = ("pattern", "amplitude", "frequency", "dwell", "normal")
@@ -269,6 +273,8 @@ class Move:
         arc: ``arc: on`` (True) or ``off`` (False): the arc output switched when the move
             starts, or None.
         io: The move's ``io:`` as (output, value) pairs, set when the move starts.
+        avoid: A ``ptp`` to one point: ``avoid: true`` plans it around the cell's obstacles
+            (:func:`kinplan.free_motion`), ``false`` never; None: the program's ``avoid:``.
     """
 
     index: int
@@ -288,6 +294,7 @@ class Move:
     max_acceleration: float | tuple[float, ...] | None = None
     arc: bool | None = None
     io: tuple[tuple[int, bool], ...] = ()
+    avoid: bool | None = None
 
     @property
     def key(self) -> str:
@@ -328,6 +335,8 @@ class Program:
         payload: The ``tool:``'s ``payload:``, or None.
         obstacle_colors: ``color:`` of each obstacle that gives one, ``"#rrggbb"``.
         arc_output: The digital output ``arc: on|off`` switches (``arc_output:``, default 0).
+        avoid: ``avoid: true`` at the top level: every ``ptp`` to one point that does not say
+            ``avoid: false`` is planned around the obstacles.
     """
 
     source: str
@@ -344,6 +353,7 @@ class Program:
     payload: Payload | None = None
     obstacle_colors: dict[str, str] = field(default_factory=dict)
     arc_output: int = 0
+    avoid: bool = False
 
 
 class ProgramLoader(yaml.SafeLoader):

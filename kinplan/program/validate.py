@@ -24,7 +24,7 @@ from kinplan.program.moves import read_moves
 from kinplan.program.points import read_points, read_start
 from kinplan.program.process import check_signals, read_arc_output, read_colors, read_payload
 from kinplan.program.robot_keys import read_robot
-from kinplan.program.schema import TOP_KEYS, KeyPath, Program, ProgramLoader
+from kinplan.program.schema import TOP_KEYS, KeyPath, Move, Program, ProgramLoader
 
 __all__ = ["load_program", "parse_program"]
 
@@ -171,6 +171,7 @@ def _read_program(checker: Checker, data: object, source: str, base_dir: Path) -
         where: KeyPath = ("max_acceleration",)
         max_acceleration = checker.accelerations(data["max_acceleration"], where, nq)
     moves = read_moves(checker, data.get("moves"), points, nq)
+    avoid = _read_avoid(checker, data, moves)
     arc_output = read_arc_output(checker, data)
     check_signals(checker, moves, arc_output)
     payload, colors = read_payload(checker, data), read_colors(checker, data)
@@ -193,7 +194,26 @@ def _read_program(checker: Checker, data: object, source: str, base_dir: Path) -
         payload=payload,
         obstacle_colors=colors,
         arc_output=arc_output,
+        avoid=avoid,
         max_acceleration=None if max_acceleration is None else np.broadcast_to(
             np.asarray(max_acceleration, dtype=float), (robot.nq,)
         ).copy(),
     )  # fmt: skip
+
+
+def _read_avoid(checker: Checker, data: dict, moves: list[Move]) -> bool:
+    """The program's ``avoid:`` (default false); a ptp it applies to may not have a duration."""
+    value = data.get("avoid", False)
+    if not isinstance(value, bool):
+        checker.error(("avoid",), f"expected true or false, got {describe(value)}")
+        return False
+    for move in moves if value else []:
+        if move.kind == "ptp" and not move.through and move.avoid is None:
+            for key in ("duration", "times"):
+                if getattr(move, key) is not None:
+                    checker.error(
+                        ("moves", move.index, key),
+                        "the program's avoid: true plans this ptp around the obstacles, timed "
+                        f"by the joint limits: remove {key}, or give the move avoid: false",
+                    )
+    return value
