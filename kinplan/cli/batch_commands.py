@@ -130,15 +130,15 @@ def cmd_run_many(args: argparse.Namespace) -> int:
             f"{', '.join(extra)} write the motion of a program planned here; leave out --jobs "
             "and --scheduler to write them"
         )
+    with _work_progress("planning programs", "programs") as progress:
+        summaries = plan_many(args.program, dt=args.dt, progress=progress, **_engine_options(args))
     if args.jobs is not None and args.jobs > 1 and len(args.program) < SMALL_BATCH:
         print(
-            f"kinplan: note: --jobs {args.jobs} starts a local Dask cluster (seconds of start-up "
-            f"and a copy of every program per worker); for {len(args.program)} programs "
+            f"kinplan: warning: --jobs {args.jobs} starts a local Dask cluster (seconds of "
+            f"start-up and a copy of every program per worker); for {len(args.program)} programs "
             "planning in this process (without --jobs) is usually faster",
             file=sys.stderr,
         )
-    with _work_progress("planning programs", "programs") as progress:
-        summaries = plan_many(args.program, dt=args.dt, progress=progress, **_engine_options(args))
     table = Table(title=f"{len(summaries)} programs")
     for column in (
         "program",

@@ -49,7 +49,9 @@ def test_weld_demo_from_the_command_line(tmp_path, capsys):
         assert str(out / name) in printed
     with (out / "weld.csv").open() as handle:
         rows = list(csv.reader(handle))
-    assert rows[0][0] == "t" and rows[0][-7:] == ["x", "y", "z", "qx", "qy", "qz", "qw"]
+    header = [name for name in rows[0] if not name.startswith("do")]  # then the arc's output
+    assert rows[0][0] == "t" and header[-7:] == ["x", "y", "z", "qx", "qy", "qz", "qw"]
+    assert rows[0][-1] == "do0"  # weld_cell.yaml switches the arc (digital output 0)
     assert len(rows) > 1000
 
 
