@@ -333,10 +333,9 @@ def test_anchored_law_starts_exactly_and_stays_smooth() -> None:
 
 # ------------------------------------------------------------------------------ the corpus
 PANDA_GAP = (
-    "issue 27 open: on the panda 12 of the 14 seams brute force welds (seed 27) are planned "
-    "(86 %); tube 1 needs the elbow pinned at joint 4's limit, a self-motion interval narrower "
-    "than the θ7 samples, which the follower's minimum-norm self-motion then has to keep; tube "
-    "2 is planned with self_motion=48"
+    "issue 27 open: on the panda 13 of the 14 seams brute force welds (seed 27) are planned "
+    "(93 %); on tube 0 the follower's minimum-norm self-motion runs into a limit the search "
+    "avoided, from every start tried"
 )
 
 
