@@ -148,6 +148,26 @@ class SphericalWristIK(ClosedFormIK):
                 t6[at] -= sigma * theta4
 
     # ------------------------------------------------------------ compiled paths
+    def solutions(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
+        if self._compiled and rotation is not None:
+            position = np.asarray(position, dtype=float)
+            rotation = np.asarray(rotation, dtype=float)
+            if (
+                position.shape == (3,)
+                and rotation.shape == (3, 3)
+                and np.isfinite(position.sum() + rotation.sum())
+            ):
+                raw, ok = np.empty((8, 6)), np.empty(8, dtype=bool)
+                self._kernel.branches(
+                    self._constants, position, rotation, self._neutral, raw, ok,
+                    np.empty((10, 3)), self._limits,
+                )  # fmt: skip
+                raw[~ok] = np.nan
+                return self._distinct(raw)
+        return super().solutions(position, rotation)
+
+    solutions.__doc__ = ClosedFormIK.solutions.__doc__
+
     def nearest(
         self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray
     ) -> np.ndarray | None:

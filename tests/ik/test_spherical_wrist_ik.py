@@ -147,6 +147,11 @@ def test_compiled_kernel_equals_numpy_path(folder, seed, skew, lateral):
     for _ in range(300):
         target = robot.fk(robot.random_configuration(rng))
         ref = rng.uniform(robot.lower - 1.0, robot.upper + 1.0)
+        np.testing.assert_allclose(
+            solver.solutions(target.translation, target.rotation),
+            ClosedFormIK.solutions(solver, target.translation, target.rotation),
+            atol=1e-9,
+        )
         compiled = solver.nearest(target.translation, target.rotation, ref)
         numpy_path = ClosedFormIK.nearest(solver, target.translation, target.rotation, ref)
         assert (compiled is None) == (numpy_path is None)
