@@ -332,17 +332,8 @@ def test_anchored_law_starts_exactly_and_stays_smooth() -> None:
 
 
 # ------------------------------------------------------------------------------ the corpus
-PANDA_GAP = (
-    "issue 27 open: on the panda 13 of the 14 seams brute force welds (seed 27) are planned "
-    "(93 %); on tube 0 the follower's minimum-norm self-motion runs into a limit the search "
-    "avoided, from every start tried"
-)
-
-
 @pytest.mark.slow
-@pytest.mark.parametrize(
-    "name", ["ur5", pytest.param("panda", marks=pytest.mark.xfail(reason=PANDA_GAP, strict=False))]
-)
+@pytest.mark.parametrize("name", ["ur5", "panda"])
 def test_corpus_against_brute_force(name: str) -> None:
     robot = kinplan.load_robot(name)
     planned = feasible = missed = 0
