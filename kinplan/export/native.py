@@ -5,7 +5,8 @@ its I/O as ``set_standard_digital_out``; every native move checked before it is 
 Each move of the plan is translated to the command a PolyScope programmer would write:
 
 * a ``ptp`` to one point → ``movej(q, a, v)``: the plan's end joints, the leading joint's peak
-  speed and acceleration in the plan;
+  speed and acceleration in the plan (a ``ptp`` with ``avoid: true`` too, when the straight
+  joint motion the controller runs is clear of the cell: the replay decides);
 * a ``lin`` → ``movel(pose, a, v)``, a ``circ`` → ``movec(via, pose, a, v, mode=0)``: the pose
   of the plan's end (forward kinematics of its last sample, 1e-10 m as written), the plan's
   peak tool speed and acceleration;
@@ -21,10 +22,10 @@ limits (and acceleration limits where the robot declares them), the work cell wi
 clearance, the end configuration equal to the plan's (1e-5 rad: the controller must not end
 on another branch), the tool within 1 mm (plus the blend radius in blends) of the plan's path
 and its orientation within 1° of the plan's (the torch axis alone for moves with ``torch:``).
-A move that fails, or has no native form (weaves, ptp through several points, free motions,
-turning torches in blended seams), is written as a ``servoj`` stream of the plan's own motion
-(``fallback="servoj"``, the reason in a comment and in :attr:`NativeProgram.fallbacks`), or
-refused with the reason (``fallback="refuse"``).
+A move that fails (a free motion whose straight joint motion would collide, say), or has no
+native form (weaves, ptp through several points, turning torches in blended seams), is written
+as a ``servoj`` stream of the plan's own motion (``fallback="servoj"``, the reason in a comment
+and in :attr:`NativeProgram.fallbacks`), or refused with the reason (``fallback="refuse"``).
 
 Poses are written in the controller's base frame (the URDF's ``base`` link: ``base_link``
 turned by π about z in the Universal Robots descriptions, with the program's ``base_pose:``
@@ -229,14 +230,21 @@ def _native(ctx: _Context, report: Any, moves: list[Any]) -> tuple[list[str] | N
         return None, "it is not a move of the program's list"
     kinds = {m.kind for m in moves}
     ctx.torch = any(m.torch is not None for m in moves)
-    if any(getattr(m, "avoid", False) for m in moves):
-        return None, "a free motion around obstacles (avoid: true) has no native form here"
+    program_avoid = bool(getattr(getattr(ctx.plan, "program", None), "avoid", False))
+    avoided = any(
+        program_avoid if getattr(m, "avoid", None) is None else bool(m.avoid)
+        for m in moves
+        if m.kind == "ptp" and not m.through
+    )
     if any(m.weave is not None for m in moves):
         return None, "a woven seam: the controller's moves cannot weave"
     if kinds == {"ptp"}:
         if moves[0].through:
             return None, "a ptp through several points is timed as one motion (no native form)"
-        return _movej(ctx, report)
+        command, why = _movej(ctx, report)
+        if command is None and avoided:  # the straight movej meets what the free motion avoids
+            why = f"a free motion around obstacles (avoid: true), and {why}"
+        return command, why
     if "ptp" in kinds:
         return None, "a ptp blended with lines has no native form"
     if len(moves) == 1 and moves[0].kind == "lin":

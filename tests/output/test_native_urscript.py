@@ -297,3 +297,30 @@ moves:
     assert "wrist_3_link collides with intruder" in reason
     with pytest.raises(InputError, match=r"cannot be written as a native move: .*intruder"):
         export.urscript(plan, fallback="refuse")
+
+
+def test_a_free_motion_is_a_movej_only_where_the_straight_motion_is_clear():
+    """``avoid: true`` plans around a post; the controller's movej would go straight through
+    it, so the replay makes that move a servoj stream (the plan's own detour), saying why."""
+    text = """robot: ur5
+obstacles:
+  table: {box: [1.0, 1.2, 0.04], xyz: [0.25, 0, -0.02], allowed: [base_link]}
+  post: {box: [0.06, 0.06, 0.3], xyz: [0.42, 0.0, 0.15]}
+start: {joints_deg: [0, -90, 90, -90, -90, 0]}
+points:
+  a: {xyz: [0.4, -0.25, 0.2], rpy_deg: [180, 0, 90]}
+  b: {xyz: [0.4, 0.25, 0.2], rpy_deg: [180, 0, 90]}
+moves:
+  - {ptp: a}
+  - {ptp: b, avoid: true}
+"""
+    plan = plan_program(parse_program(text))
+    if not plan.ok:
+        pytest.skip(f"the free motion was not found here: {plan.reason}")
+    script = export.urscript(plan)
+    (reason,) = [line for line in script.splitlines() if line.startswith("# move 2 as servoj")]
+    assert "avoid: true" in reason and "collides with post" in reason, reason
+    assert len(MOVEJ.findall(script)) == 2  # to the start, and move 1
+    servo = [line for line in script.splitlines() if line.startswith("  servoj(")]
+    end = numbers(servo[-1].split("[")[1].split("]")[0])
+    np.testing.assert_allclose(end, plan.q[-1], atol=1e-9)  # the stream ends where the plan does
