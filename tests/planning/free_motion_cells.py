@@ -39,13 +39,18 @@ def colliding_pairs(
     """``count`` start/goal pairs of free configurations whose straight joint move collides
     (seeded: the same pairs for the same seed).
 
-    Configurations are drawn uniformly within the joint limits clipped to ±π (a UR's joints
-    reach ±2π, but the table under it splits that space into parts no motion joins: within
-    ±π every free configuration lies on the arm's side of the table).
+    Configurations are drawn uniformly within the joint limits clipped to ±π, and for UR arms
+    the shoulder lift within [−π, 0] (the upper arm above the table's plane). A UR's joints
+    reach ±2π, but the table under it splits that space into parts no motion joins: the upper
+    arm cannot swing through the table, so a shoulder lift of +180° (horizontal, backwards) is
+    not joined to one of −90° (upright) although −180° is the same pose. Pairs across such a
+    split have no solution for a joint goal (``any_turn=True`` solves them).
     """
     robot = cell.robot
     rng = np.random.default_rng(seed)
     lower, upper = np.maximum(robot.lower, -np.pi), np.minimum(robot.upper, np.pi)
+    if robot.name.startswith("ur"):
+        upper[1] = 0.0
     pairs: list[tuple[np.ndarray, np.ndarray]] = []
     free: list[np.ndarray] = []
     for _ in range(1000 * count):
