@@ -194,6 +194,7 @@ def cmd_reach(args: argparse.Namespace) -> int:
             direction=args.direction,
             cone_deg=args.cone_deg or 0.0,
             progress=progress,
+            cell=None if args.cell is None else _program_cell(args.cell, robot),
             **_engine_options(args),
         )
     for line in reach_map.summary():
@@ -204,6 +205,30 @@ def cmd_reach(args: argparse.Namespace) -> int:
     if args.html:
         print(f"wrote {reach_map.save_html(args.html, robot=robot)}")
     return 0
+
+
+def _program_cell(program: str, robot):  # -> kinplan.WorkCell
+    """The work cell of a program file's ``obstacles:`` around ``robot`` (``kinplan reach
+    --cell``)."""
+    import yaml
+
+    from kinplan.program.cell_keys import read_cell
+    from kinplan.program.checker import Checker
+    from kinplan.program.schema import ProgramLoader
+
+    file = Path(program)
+    try:
+        data = yaml.load(file.read_text(encoding="utf-8"), Loader=ProgramLoader)
+    except (OSError, yaml.YAMLError) as exc:
+        raise KinplanError(f"--cell: cannot read {file}: {exc}") from None
+    if not isinstance(data, dict) or not isinstance(data.get("obstacles"), dict):
+        raise KinplanError(f"--cell: {file} has no obstacles: mapping")
+    checker = Checker({})
+    _, cell, _ = read_cell(checker, {"obstacles": data["obstacles"]}, file.resolve().parent, robot)
+    if checker.issues or cell is None:
+        problems = "; ".join(f"{i.path}: {i.message}" for i in checker.issues)
+        raise KinplanError(f"--cell: the obstacles of {file} cannot be used: {problems}")
+    return cell
 
 
 def cmd_place(args: argparse.Namespace) -> int:

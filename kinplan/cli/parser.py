@@ -189,6 +189,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     reach.add_argument("--png", metavar="FILE", help="write slices through the shoulder")
     reach.add_argument("--html", metavar="FILE", help="write the voxels in MeshCat (offline)")
+    reach.add_argument(
+        "--cell",
+        metavar="PROGRAM.yaml",
+        help="count only IK solutions clear of this program's obstacles: (and of the robot itself)",
+    )
     _engine_arguments(reach)
     reach.set_defaults(handler=cmd_reach)
 
