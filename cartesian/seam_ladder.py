@@ -32,6 +32,10 @@ SINGULAR_WEIGHT = 0.01
 #: Cost per rad of tilt at every waypoint (the nominal torch angles win ties).
 TILT_WEIGHT = 0.05
 
+START_ROLL_TOLERANCE = 1e-5
+"""How far [rad] a given start configuration's roll may be from a roll sample it starts on (a
+start taught to a few decimals of a degree is that far off; plan_seam's own start tolerance)."""
+
 
 @dataclass
 class LadderPath:
@@ -256,7 +260,11 @@ class Ladder:
         step_ok = np.all(np.abs(delta) <= self.caps[k - 1], axis=1)
         droll = (roll[node] - R[pred_row] + math.pi) % TAU - math.pi
         if self.start is not None and k == 1:
-            step_ok &= np.abs(droll) <= self.roll_steps * self._roll_step() + 1e-9
+            # the given start's roll is measured, not sampled: it joins the roll samples within
+            # the steps a waypoint may take (2 roll slots when the roll is free and not
+            # factored into the last joint, as the slot adjacency), within START_ROLL_TOLERANCE
+            slots = self.roll_steps or (2 if self.candidates.roll.shape[0] > 1 else 0)
+            step_ok &= np.abs(droll) <= slots * self._roll_step() + START_ROLL_TOLERANCE
         return delta, step_ok, droll
 
     @property

@@ -77,7 +77,8 @@ def _summary_table(plan, title: str):
     overall = getattr(plan, "min_clearance", math.inf)
     with_clearance = math.isfinite(overall)  # a cell with obstacles
     columns = ["#", "move", "key", "duration [s]", "min manip.", "peak |qd|/limit"]
-    columns += ["clearance [mm]"] * with_clearance + ["status"]
+    with_roll = any(row.get("roll") for row in rows)  # a seam whose torch roll was searched
+    columns += ["clearance [mm]"] * with_clearance + ["torch roll"] * with_roll + ["status"]
     for column in columns:
         table.add_column(column, justify="left" if column in ("move", "key", "status") else "right")
     for row in rows:
@@ -85,6 +86,7 @@ def _summary_table(plan, title: str):
         manip = row["min_manipulability"]
         clearance = float(row.get("min_clearance", math.inf))
         extra = [f"{1e3 * clearance:.1f}" if math.isfinite(clearance) else "-"] * with_clearance
+        rolls = [str(row.get("roll", "")).removeprefix("roll ") or "-"] * with_roll
         table.add_row(
             str(row["number"]),
             str(row["move"]),
@@ -93,6 +95,7 @@ def _summary_table(plan, title: str):
             "-" if math.isnan(manip) else f"{manip:.4g}",
             f"{row['peak_speed_ratio']:.2f}",
             *extra,
+            *rolls,
             Text(status, style="green" if status == "ok" else "bold red"),
         )
     table.add_section()
@@ -100,6 +103,7 @@ def _summary_table(plan, title: str):
     total = [f"{1e3 * overall:.1f}" + (f" ({pair[0]} – {pair[1]})" if pair else "")]
     table.add_row(
         "", "total", "", f"{plan.duration:.3f}", "", "", *total * with_clearance,
+        *[""] * with_roll,
         "ok" if plan.ok else "FAILED",
     )  # fmt: skip
     return table

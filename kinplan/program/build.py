@@ -165,6 +165,7 @@ class MotionBuilder:
         self.acceleration_limit = acceleration_limits(robot, self.max_acceleration)
         self.paths: list[cartesian.Path] = []
         self._motion = MotionRecord(self.q)
+        self._ahead: tuple[cartesian.Path, cartesian.CartesianPlan] | None = None
 
     # -- state ---------------------------------------------------------------------------------
     @property
@@ -540,14 +541,137 @@ class MotionBuilder:
                 )
                 self._fail(kind, label, key, status="invalid", why=why)
             path = self._build_path(kind, label, key, lambda: torch_path(path, torch))
-            self._check_torch_start(path, kind, label, key)
+            if not torch.searched:
+                self._check_torch_start(path, kind, label, key)
         if weave is not None:
             travel = DEFAULT_TOOL_SPEED if speed is None else speed
             path = self._build_path(kind, label, key, lambda: weave_path(path, weave, travel))
+        if torch is not None and torch.searched:
+            return self._searched_seam(
+                path, torch, duration=duration, speed=speed, profile=profile, label=label,
+                key=key, kind=kind, max_acceleration=max_acceleration,
+            )  # fmt: skip
         return self.follow(
             path, duration=duration, speed=speed, profile=profile, label=label, key=key,
             kind=kind, max_acceleration=max_acceleration,
         )  # fmt: skip
+
+    def seam_start(
+        self,
+        pieces: Sequence[SeamPiece],
+        at: Goal,
+        *,
+        blend: float | Sequence[float] = 0.0,
+        duration: float | None = None,
+        speed: float | None = None,
+        profile: str = "trapezoid",
+        weave: WeaveSpec | None = None,
+        torch: TorchSpec,
+        max_acceleration: float | Sequence[float] | np.ndarray | None = None,
+    ) -> np.ndarray | None:
+        """Plan a searched torch seam (roll free or tolerance bands) that will start at ``at``
+        before the approach move that takes the arm there, so the approach can go to the start
+        configuration :func:`cartesian.plan_seam` chose.
+
+        Args:
+            pieces, blend, duration, speed, profile, weave, torch, max_acceleration: As in
+                :meth:`seam` (the seam's own move, planned next).
+            at: The approach's goal: the seam's start (pose, or position [m] keeping the
+                current orientation).
+
+        Returns:
+            The seam's first configuration [rad], shape (nq,), for the approach to end at; None
+            when the seam cannot be planned from there (the approach then goes as taught and
+            :meth:`seam` fails the seam, saying why).
+        """
+        self._check_open()
+        self._ahead = None
+        if not torch.searched or self.robot.default_position_only():
+            return None
+        try:
+            start = goal_from(at, self.tool_pose())
+            path = torch_path(seam_path(pieces, blend, start, False), torch)
+            if weave is not None:
+                travel = DEFAULT_TOOL_SPEED if speed is None else speed
+                path = weave_path(path, weave, travel)
+            plan = self._plan_seam(path, torch, duration, speed, profile, max_acceleration, None)
+        except KinplanError:
+            return None  # the seam's own move says why
+        self._ahead = (path, plan)
+        return np.array(plan.q[0]) if plan.ok and len(plan.t) else None
+
+    def _plan_seam(
+        self,
+        path: cartesian.Path,
+        torch: TorchSpec,
+        duration: float | None,
+        speed: float | None,
+        profile: str,
+        max_acceleration: object,
+        q_start: np.ndarray | None,
+    ) -> cartesian.CartesianPlan:
+        """:func:`cartesian.plan_seam` of a torch seam (its roll free or fixed at the path's,
+        its tolerance bands [rad]) with the builder's cell, dt and acceleration limits."""
+        limit = self._acceleration_limit(max_acceleration)
+        if duration is None and speed is None:
+            if path.length > 0:
+                speed = DEFAULT_TOOL_SPEED
+            else:
+                duration = 1.0
+        return cartesian.plan_seam(
+            self.robot, path, speed=speed, duration=duration, dt=self.dt,
+            roll="free" if torch.roll is None else 0.0,  # a fixed roll is in the path's poses
+            work_tolerance=torch.work_tolerance, travel_tolerance=torch.travel_tolerance,
+            q_start=q_start, cell=self.cell, clearance=self.clearance, profile=profile,
+            max_acceleration=limit if np.all(np.isfinite(limit)) else None,
+        )  # fmt: skip
+
+    def _searched_seam(
+        self,
+        path: cartesian.Path,
+        torch: TorchSpec,
+        *,
+        duration: float | None,
+        speed: float | None,
+        profile: str,
+        label: str,
+        key: str | None,
+        kind: str,
+        max_acceleration: float | Sequence[float] | np.ndarray | None,
+    ) -> MoveReport:
+        """A torch seam planned by :func:`cartesian.plan_seam`: the plan made before the
+        approach (:meth:`seam_start`) when the arm is at its start, else one from the current
+        configuration (``q_start``: the roll free from there on)."""
+        limit = self._acceleration_limit(max_acceleration)
+        here = self.tool_pose().translation
+        gap = float(np.linalg.norm(path.start.translation - here))
+        if gap > 1e-4:
+            why = start_gap_reason(path.start.translation, here, gap)
+            self._fail(kind, label, key, status="invalid", why=why)
+        ahead, self._ahead = self._ahead, None
+        plan = None
+        if ahead is not None:
+            before, planned = ahead
+            moved = float(np.linalg.norm(before.start.translation - here))
+            joins = not (planned.ok and len(planned.t)) or (
+                float(np.max(np.abs(planned.q[0] - self.q))) <= JOIN_TOLERANCE
+            )
+            if moved <= 1e-4 and joins:
+                path, plan = before, planned
+        if plan is None:
+            axis = self.tool_pose().rotation[:, 2] @ path.start.rotation[:, 2]
+            turn = math.acos(min(1.0, max(-1.0, float(axis))))
+            band = math.hypot(torch.work_tolerance, torch.travel_tolerance)
+            if turn > band + TORCH_START_TOLERANCE:  # the torch axis, whatever its roll
+                self._fail(kind, label, key, status="invalid",
+                           why=torch_start_reason(path.start, turn))  # fmt: skip
+            try:
+                plan = self._plan_seam(
+                    path, torch, duration, speed, profile, max_acceleration, self.q
+                )
+            except KinplanError as exc:
+                self._fail(kind, label, key, status="invalid", why=f"invalid: {exc}")
+        return self._take_plan(plan, plan.path, kind, label, key, limit, 0.0)
 
     def _check_torch_start(
         self, path: cartesian.Path, kind: str, label: str, key: str | None
@@ -608,6 +732,21 @@ class MotionBuilder:
             )  # fmt: skip
         except KinplanError as exc:
             self._fail(kind, label, key, status="invalid", why=f"invalid: {exc}")
+        return self._take_plan(plan, path, kind, label, key, limit, turn)
+
+    def _take_plan(
+        self,
+        plan: cartesian.CartesianPlan,
+        path: cartesian.Path,
+        kind: str,
+        label: str,
+        key: str | None,
+        limit: np.ndarray,
+        turn: float,
+    ) -> MoveReport:
+        """Record a Cartesian plan from the current configuration: a move, or its failure
+        (a jump from the current configuration, the plan's first event). ``turn`` [rad]: the
+        path start's angle to the tool's orientation."""
         self.paths.append(path)
         ratio = plan.peak_speed_ratio
         samples = (plan.t, plan.q, plan.qd, plan.qdd) if len(plan.t) else None

@@ -397,8 +397,11 @@ def _torch(checker: Checker, value: object, path: KeyPath) -> TorchSpec | None:
     normal: tuple[float, float, float] | None = (0.0, 0.0, 1.0)
     if "normal" in spec:
         normal = _direction(checker, spec["normal"], path + ("normal",))
-    angles = []
+    angles: list[float | None] = []
     for key, bound in (("work_angle_deg", 90.0), ("travel_angle_deg", 90.0), ("roll_deg", 360.0)):
+        if key == "roll_deg" and key not in spec:
+            angles.append(None)  # the roll is free: plan_seam searches it
+            continue
         number = spec.get(key, 0.0)
         if not is_number(number) or not abs(to_float(number)) < bound:
             checker.error(
@@ -407,9 +410,21 @@ def _torch(checker: Checker, value: object, path: KeyPath) -> TorchSpec | None:
             )  # fmt: skip
             return None
         angles.append(math.radians(to_float(number)))
+    tolerances = []
+    for key in ("work_tolerance_deg", "travel_tolerance_deg"):
+        number = spec.get(key, 0.0)
+        if not is_number(number) or not 0.0 <= to_float(number) < 90.0:
+            checker.error(
+                path + (key,), f"expected a number of degrees from 0 to below 90 (the band the "
+                f"torch axis may tilt within, e.g. {key}: 10), got {describe(number)}",
+            )  # fmt: skip
+            return None
+        tolerances.append(math.radians(to_float(number)))
     if normal is None:
         return None
-    return TorchSpec(normal, *angles)
+    work, travel, roll = angles
+    assert work is not None and travel is not None
+    return TorchSpec(normal, work, travel, roll, *tolerances)
 
 
 def _direction(checker: Checker, value: object, path: KeyPath) -> tuple[float, float, float] | None:

@@ -119,6 +119,26 @@ class MoveReport:
         return self.kind == "dwell"
 
     @property
+    def roll_range(self) -> tuple[float, float] | None:
+        """(lowest, highest) torch roll [deg] :func:`cartesian.plan_seam` chose along a seam
+        (a ``torch:`` without ``roll_deg``, or with tolerance bands), relative to the taught
+        torch; None for other moves."""
+        plan = self.cartesian_plan
+        roll = None if plan is None else getattr(plan, "roll", None)
+        if roll is None or len(roll) == 0:
+            return None
+        return float(np.degrees(np.min(roll))), float(np.degrees(np.max(roll)))
+
+    @property
+    def roll_text(self) -> str:
+        """``roll −12° … 35°`` for a searched seam (:attr:`roll_range`), else ""."""
+        if self.roll_range is None:
+            return ""
+        low, high = (f"{value:.0f}".replace("-", "−") for value in self.roll_range)
+        low, high = ("0" if v == "−0" else v for v in (low, high))
+        return f"roll {low}° … {high}°"
+
+    @property
     def numbers(self) -> str:
         """The program move number(s) as printed: ``3``, or ``7–10`` for moves blended into
         one motion."""
@@ -363,6 +383,7 @@ class ProgramPlan(Trajectory):
         lines = [
             f"{m.numbers:>3}. {m.label} ({m.key or '-'}): {m.duration:.3f} s, peak speed "
             f"{m.peak_speed_ratio:.2f} of the limit, {m.status}"
+            + (f", {m.roll_text}" if m.roll_text else "")
             for m in self.moves
         ]
         lines.append(
@@ -374,7 +395,8 @@ class ProgramPlan(Trajectory):
 
     def summary_rows(self) -> list[dict[str, object]]:
         """One dict per move: number, move, key, duration [s], min manipulability, peak joint
-        speed / limit, min clearance [m] (inf without a cell), status."""
+        speed / limit, min clearance [m] (inf without a cell), status, the torch roll range
+        chosen along a searched seam (``roll −12° … 35°``, else "")."""
         return [
             {
                 "number": m.numbers,
@@ -385,6 +407,7 @@ class ProgramPlan(Trajectory):
                 "peak_speed_ratio": m.peak_speed_ratio,
                 "min_clearance": m.min_clearance,
                 "status": m.status,
+                "roll": m.roll_text,
             }
             for m in self.moves
         ]

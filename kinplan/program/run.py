@@ -51,15 +51,17 @@ def plan_program(
     total = len(program.moves)
     done = 0
     events: list[IoEvent] = []
+    groups = _motions(program.moves)
     try:
-        for group in _motions(program.moves):
+        for number, group in enumerate(groups):
             if progress is not None:
                 progress(done, total, group[0].label)
             events += _signals(group[0], builder.time, program.arc_output)
             if len(group) > 1:
                 _plan_blended(builder, program, group)
             else:
-                _plan_move(builder, program, group[0])
+                following = groups[number + 1] if number + 1 < len(groups) else None
+                _plan_move(builder, program, group[0], following)
             last = group[-1]
             if last.dwell > 0:
                 builder.dwell(last.dwell, label=f"dwell {last.dwell:g} s", key=f"{last.key}.dwell")
@@ -123,9 +125,40 @@ def _plan_blended(builder: MotionBuilder, program: Program, group: list[Move]) -
     )
 
 
-def _plan_move(builder: MotionBuilder, program: Program, move: Move) -> None:
+def _seam_ahead(
+    builder: MotionBuilder, program: Program, move: Move, group: list[Move] | None
+) -> np.ndarray | None:
+    """The start configuration [rad] :func:`cartesian.plan_seam` chose for the searched torch
+    seam (roll free or tolerance bands) that follows the ptp ``move``, or None (no such seam
+    next, or it cannot be planned: then the approach goes as taught)."""
+    if group is None or move.kind != "ptp" or group[0].kind == "ptp":
+        return None
+    first = group[0]
+    if first.torch is None or not first.torch.searched:
+        return None
+    robot = program.robot
+    pieces = [
+        (
+            m.kind,
+            program.points[m.target].goal(robot),
+            None if m.via is None else program.points[m.via].goal(robot),
+        )
+        for m in group
+    ]
+    return builder.seam_start(
+        pieces, program.points[move.target].goal(robot),
+        blend=[m.blend or 0.0 for m in group[:-1]] if len(group) > 1 else 0.0,
+        duration=first.duration, speed=first.speed, profile=first.profile, weave=first.weave,
+        torch=first.torch, max_acceleration=first.max_acceleration,
+    )  # fmt: skip
+
+
+def _plan_move(
+    builder: MotionBuilder, program: Program, move: Move, following: list[Move] | None = None
+) -> None:
     robot = program.robot
     target = program.points[move.target]
+    seam_q = _seam_ahead(builder, program, move, following)
     options: _MoveOptions = {
         "duration": move.duration,
         "speed": move.speed,
@@ -134,9 +167,20 @@ def _plan_move(builder: MotionBuilder, program: Program, move: Move) -> None:
         "key": move.key,
         "max_acceleration": move.max_acceleration,
     }
-    if move.kind == "ptp" and move.through:
+    if move.kind == "ptp" and seam_q is not None and not move.through:  # to the seam's start
+        if program.avoid if move.avoid is None else move.avoid:
+            builder.ptp_around(
+                seam_q, speed=move.speed, label=move.label, key=move.key,
+                max_acceleration=move.max_acceleration,
+            )  # fmt: skip
+        else:
+            builder.ptp_joints(seam_q, **options)
+    elif move.kind == "ptp" and move.through:
+        points = _joint_points(builder, program, [*move.through, move.target], move)
+        if seam_q is not None:
+            points[-1] = seam_q  # the seam's start configuration
         builder.ptp_through(
-            _joint_points(builder, program, [*move.through, move.target], move),
+            points,
             duration=move.duration, speed=move.speed, profile=move.profile,
             blend=move.blend or 0.0, times=move.times, label=move.label, key=move.key,
             max_acceleration=move.max_acceleration,

@@ -112,8 +112,12 @@ MOVE_OPTIONS = (
 """The keys of a move besides its kind."""
 WEAVE_KEYS = ("pattern", "amplitude", "frequency", "dwell", "normal")
 """The keys of a move's ``weave:`` (``amplitude`` and ``frequency`` required)."""
-TORCH_KEYS = ("normal", "work_angle_deg", "travel_angle_deg", "roll_deg")
-"""The keys of a move's ``torch:`` (all optional)."""
+TORCH_KEYS = (
+    "normal", "work_angle_deg", "travel_angle_deg", "roll_deg", "work_tolerance_deg",
+    "travel_tolerance_deg",
+)  # fmt: skip
+"""The keys of a move's ``torch:`` (all optional; without ``roll_deg`` the roll is free and
+searched by :func:`cartesian.plan_seam`)."""
 THROUGH_PROFILES = ("time_optimal", "spline")
 """The time laws of a ``ptp`` through several points (the first is the default)."""
 NAME_PATTERN = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
@@ -200,13 +204,26 @@ class TorchSpec:
         normal: Surface normal (world frame).
         work_angle: Tilt across the seam [rad].
         travel_angle: Tilt along the seam [rad], positive = push.
-        roll: Turn about the torch axis [rad].
+        roll: Turn about the torch axis [rad], or None: free, searched along the seam by
+            :func:`cartesian.plan_seam` (``torch:`` without ``roll_deg``).
+        work_tolerance: Band [rad] in [0, π/2) within which the torch axis may tilt across the
+            seam (``work_tolerance_deg``).
+        travel_tolerance: Band [rad] in [0, π/2) within which it may tilt along the seam
+            (``travel_tolerance_deg``).
     """
 
     normal: tuple[float, float, float] = (0.0, 0.0, 1.0)
     work_angle: float = 0.0
     travel_angle: float = 0.0
-    roll: float = 0.0
+    roll: float | None = 0.0
+    work_tolerance: float = 0.0
+    travel_tolerance: float = 0.0
+
+    @property
+    def searched(self) -> bool:
+        """Whether the seam is planned by :func:`cartesian.plan_seam` (roll free or tolerance
+        bands) rather than followed as taught by :func:`cartesian.follow`."""
+        return self.roll is None or self.work_tolerance > 0 or self.travel_tolerance > 0
 
 
 @dataclass(frozen=True)

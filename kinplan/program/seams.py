@@ -94,8 +94,11 @@ def seam_path(
 
 
 def torch_path(path: cartesian.Path, torch: TorchSpec) -> cartesian.Path:
+    """The seam held at the torch's angles (a free roll: the taught roll 0, which
+    :func:`cartesian.plan_seam` then turns)."""
+    roll = 0.0 if torch.roll is None else torch.roll
     return cartesian.TorchOrientation(
-        path, torch.normal, torch.work_angle, torch.travel_angle, torch.roll
+        path, torch.normal, torch.work_angle, torch.travel_angle, roll
     )
 
 
