@@ -15,7 +15,7 @@ The seam planner, being Cartesian, lives beside the follower in :mod:`cartesian`
 
 from __future__ import annotations
 
-from kinplan.planning.planner import free_motion
 from kinplan.planning.plan import STATUSES, MotionPlan, PlanEvent, WaypointArray
+from kinplan.planning.planner import free_motion
 
 __all__ = ["STATUSES", "MotionPlan", "PlanEvent", "WaypointArray", "free_motion"]

@@ -20,6 +20,8 @@ state of its obstacles (cached).
 
 from __future__ import annotations
 
+import functools
+import math
 import weakref
 from dataclasses import dataclass
 
@@ -170,11 +172,12 @@ class Screen:
     def segment_free(self, qa: np.ndarray, qb: np.ndarray) -> bool:
         """Whether the configurations along ``qa`` → ``qb`` (at most :data:`RESOLUTION` apart,
         the ends excluded) all pass, tested in bisection order (the middle first)."""
-        length = float(np.linalg.norm(qb - qa))
-        fractions = bisection_order(max(1, int(np.ceil(length / RESOLUTION))))
+        delta = qb - qa
+        length = math.sqrt(float(delta @ delta))
+        fractions = bisection_order(max(1, math.ceil(length / RESOLUTION)))
         if not fractions.size:
             return True
-        return self.all_free(qa + fractions[:, None] * (qb - qa))
+        return self.all_free(qa + fractions[:, None] * delta)
 
     def all_free(self, q: np.ndarray) -> bool:
         """Whether every configuration (rows of ``q``, tested in order) passes."""
@@ -190,9 +193,11 @@ class Screen:
         box = c.boxes[b[fixed]]
         own = centres[:, a[fixed]]
         nearest = np.minimum(np.maximum(own, box[:, 0]), box[:, 1])
-        gap[:, fixed] = np.linalg.norm(own - nearest, axis=2) - c.radii[a[fixed]]
+        away = own - nearest
+        gap[:, fixed] = np.sqrt(np.einsum("spi,spi->sp", away, away)) - c.radii[a[fixed]]
         moving = ~fixed
-        between = np.linalg.norm(centres[:, a[moving]] - centres[:, b[moving]], axis=2)
+        apart = centres[:, a[moving]] - centres[:, b[moving]]
+        between = np.sqrt(np.einsum("spi,spi->sp", apart, apart))
         gap[:, moving] = between - c.radii[a[moving]] - c.radii[b[moving]]
         near = gap < self._margins
         geometry, data = self._geometry, self._geometry_data
@@ -258,9 +263,10 @@ def _object_screws(cell: WorkCell, compiled: _Compiled) -> _Screws | None:
     )
 
 
+@functools.lru_cache(maxsize=256)
 def bisection_order(count: int) -> np.ndarray:
     """The interior points k / count (0 < k < count) in bisection order: 1/2, then 1/4 and 3/4,
-    ... (each point once)."""
+    ... (each point once); read-only (cached)."""
     if count <= 1:
         return np.zeros(0)
     order: list[int] = []
@@ -277,4 +283,6 @@ def bisection_order(count: int) -> np.ndarray:
                 order.append(m)
             nxt += [(a, m), (m, b)]
         queue = nxt
-    return np.array(order, dtype=float) / count
+    out = np.array(order, dtype=float) / count
+    out.flags.writeable = False
+    return out

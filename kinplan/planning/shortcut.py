@@ -23,7 +23,7 @@ from kinplan.planning.search import EdgeChecker
 
 __all__ = ["ROUNDS", "SHORTCUT_ATTEMPTS", "path_length", "shorten"]
 
-SHORTCUT_ATTEMPTS = 16
+SHORTCUT_ATTEMPTS = 40
 """Random shortcuts tried per round between two points of the path."""
 
 ROUNDS = 3
