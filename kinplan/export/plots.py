@@ -43,7 +43,9 @@ def plot_motion(
     :class:`kinplan.cell.MotionCheck`; between two samples the check certified the margin, the
     lines just join the samples), the ``clearance`` margin (kept from the obstacles) dashed, and
     for a plan stopped by a collision a cross at the failing pair's distance at the failing
-    instant (a sample the plan does not keep, or between two samples).
+    instant (a sample the plan does not keep, or between two samples). A seam whose torch roll
+    was searched (:func:`cartesian.plan_seam`, a program's ``torch:`` without ``roll_deg``) gets
+    a panel of that roll [deg] along the seam, relative to the taught torch.
 
     Args:
         plan: The motion, with its robot (:class:`~kinplan.motion.SampledMotion`); a program's
@@ -54,7 +56,8 @@ def plot_motion(
         unit: Unit of joint position for the labels.
 
     Returns:
-        The figure (four stacked axes; five with the clearance).
+        The figure (four stacked axes; one more with the torch roll, one more with the
+        clearance).
 
     Raises:
         InputError: not a motion with a robot; ``path`` not a file path of an image type
@@ -77,8 +80,9 @@ def plot_motion(
         else [f"joint {j}" for j in range(n)]
     )
     clearances = _clearances(plan)
-    rows = 4 if clearances is None else 5
-    figure = Figure(figsize=(9.0, 9.0 if rows == 4 else 11.0), layout="constrained")
+    rolls = _rolls(plan)
+    rows = 4 + (rolls is not None) + (clearances is not None)
+    figure = Figure(figsize=(9.0, 9.0 + 2.0 * (rows - 4)), layout="constrained")
     axes = figure.subplots(rows, 1, sharex=True)
     for j in range(n):
         for ax, values in zip(axes[:3], (plan.q, plan.qd, plan.qdd)):
@@ -93,8 +97,13 @@ def plot_motion(
     for ax, label in zip(axes, labels):
         ax.set_ylabel(label)
         ax.grid(True, alpha=0.3)
+    if rolls is not None:
+        for k, (t, roll) in enumerate(rolls):
+            axes[4].plot(t, roll, color="C1", linewidth=1.2, label="torch roll" if k == 0 else None)
+        axes[4].set_ylabel("torch roll [deg]")
+        axes[4].grid(True, alpha=0.3)
     if clearances is not None:
-        _plot_clearances(axes[4], plan.t, clearances)
+        _plot_clearances(axes[-1], plan.t, clearances)
     _mark_moves(axes, plan.moves, float(plan.t[-1] - plan.t[0]) if len(plan.t) else 0.0)
     axes[-1].set_xlabel("time [s]")
     axes[0].legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.0, 1.0))
@@ -110,6 +119,22 @@ def plot_motion(
             raise KinplanError(f"cannot write {target}: {exc.strerror or exc}") from None
         logger.info("wrote %s", target)
     return figure
+
+
+def _rolls(plan: SampledMotion) -> list[tuple[np.ndarray, np.ndarray]] | None:
+    """(time [s], torch roll [deg]) of every seam whose roll :func:`cartesian.plan_seam` chose:
+    the plan's own ``roll``, or its moves' (a program), or None when there is none."""
+    roll = getattr(plan, "roll", None)
+    if roll is not None and 0 < len(roll) <= len(plan.t):
+        return [(np.asarray(plan.t)[: len(roll)], np.degrees(np.asarray(roll, dtype=float)))]
+    pieces = []
+    for move in getattr(plan, "moves", None) or []:
+        seam = getattr(move, "cartesian_plan", None)
+        roll = getattr(seam, "roll", None)
+        if seam is not None and roll is not None and len(roll):
+            t = float(move.t0) + np.asarray(seam.t, dtype=float)[: len(roll)]
+            pieces.append((t, np.degrees(np.asarray(roll, dtype=float))))
+    return pieces or None
 
 
 @dataclass(frozen=True)

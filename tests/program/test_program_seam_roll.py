@@ -191,3 +191,42 @@ def test_kinplan_run_shows_the_roll_range(tmp_path, capsys, monkeypatch, free_pl
     assert code == 0, out
     assert "torch roll" in out
     assert free_plan.moves[-1].roll_text.removeprefix("roll ") in out, out
+
+
+def test_plot_motion_draws_the_roll_along_the_seam(free_plan):
+    from kinplan.export.plots import plot_motion
+
+    figure = plot_motion(free_plan)
+    axes = figure.get_axes()
+    roll_axes = [ax for ax in axes if ax.get_ylabel() == "torch roll [deg]"]
+    assert len(roll_axes) == 1 and axes.index(roll_axes[0]) == 4  # after the tool speed
+    (line,) = [ln for ln in roll_axes[0].get_lines() if ln.get_label() == "torch roll"]
+    seam = free_plan.moves[-1]
+    np.testing.assert_allclose(line.get_ydata(), np.degrees(seam.cartesian_plan.roll))
+    np.testing.assert_allclose(line.get_xdata()[0], seam.t0)
+
+
+def test_plan_seam_starts_on_a_taught_start_a_little_off_the_roll_sample():
+    """A start configuration whose roll is a few 1e-7 rad off the roll asked (a start taught
+    to a few decimals) joins the first waypoint (it was refused as a branch flip)."""
+    import kinplan
+
+    robot = kinplan.load_robot("ur5")
+    seam = corpus("ur5", 20)[5].path
+    start = seam.start
+    turned = pin.SE3(start.rotation @ pin.exp3(np.array([0.0, 0.0, 6e-7])), start.translation)
+    q0 = robot.ik(turned, q_seed=np.radians([0, -90, 90, -90, -90, 0])).q
+    short = cartesian.TorchOrientation(
+        cartesian.CircularArc(*_arc_of(seam), math.radians(60)),
+        normal=(0.0, 0.0, 1.0), work_angle=-math.pi / 4,
+    )  # fmt: skip
+    for roll in (0.0, "free"):
+        plan = cartesian.plan_seam(robot, short, speed=0.02, roll=roll, q_start=q0)
+        assert plan.ok, (roll, plan.events)
+        assert np.max(np.abs(plan.q[0] - q0)) <= 1e-9
+
+
+def _arc_of(seam) -> tuple:
+    """Centre, radius and start axes of the corpus tube seam's arc (its first 60°)."""
+    arc = seam.path
+    return arc.center, arc.radius, arc.e1, arc.e2
