@@ -3,7 +3,9 @@
 Modules, each importing only those before it:
 
 * :mod:`~kinplan.ik.numeric` — :class:`IKSolver` (damped least squares with the joint limits as
-  an active set, Halton restarts), :class:`IKResult`, tolerances, :func:`halton`;
+  an active set, Halton restarts), :class:`IKResult`, tolerances, :func:`halton`; its attempts
+  on serial revolute arms compiled in :mod:`~kinplan.ik.numeric_kernel` (numba, loaded on the
+  first numerical solve);
 * :mod:`~kinplan.ik.screws` — screw geometry shared by the closed forms (joint screws at q = 0,
   rotations, the choice among 2π equivalents, tolerances);
 * :mod:`~kinplan.ik.base` — the :class:`AnalyticIK` protocol, the :class:`ClosedFormIK` base
