@@ -230,3 +230,28 @@ def _arc_of(seam) -> tuple:
     """Centre, radius and start axes of the corpus tube seam's arc (its first 60°)."""
     arc = seam.path
     return arc.center, arc.radius, arc.e1, arc.e2
+
+
+def test_a_seam_no_roll_can_weld_is_refused_after_the_approach_as_taught(tmp_path):
+    seam = cartesian.TorchOrientation(
+        cartesian.Line([0.5, 0.0, 0.1], [0.92, 0.0, 0.1]), normal=(0.0, 0.0, 1.0),
+        work_angle=math.radians(30),
+    )  # fmt: skip
+    rpy = [float(v) for v in np.degrees(pin.rpy.matrixToRpy(seam.start.rotation))]
+    program = {
+        "robot": "ur5",
+        "start": {"joints_deg": [0, -90, 90, -90, -90, 0]},
+        "points": {"a": {"xyz": [0.5, 0.0, 0.1], "rpy_deg": rpy}, "b": {"xyz": [0.92, 0.0, 0.1]}},
+        "moves": [
+            {"ptp": "a", "name": "approach"},
+            {"lin": "b", "speed": 0.05, "torch": {"work_angle_deg": 30}},  # beyond reach at b
+        ],
+    }
+    plan = plan_of(tmp_path, program)
+    assert not plan.ok
+    approach, refused = plan.moves
+    assert approach.status == "ok"  # to the point as taught
+    np.testing.assert_allclose(plan.robot.fk(plan.q[approach.last]).rotation, seam.start.rotation,
+                               atol=1e-6)  # fmt: skip
+    assert refused.status == "unreachable"
+    assert "moves[1]" in plan.reason and "no IK solution for every roll" in plan.reason
