@@ -169,12 +169,15 @@ class Screen:
         pin.updateGeometryPlacements(self._model, self._data, geometry, data, q)
         return not pin.computeCollisions(geometry, data, True)
 
-    def segment_free(self, qa: np.ndarray, qb: np.ndarray) -> bool:
+    def segment_free(self, qa: np.ndarray, qb: np.ndarray, end: bool = False) -> bool:
         """Whether the configurations along ``qa`` → ``qb`` (at most :data:`RESOLUTION` apart,
-        the ends excluded) all pass, tested in bisection order (the middle first)."""
+        the ends excluded; ``qb`` first when ``end``) all pass, the interior in bisection order
+        (the middle first)."""
         delta = qb - qa
         length = math.sqrt(float(delta @ delta))
         fractions = bisection_order(max(1, math.ceil(length / RESOLUTION)))
+        if end:
+            fractions = np.concatenate([[1.0], fractions])
         if not fractions.size:
             return True
         return self.all_free(qa + fractions[:, None] * delta)

@@ -239,7 +239,7 @@ def _extend(tree: Tree, target: np.ndarray, screen: Screen, step: float) -> int 
     if length < 1e-9:
         return None
     q = origin + delta * min(1.0, step / length)
-    if not (screen.free(q) and screen.segment_free(origin, q)):
+    if not screen.segment_free(origin, q, end=True):
         return None
     return tree.add(q, near)
 
@@ -259,7 +259,7 @@ def _connect(tree: Tree, target: np.ndarray, screen: Screen, step: float) -> int
                 return None  # (at step 0 it is the straight segment found blocked)
             return tree.add(target.copy(), near)
         q = origin + delta * (step / length)
-        if not (screen.free(q) and screen.segment_free(origin, q)):
+        if not screen.segment_free(origin, q, end=True):
             return None
         near = tree.add(q, near)
     return None
