@@ -20,8 +20,8 @@ import pinocchio as pin
 from numpy.typing import ArrayLike
 
 from kinplan import checks
+from kinplan.checks import parse_target
 from kinplan.errors import InputError
-from kinplan.robot import parse_target
 
 _FD_STEP = 1e-5  # [-] step in s for the finite-difference fallbacks
 

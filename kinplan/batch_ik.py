@@ -10,20 +10,20 @@ Three solvers, chosen per arm:
   path near a singularity, and the planar 2R, list every branch in one numpy pass
   (``all_branches``) and keep the nearest. The solutions are checked by forward kinematics and
   polished by a few Newton steps where the rounding left them outside the tolerances, as
-  :meth:`Robot.ik` does;
+  :meth:`kinplan.Robot.ik` does;
 * **closed form with a θ7 search** (panda-type arms): ``PandaIK.nearest``'s search stage by
   stage on all targets at once (:meth:`PandaIK.nearest_many`), targets near a free angle by
   ``nearest`` itself; checked the same way;
 * **Levenberg–Marquardt over targets** (any other serial arm): the damped least-squares iteration
   of :class:`kinplan.ik.IKSolver` run on all unfinished targets at once, with numpy's batched
   solves; targets that stall restart from the same Halton configurations as
-  :meth:`Robot.ik`.
+  :meth:`kinplan.Robot.ik`.
 
 :class:`BatchKinematics` evaluates forward kinematics and tool Jacobians of a serial chain of
 revolute and prismatic joints for many configurations at once, from the Pinocchio model's joint
 placements, as a few BLAS products per joint on rotations stored as rows (one column per
 configuration); it is checked against Pinocchio on construction (an arm it cannot represent — a
-mimic joint, say — gets None, and the caller loops over :meth:`Robot.ik`).
+mimic joint, say — gets None, and the caller loops over :meth:`kinplan.Robot.ik`).
 """
 
 from __future__ import annotations
@@ -31,17 +31,19 @@ from __future__ import annotations
 import functools
 import logging
 import math
+from collections.abc import Sequence
 from contextlib import AbstractContextManager
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 import pinocchio as pin
 from threadpoolctl import ThreadpoolController
 
 from kinplan import checks
+from kinplan.arm import Arm
 from kinplan.errors import InputError
-from kinplan.ik import frobenius_tolerance
-from kinplan.ik.base import ClosedFormIK
+from kinplan.ik import IKResult, IKSolver, frobenius_tolerance
+from kinplan.ik.base import AnalyticIK, ClosedFormIK
 from kinplan.ik.numeric import (
     DAMPING_FLOOR,
     DAMPING_GAIN,
@@ -56,10 +58,41 @@ from kinplan.ik.panda import PandaIK
 from kinplan.ik.spherical_wrist import SphericalWristIK
 from kinplan.ik.ur import URIK
 
-if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
-    from kinplan.robot import Robot
-
 logger = logging.getLogger(__name__)
+
+
+class SolvingArm(Arm, Protocol):
+    """An arm with its own IK solvers (a :class:`kinplan.Robot` is one): what the batch solver
+    needs beyond :class:`~kinplan.arm.Arm` (it falls back to the arm's own :meth:`ik`)."""
+
+    @property
+    def closed_form_ik(self) -> AnalyticIK | None:
+        """The arm's closed-form solver, or None."""
+        ...
+
+    @property
+    def ik_solver(self) -> IKSolver:
+        """The arm's numerical solver."""
+        ...
+
+    def ik(
+        self,
+        target: pin.SE3 | Sequence[float] | np.ndarray,
+        q_seed: Sequence[float] | np.ndarray | None = None,
+        position_only: bool = False,
+        *,
+        position_tolerance: float = 1e-6,
+        rotation_tolerance: float = 1e-6,
+        max_iterations: int = 40,
+        max_restarts: int = 40,
+    ) -> IKResult:
+        """The configuration nearest ``q_seed`` that puts the tool at ``target``."""
+        ...
+
+    def pose_and_jacobian(self, q: Sequence[float] | np.ndarray) -> tuple[pin.SE3, np.ndarray]:
+        """Tool pose and its 6×nq Jacobian at ``q``."""
+        ...
+
 
 TAU = 2.0 * math.pi
 #: Joint values this far outside a limit [rad] are accepted and clipped onto it (as the closed
@@ -110,7 +143,7 @@ class BatchKinematics:
     placement. Use :meth:`of`, which checks the result against Pinocchio.
     """
 
-    def __init__(self, robot: Robot) -> None:
+    def __init__(self, robot: SolvingArm) -> None:
         model = robot.model
         self.nq = robot.nq
         tip_joint = model.frames[robot.tip_id].parentJoint
@@ -200,7 +233,7 @@ class BatchKinematics:
         return steps, tool
 
     @classmethod
-    def of(cls, robot: Robot) -> BatchKinematics | None:
+    def of(cls, robot: SolvingArm) -> BatchKinematics | None:
         """The batch kinematics of ``robot``, or None when its model has other joints (mimic,
         spherical, ...) or the result disagrees with Pinocchio on random configurations."""
         try:
@@ -428,7 +461,7 @@ def _rotation_defects(columns: list[tuple[np.ndarray, ...]]) -> tuple[np.ndarray
 
 def parse_targets(targets: object) -> tuple[np.ndarray, np.ndarray | None]:
     """Positions (N, 3) [m] and rotations (N, 3, 3) (None for positions) of
-    :meth:`Robot.ik_batch`'s targets: an (N, 4, 4) array, a list of ``pin.SE3`` or an (N, 3)
+    :meth:`kinplan.Robot.ik_batch`'s targets: an (N, 4, 4) array, a list of ``pin.SE3`` or an (N, 3)
     array.
 
     Raises:
@@ -482,7 +515,7 @@ class BatchSolver:
         robot: The arm.
     """
 
-    def __init__(self, robot: Robot) -> None:
+    def __init__(self, robot: SolvingArm) -> None:
         self.robot = robot
         self.kinematics = BatchKinematics.of(robot)
         closed_form = robot.closed_form_ik

@@ -9,8 +9,10 @@ from __future__ import annotations
 
 import math
 import numbers
+from collections.abc import Sequence
 
 import numpy as np
+import pinocchio as pin
 
 from kinplan.errors import InputError
 
@@ -263,3 +265,56 @@ def rotation(value: object, name: str) -> np.ndarray:
     if problem:
         raise InputError(f"{name} is not a rotation matrix: {problem}; {ROTATION_ADVICE}")
     return array
+
+
+_ONES3 = np.ones(3)
+
+
+def parse_target(
+    target: pin.SE3 | Sequence[float] | np.ndarray, what: str = "an IK target"
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """Split a pose into (position [m], rotation 3×3, or None for a position 3-vector).
+
+    Args:
+        target: A ``pinocchio.SE3``, a 4×4 homogeneous matrix or a position 3-vector [m].
+        what: How the value is named in error messages.
+
+    Raises:
+        InputError: not numbers (text, None, booleans, ragged lists), another shape, a
+            non-finite value, a 4×4 matrix whose last row is not (0, 0, 0, 1), or a rotation part
+            that is not a rotation (orthonormal, det +1).
+    """
+    wanted = "a pinocchio.SE3, a 4×4 homogeneous matrix or a position 3-vector [m]"
+    if isinstance(target, pin.SE3):
+        matrix = target.homogeneous  # a fresh copy: the views below are the caller's to keep
+    else:
+        matrix = floats(target, what, wanted)
+        if matrix.shape == (3,):
+            if not math.isfinite(matrix @ _ONES3) and not np.all(np.isfinite(matrix)):
+                raise InputError(f"{what} must be finite, got position {matrix}")
+            return matrix, None
+        if matrix.shape != (4, 4):
+            raise InputError(f"{what} must be {wanted}; got an array of shape {matrix.shape}")
+    # plain floats: cheaper than numpy for a 4×4
+    rows = matrix.tolist()
+    (a, b, c, x), (d, e, f, y), (g, h, i, z), bottom = rows
+    if not math.isfinite(sum(rows[0] + rows[1] + rows[2] + bottom)) and not np.all(
+        np.isfinite(matrix)
+    ):  # the sum is NaN or ±inf when any entry is (or when finite entries overflow it)
+        raise InputError(f"{what} must be finite, got\n{matrix}")
+    # ‖RᵀR − I‖_F² from the columns' lengths and mutual products
+    defect = (a * a + d * d + g * g - 1.0) ** 2 + (b * b + e * e + h * h - 1.0) ** 2
+    defect += (c * c + f * f + i * i - 1.0) ** 2
+    defect += 2.0 * ((a * b + d * e + g * h) ** 2 + (a * c + d * f + g * i) ** 2)
+    defect += 2.0 * (b * c + e * f + h * i) ** 2
+    determinant = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+    if not defect <= 1e-12 or determinant < 0:  # ‖RᵀR − I‖_F > 1e-6 (or overflow), reflection
+        problem = rotation_problem(matrix[:3, :3]) or "it is not orthonormal"
+        raise InputError(
+            f"the rotation of {what} is not a rotation matrix: {problem}; {ROTATION_ADVICE}"
+        )
+    if bottom != [0.0, 0.0, 0.0, 1.0]:
+        raise InputError(
+            f"{what}: the last row of a 4×4 homogeneous matrix must be 0 0 0 1, got {bottom}"
+        )
+    return matrix[:3, 3], matrix[:3, :3]

@@ -21,6 +21,7 @@ import pinocchio as pin
 
 from kinplan import checks
 from kinplan.batch_ik import BatchSolver, parse_targets
+from kinplan.checks import parse_target
 from kinplan.errors import InputError, RobotNotFoundError
 from kinplan.ik import (
     AnalyticIK,
@@ -32,18 +33,17 @@ from kinplan.ik import (
 )
 from kinplan.planar import planar_arm_urdf, write_planar_arm
 from kinplan.sources import RobotSpec, known_names, resolve_source
+from kinplan.tool import Tool, tool_urdf
 from kinplan.urdf_frames import frame_id
 from kinplan.urdf_model import build_chain
 
-if TYPE_CHECKING:  # kinplan.tool builds robots: imported where with_tool runs
+if TYPE_CHECKING:
     from kinplan.cell import Body
-    from kinplan.tool import Tool
 
 logger = logging.getLogger(__name__)
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 _WORLD = pin.ReferenceFrame.WORLD
-_ONES3 = np.ones(3)
 _TAU = 2.0 * math.pi
 
 
@@ -655,9 +655,19 @@ class Robot:
         Raises:
             CellError: a pose that is not a pose, a body that is not a ``Body``.
         """
-        from kinplan.tool import attach_tool
-
-        return attach_tool(self, pose, body)
+        made = tool_urdf(self, pose, body)
+        tooled = Robot(
+            made.spec,
+            made.tool.tcp_link,
+            locked_joints=self.locked_joints or None,
+            base_pose=None if self.base_pose.isIdentity() else self.base_pose,
+            limits=self.limit_overrides(),
+        )
+        tooled.tool = made.tool
+        body_link = made.tool.body_link
+        tooled.tool_links = self.tool_links + ((body_link,) if body_link else ())
+        tooled.source_urdf_path = self.source_urdf_path or Path(self.urdf_path)
+        return tooled
 
 
 def manipulability_of(J: np.ndarray, rank: int) -> float | np.ndarray:
@@ -722,56 +732,6 @@ def _cross_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     a0, a1, a2 = a[..., 0, :], a[..., 1, :], a[..., 2, :]
     b0, b1, b2 = b[..., 0, :], b[..., 1, :], b[..., 2, :]
     return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-2)
-
-
-def parse_target(
-    target: pin.SE3 | Sequence[float] | np.ndarray, what: str = "an IK target"
-) -> tuple[np.ndarray, np.ndarray | None]:
-    """Split a pose into (position [m], rotation 3×3, or None for a position 3-vector).
-
-    Args:
-        target: A ``pinocchio.SE3``, a 4×4 homogeneous matrix or a position 3-vector [m].
-        what: How the value is named in error messages.
-
-    Raises:
-        InputError: not numbers (text, None, booleans, ragged lists), another shape, a
-            non-finite value, a 4×4 matrix whose last row is not (0, 0, 0, 1), or a rotation part
-            that is not a rotation (orthonormal, det +1).
-    """
-    wanted = "a pinocchio.SE3, a 4×4 homogeneous matrix or a position 3-vector [m]"
-    if isinstance(target, pin.SE3):
-        matrix = target.homogeneous  # a fresh copy: the views below are the caller's to keep
-    else:
-        matrix = checks.floats(target, what, wanted)
-        if matrix.shape == (3,):
-            if not math.isfinite(matrix @ _ONES3) and not np.all(np.isfinite(matrix)):
-                raise InputError(f"{what} must be finite, got position {matrix}")
-            return matrix, None
-        if matrix.shape != (4, 4):
-            raise InputError(f"{what} must be {wanted}; got an array of shape {matrix.shape}")
-    # plain floats: cheaper than numpy for a 4×4
-    rows = matrix.tolist()
-    (a, b, c, x), (d, e, f, y), (g, h, i, z), bottom = rows
-    if not math.isfinite(sum(rows[0] + rows[1] + rows[2] + bottom)) and not np.all(
-        np.isfinite(matrix)
-    ):  # the sum is NaN or ±inf when any entry is (or when finite entries overflow it)
-        raise InputError(f"{what} must be finite, got\n{matrix}")
-    # ‖RᵀR − I‖_F² from the columns' lengths and mutual products
-    defect = (a * a + d * d + g * g - 1.0) ** 2 + (b * b + e * e + h * h - 1.0) ** 2
-    defect += (c * c + f * f + i * i - 1.0) ** 2
-    defect += 2.0 * ((a * b + d * e + g * h) ** 2 + (a * c + d * f + g * i) ** 2)
-    defect += 2.0 * (b * c + e * f + h * i) ** 2
-    determinant = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
-    if not defect <= 1e-12 or determinant < 0:  # ‖RᵀR − I‖_F > 1e-6 (or overflow), reflection
-        problem = checks.rotation_problem(matrix[:3, :3]) or "it is not orthonormal"
-        raise InputError(
-            f"the rotation of {what} is not a rotation matrix: {problem}; {checks.ROTATION_ADVICE}"
-        )
-    if bottom != [0.0, 0.0, 0.0, 1.0]:
-        raise InputError(
-            f"{what}: the last row of a 4×4 homogeneous matrix must be 0 0 0 1, got {bottom}"
-        )
-    return matrix[:3, 3], matrix[:3, :3]
 
 
 def load_robot(

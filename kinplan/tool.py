@@ -1,7 +1,7 @@
-"""A tool on the flange: its TCP offset and its collision body, as a new robot.
+"""A tool on the flange: its TCP offset and its collision body, as a URDF for a new robot.
 
-:func:`attach_tool` (:meth:`kinplan.Robot.with_tool`) writes a copy of the robot's URDF with two
-links fixed to the link that carries the robot's tip frame (the flange):
+:func:`tool_urdf` writes a copy of the robot's URDF with two links fixed to the link that carries
+the robot's tip frame (the flange); :meth:`kinplan.Robot.with_tool` loads it as the new robot:
 
 * the **TCP** link, at ``pose`` in the flange frame: the new robot's tip, so forward and inverse
   kinematics, Jacobians and Cartesian paths all work at the TCP;
@@ -22,17 +22,23 @@ import tempfile
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import pinocchio as pin
 
 from kinplan import checks
+from kinplan.arm import Arm
 from kinplan.cell.body import Body, CellError, as_pose
 from kinplan.sources import RobotSpec
 from kinplan.urdf_read import read_urdf
 
-if TYPE_CHECKING:  # type-only: kinplan.robot imports this module where with_tool runs
-    from kinplan.robot import Robot
+
+class FlangedArm(Arm, Protocol):
+    """What a tool needs of the arm it goes on (a :class:`kinplan.Robot` has it)."""
+
+    tip_frame: str
+    package_dirs: tuple[Path, ...]
+
 
 #: Colour of a tool body in the viewer (RGBA).
 TOOL_RGBA = "0.72 0.74 0.78 1"
@@ -57,8 +63,21 @@ class Tool:
     body_link: str | None
 
 
-def attach_tool(robot: Robot, pose: object, body: Body | None = None) -> Robot:
-    """The robot with a tool on its flange (see the module docstring).
+@dataclass(frozen=True)
+class ToolUrdf:
+    """The URDF of an arm with a tool (:func:`tool_urdf`).
+
+    Attributes:
+        spec: Where the new URDF is (a :class:`~kinplan.sources.RobotSpec` to load).
+        tool: The tool (its ``tcp_link`` is the new robot's tip frame).
+    """
+
+    spec: RobotSpec
+    tool: Tool
+
+
+def tool_urdf(robot: FlangedArm, pose: object, body: Body | None = None) -> ToolUrdf:
+    """The robot's URDF with a tool on its flange (see the module docstring).
 
     Args:
         robot: A :class:`kinplan.Robot`; its tip frame is the flange.
@@ -67,15 +86,11 @@ def attach_tool(robot: Robot, pose: object, body: Body | None = None) -> Robot:
             (:class:`kinplan.cell.Body`), or None.
 
     Returns:
-        A new :class:`kinplan.Robot` whose tip is the TCP, with ``tool`` (a :class:`Tool`),
-        ``tool_links`` (links that are tool bodies) and ``source_urdf_path`` (the URDF the
-        robot was loaded from, where its SRDF is looked for).
+        The new URDF (written to a temporary folder, mesh paths made absolute) and the tool.
 
     Raises:
         CellError: a pose that is not a pose, a body that is not a ``Body``.
     """
-    from kinplan.robot import Robot
-
     tcp = as_pose(pose, "pose (the TCP in the flange frame)")
     if body is not None and not isinstance(body, Body):
         raise CellError(
@@ -103,19 +118,7 @@ def attach_tool(robot: Robot, pose: object, body: Body | None = None) -> Robot:
         urdf_path=path,
         package_dirs=tuple(robot.package_dirs) + (urdf_path.parent,),
     )
-    tooled = Robot(
-        spec,
-        tcp_link,
-        locked_joints=robot.locked_joints or None,
-        base_pose=None if robot.base_pose.isIdentity() else robot.base_pose,
-        limits=robot.limit_overrides(),
-    )
-    tooled.tool = Tool(pin.SE3(tcp), body, robot.tip_frame, tcp_link, body_link)
-    tooled.tool_links = tuple(getattr(robot, "tool_links", ())) + (
-        (body_link,) if body_link else ()
-    )
-    tooled.source_urdf_path = getattr(robot, "source_urdf_path", None) or urdf_path
-    return tooled
+    return ToolUrdf(spec, Tool(pin.SE3(tcp), body, robot.tip_frame, tcp_link, body_link))
 
 
 def _flange_link(robot) -> tuple[str, pin.SE3]:

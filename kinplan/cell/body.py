@@ -30,6 +30,7 @@ import numpy as np
 import pinocchio as pin
 
 from kinplan import checks
+from kinplan.checks import parse_target
 from kinplan.errors import InputError
 
 #: The shapes a :class:`Body` can have.
@@ -61,8 +62,6 @@ def as_pose(value: object, what: str) -> pin.SE3:
     """
     if value is None:
         return pin.SE3.Identity()
-    from kinplan.robot import parse_target
-
     try:
         position, rotation = parse_target(value, what)
     except InputError as exc:

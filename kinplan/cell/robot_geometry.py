@@ -34,19 +34,16 @@ import xml.etree.ElementTree as ET
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import coal
 import numpy as np
 import pinocchio as pin
 
+from kinplan.arm import Arm
 from kinplan.cell.body import CellError, convex_hull
 from kinplan.errors import KinplanError
 from kinplan.urdf_model import full_model
 from kinplan.urdf_read import read_urdf
-
-if TYPE_CHECKING:  # type-only: a robot's tool brings kinplan.cell in
-    from kinplan.robot import Robot
 
 logger = logging.getLogger(__name__)
 
@@ -92,7 +89,7 @@ class RobotGeometry:
     tool_links: tuple[str, ...] = field(default_factory=tuple)
 
 
-def robot_geometry(robot: Robot) -> RobotGeometry:
+def robot_geometry(robot: Arm) -> RobotGeometry:
     """Read the robot's collision geometry (see the module docstring).
 
     Raises:
@@ -216,7 +213,7 @@ def _link_groups(root: ET.Element) -> tuple[dict[str, int], dict[tuple[int, int]
 
 
 # ------------------------------------------------------------------------------------ SRDF
-def find_srdf(robot: Robot) -> Path | None:
+def find_srdf(robot: Arm) -> Path | None:
     """The SRDF next to the robot's URDF (see the module docstring), or None."""
     urdf_path = Path(getattr(robot, "source_urdf_path", None) or robot.urdf_path)
     stem = urdf_path.stem
@@ -260,7 +257,7 @@ def read_srdf(path: Path, urdf_links: Iterable[str], urdf_name: str) -> list[Exc
 
 # ------------------------------------------------------------------------------------ pairs
 def self_pairs(
-    robot: Robot, geometry: RobotGeometry, srdf: list[ExcludedPair] | None
+    robot: Arm, geometry: RobotGeometry, srdf: list[ExcludedPair] | None
 ) -> tuple[list[tuple[int, int]], list[ExcludedPair]]:
     """The robot's checked self-collision pairs (indices into ``geometry.objects``) and the
     excluded link pairs with their reasons (see the module docstring).
@@ -329,7 +326,7 @@ def self_pairs(
 
 
 def pair_distances(
-    robot: Robot, objects: list[pin.GeometryObject], pairs: list[tuple[int, int]], q: np.ndarray
+    robot: Arm, objects: list[pin.GeometryObject], pairs: list[tuple[int, int]], q: np.ndarray
 ) -> list[float]:
     """Signed distances [m] of ``pairs`` of ``objects`` (on the robot's model) at ``q``."""
     geometry = pin.GeometryModel()

@@ -13,12 +13,12 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType
-from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
 
 from kinplan import checks
+from kinplan.arm import Arm
 from kinplan.cell.body import Body, CellError, bounding_radius
 from kinplan.cell.motion import MotionCheck, Problem, check, joint_levers
 from kinplan.cell.robot_geometry import (
@@ -29,9 +29,6 @@ from kinplan.cell.robot_geometry import (
     self_pairs,
 )
 from kinplan.errors import InputError
-
-if TYPE_CHECKING:  # type-only: a robot's tool brings kinplan.cell in
-    from kinplan.robot import Robot
 
 logger = logging.getLogger(__name__)
 
@@ -93,10 +90,8 @@ class WorkCell:
         >>> result = cell.check_motion(plan.q, clearance=0.01)  # 1 cm from the obstacles
     """
 
-    def __init__(self, robot: Robot, srdf: str | os.PathLike[str] | bool | None = None) -> None:
-        from kinplan.robot import Robot
-
-        if not isinstance(robot, Robot):
+    def __init__(self, robot: Arm, srdf: str | os.PathLike[str] | bool | None = None) -> None:
+        if not isinstance(robot, Arm):
             raise CellError(
                 f"WorkCell(robot) takes a kinplan.Robot (kinplan.load_robot(...)), got "
                 f"{checks.describe(robot)}"
@@ -130,7 +125,7 @@ class WorkCell:
 
     # ------------------------------------------------------------------ the cell
     @property
-    def robot(self) -> Robot:
+    def robot(self) -> Arm:
         """The robot (a :class:`kinplan.Robot`)."""
         return self._robot
 
@@ -274,7 +269,7 @@ class WorkCell:
         self._allowed[frozenset((first, second))] = ExcludedPair((first, second), reason)
         self._problem = None
 
-    def for_robot(self, robot: Robot) -> WorkCell:
+    def for_robot(self, robot: Arm) -> WorkCell:
         """The same obstacles and allowed pairs around another robot (the same arm with a tool,
         say); the SRDF is looked for again."""
         cell = WorkCell(robot)

@@ -7,16 +7,14 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Protocol
+from typing import Protocol
 
 import numpy as np
 import pinocchio as pin
 
+from kinplan.arm import Arm
 from kinplan.errors import InputError
 from kinplan.ik.screws import LIMIT_TOL, TAU, compose_scan, wrap_angle, wrap_near
-
-if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
-    from kinplan.robot import Robot
 
 logger = logging.getLogger(__name__)
 
@@ -123,7 +121,7 @@ class ClosedFormIK:
             if self.needs_rotation:
                 raise InputError(
                     f"the closed-form IK of this {self.nq}-joint arm needs the tool rotation; "
-                    "position-only targets are for the planar 2R (use Robot.ik instead)"
+                    "position-only targets are for the planar 2R (use Arm.ik instead)"
                 )
             return positions, None
         rotations = np.asarray(rotations, dtype=float)
@@ -307,7 +305,7 @@ class ClosedFormIK:
 
 # ---------------------------------------------------------------------------- factory
 def self_check(
-    robot: Robot, solutions_for: Callable[[pin.SE3, np.ndarray], np.ndarray], samples: int = 8
+    robot: Arm, solutions_for: Callable[[pin.SE3, np.ndarray], np.ndarray], samples: int = 8
 ) -> bool:
     """Whether a closed form reproduces random configurations of ``robot`` (Pinocchio FK).
 

@@ -43,10 +43,10 @@ representative within the limits closest to the reference.
 from __future__ import annotations
 
 import logging
-from typing import TYPE_CHECKING
 
 import numpy as np
 
+from kinplan.arm import Arm
 from kinplan.ik.base import AnalyticIK, ClosedFormIK, self_check
 from kinplan.ik.panda import panda_solver_for
 from kinplan.ik.planar import planar_2r_solver
@@ -55,13 +55,10 @@ from kinplan.ik.spherical_wrist import SphericalWristIK
 from kinplan.ik.spherical_wrist_geometry import wrist_geometry
 from kinplan.ik.ur import URIK, ur_geometry
 
-if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
-    from kinplan.robot import Robot
-
 logger = logging.getLogger(__name__)
 
 
-def analytic_solver_for(robot: Robot, weights: np.ndarray | None = None) -> AnalyticIK | None:
+def analytic_solver_for(robot: Arm, weights: np.ndarray | None = None) -> AnalyticIK | None:
     """A closed-form IK solver for ``robot`` when its geometry allows one, else None.
 
     Planar 2R arms (two parallel revolute axes), UR-type arms (see :func:`ur_geometry`),
@@ -70,7 +67,7 @@ def analytic_solver_for(robot: Robot, weights: np.ndarray | None = None) -> Anal
     (closed form for a given θ7, θ7 searched; :mod:`kinplan.ik.panda`) are recognised from the
     Pinocchio model's joint placements and tool frame; the solver is then checked against
     Pinocchio's forward kinematics on a few random configurations. Any other arm gives None,
-    and the caller falls back to the numerical solver (:meth:`Robot.ik`).
+    and the caller falls back to the numerical solver (:meth:`kinplan.Robot.ik`).
 
     Args:
         robot: A :class:`kinplan.Robot`.
@@ -81,7 +78,7 @@ def analytic_solver_for(robot: Robot, weights: np.ndarray | None = None) -> Anal
 
 
 def closed_form_report(
-    robot: Robot, weights: np.ndarray | None = None
+    robot: Arm, weights: np.ndarray | None = None
 ) -> tuple[AnalyticIK | None, str]:
     """:func:`analytic_solver_for` with what it found: (solver or None, a sentence naming the
     closed form, or why the arm has none), e.g. ``"numerical: no closed form (no spherical

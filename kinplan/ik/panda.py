@@ -49,10 +49,10 @@ from __future__ import annotations
 import logging
 import math
 from operator import itemgetter
-from typing import TYPE_CHECKING
 
 import numpy as np
 
+from kinplan.arm import Arm
 from kinplan.errors import InputError
 from kinplan.ik.base import self_check
 from kinplan.ik.panda_batch import PandaBatch
@@ -103,9 +103,6 @@ from kinplan.ik.screws import STRUCTURE_TOL as STRUCTURE_TOL
 from kinplan.ik.screws import TAU as TAU
 from kinplan.ik.screws import joint_choice_many as joint_choice_many
 from kinplan.ik.screws import screws_at_zero as screws_at_zero
-
-if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
-    from kinplan.robot import Robot
 
 logger = logging.getLogger(__name__)
 
@@ -520,7 +517,7 @@ class PandaIK(PandaBatch):
         if rotations is None:
             raise InputError(
                 "the closed-form IK of this 7-joint arm needs the tool rotation; position-only "
-                "targets are for the planar 2R (use Robot.ik instead)"
+                "targets are for the planar 2R (use Arm.ik instead)"
             )
         previous = np.asarray(q_ref, dtype=float)
         out = np.full((len(positions), 7), np.nan)
@@ -532,7 +529,7 @@ class PandaIK(PandaBatch):
 
 
 # ---------------------------------------------------------------------------- factory
-def panda_solver_for(robot: Robot, weights: np.ndarray | None = None) -> PandaIK | None:
+def panda_solver_for(robot: Arm, weights: np.ndarray | None = None) -> PandaIK | None:
     """The semi-analytic IK of a panda-type ``robot``, or None for any other arm (and for a
     panda-type arm with an unbounded, continuous joint: its numerical IK serves it).
 

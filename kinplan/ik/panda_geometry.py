@@ -14,14 +14,12 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
+from kinplan.arm import Arm
 from kinplan.ik.screws import STRUCTURE_TOL, screws_at_zero
-
-if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
-    from kinplan.robot import Robot
 
 Vec = tuple[float, float, float]
 Mat = tuple[float, float, float, float, float, float, float, float, float]
@@ -167,7 +165,7 @@ class PandaGeometry:
     tool_translation: Vec
 
 
-def panda_geometry(robot: Robot) -> PandaGeometry | None:
+def panda_geometry(robot: Arm) -> PandaGeometry | None:
     """The panda-type geometry of ``robot`` (the structure :mod:`kinplan.ik.panda` describes), or
     None.
 

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 
+from kinplan.arm import Arm
 from kinplan.ik.base import ClosedFormIK, NeedsBatch
 from kinplan.ik.screws import (
     CLAMP,
@@ -22,9 +22,6 @@ from kinplan.ik.screws import (
     plane_basis,
     wrap_angle,
 )
-
-if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
-    from kinplan.robot import Robot
 
 logger = logging.getLogger(__name__)
 
@@ -262,7 +259,7 @@ class Planar2RIK(ClosedFormIK):
         return np.arctan2(turned @ self._f, turned @ self._e), untilted
 
 
-def planar_2r_solver(robot: Robot, screws: Screws, weights: np.ndarray | None) -> Planar2RIK | None:
+def planar_2r_solver(robot: Arm, screws: Screws, weights: np.ndarray | None) -> Planar2RIK | None:
     u = screws.directions
     if not parallel(u[0], u[1]):
         return None

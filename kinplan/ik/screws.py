@@ -9,13 +9,11 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
 
-if TYPE_CHECKING:  # type-only: kinplan.robot imports this module
-    from kinplan.robot import Robot
+from kinplan.arm import Arm
 
 logger = logging.getLogger(__name__)
 
@@ -243,7 +241,7 @@ class Screws:
     tool: pin.SE3
 
 
-def screws_at_zero(robot: Robot) -> Screws | None:
+def screws_at_zero(robot: Arm) -> Screws | None:
     """The joints as revolute screws at q = 0, or None if some joint is not revolute."""
     model = robot.model
     serial = all(model.parents[j] == j - 1 for j in range(1, model.njoints))

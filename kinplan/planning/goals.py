@@ -115,6 +115,7 @@ def pose_goals(
 
 
 def goal_set(
+    robot: Robot,
     cell: WorkCell,
     solutions: np.ndarray,
     start: np.ndarray,
@@ -124,6 +125,7 @@ def goal_set(
     """The collision-free goals among ``solutions`` (and their 2π-equivalents).
 
     Args:
+        robot: The arm (the cell's).
         cell: The work cell.
         solutions: Goal configurations (S, nq) [rad].
         start: The start (equivalents nearest it first).
@@ -131,7 +133,6 @@ def goal_set(
         turns: Add every 2π-equivalent within the limits (pose goals); else the solutions
             exactly (a joint goal).
     """
-    robot = cell.robot
     free: list[np.ndarray] = []
     blocked: list[tuple[np.ndarray, PairDistance]] = []
     for q in solutions:

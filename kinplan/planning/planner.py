@@ -129,7 +129,7 @@ def free_motion(
             return failed(_unreachable_event(robot, target, start_q))
     else:
         solutions = target[None]
-    goals = goal_set(cell, solutions, start_q, clearance, is_pose or any_turn)
+    goals = goal_set(robot, cell, solutions, start_q, clearance, is_pose or any_turn)
     if not len(goals.free):
         return failed(_blocked_event(goals, target))
     checker = EdgeChecker(cell, clearance)

@@ -24,11 +24,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from kinplan import trajectory
+from kinplan.arm import Arm
 from kinplan.cell import MotionCheck, WorkCell
 from kinplan.cell.body import bounding_radius
 from kinplan.cell.motion import joint_levers
 from kinplan.cell.robot_geometry import robot_geometry
-from kinplan.robot import Robot
 from kinplan.time_optimal import JointPath
 from kinplan.trajectory import Trajectory
 
@@ -73,7 +73,7 @@ class TimedMotion:
     attempts: int
 
 
-def lever_bound(robot: Robot) -> float:
+def lever_bound(robot: Arm) -> float:
     """Largest distance a point of a robot body can move per rad of joint motion (Euclidean
     norm over the joints) [m/rad]: the norm of its lever arms (:func:`joint_levers`), twice
     the largest over the bodies so that it bounds the relative motion of any pair (computed
@@ -84,10 +84,10 @@ def lever_bound(robot: Robot) -> float:
     return found
 
 
-_LEVERS: weakref.WeakKeyDictionary[Robot, float] = weakref.WeakKeyDictionary()
+_LEVERS: weakref.WeakKeyDictionary[Arm, float] = weakref.WeakKeyDictionary()
 
 
-def _lever_bound(robot: Robot) -> float:
+def _lever_bound(robot: Arm) -> float:
     geometry = robot_geometry(robot)
     if not geometry.objects:
         return 0.0
