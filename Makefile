@@ -37,11 +37,11 @@ lint: install
 	$(BIN)/mypy kinplan cartesian
 
 test: install chromium lint
-	$(BIN)/python -m pytest -q -n $(JOBS) --durations=15
+	$(BIN)/python -m pytest -q -n $(JOBS) --dist worksteal --durations=15
 
 # The long soaks and property runs (marked `slow`, left out of `make test`); CI runs them too.
 soak: install
-	$(BIN)/python -m pytest -q -n $(JOBS) --durations=25 -m slow
+	$(BIN)/python -m pytest -q -n $(JOBS) --dist worksteal --durations=25 -m slow
 
 # Benchmarks print tables (never timed unit tests); the peers come from the `bench` extra.
 bench: install
