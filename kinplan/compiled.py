@@ -89,3 +89,54 @@ def product(a, b):
     out = np.empty((a.shape[0], b.shape[1]))
     product_into(a, b, out)
     return out
+
+
+@jit
+def screw_kinematics(q, directions, points, tool, pose, jacobian):
+    """Tool pose (4, 4) and LOCAL_WORLD_ALIGNED Jacobian (6, nq) at ``q`` [rad] by the product
+    of exponentials T(q) = exp(S1 q1) ⋯ exp(Sn qn) M of the joint screws at q = 0 (unit axes
+    ``directions`` through ``points`` [m], tool pose ``tool`` at q = 0), written into ``pose``
+    and ``jacobian``. Joint i's column is (ωᵢ × (p_tool − xᵢ), ωᵢ)."""
+    nq = q.shape[0]
+    rotation = np.eye(3)
+    translation = np.zeros(3)
+    origins = np.empty((nq, 3))
+    step = np.empty((3, 3))
+    turned = np.empty((3, 3))
+    for i in range(nq):
+        px, py, pz = points[i, 0], points[i, 1], points[i, 2]
+        for a in range(3):
+            jacobian[3 + a, i] = (
+                rotation[a, 0] * directions[i, 0]
+                + rotation[a, 1] * directions[i, 1]
+                + rotation[a, 2] * directions[i, 2]
+            )
+            origins[i, a] = (
+                rotation[a, 0] * px + rotation[a, 1] * py + rotation[a, 2] * pz + translation[a]
+            )
+        rotation_about(directions[i], np.cos(q[i]), np.sin(q[i]), step)
+        sx = px - (step[0, 0] * px + step[0, 1] * py + step[0, 2] * pz)
+        sy = py - (step[1, 0] * px + step[1, 1] * py + step[1, 2] * pz)
+        sz = pz - (step[2, 0] * px + step[2, 1] * py + step[2, 2] * pz)
+        for a in range(3):
+            translation[a] += rotation[a, 0] * sx + rotation[a, 1] * sy + rotation[a, 2] * sz
+        product_into(rotation, step, turned)
+        rotation, turned = turned, rotation
+    product_into(rotation, tool[:3, :3], pose[:3, :3])
+    for a in range(3):
+        pose[a, 3] = (
+            rotation[a, 0] * tool[0, 3]
+            + rotation[a, 1] * tool[1, 3]
+            + rotation[a, 2] * tool[2, 3]
+            + translation[a]
+        )
+    pose[3, 0] = pose[3, 1] = pose[3, 2] = 0.0
+    pose[3, 3] = 1.0
+    for i in range(nq):
+        wx, wy, wz = jacobian[3, i], jacobian[4, i], jacobian[5, i]
+        rx = pose[0, 3] - origins[i, 0]
+        ry = pose[1, 3] - origins[i, 1]
+        rz = pose[2, 3] - origins[i, 2]
+        jacobian[0, i] = wy * rz - wz * ry
+        jacobian[1, i] = wz * rx - wx * rz
+        jacobian[2, i] = wx * ry - wy * rx
