@@ -150,11 +150,13 @@ def cmd_run_many(args: argparse.Namespace) -> int:
         "status",
     ):
         table.add_column(
-            column, justify="left" if column in ("program", "robot", "status") else "right"
+            column,
+            justify="left" if column in ("program", "robot", "status") else "right",
+            no_wrap=column == "program",  # _shown_path keeps it short: never fold a name
         )
     for s in summaries:
         table.add_row(
-            s.path,
+            _shown_path(s.path),
             s.robot or "-",
             f"{s.moves_ok}/{s.moves}",
             f"{s.duration:.3f}",
@@ -173,6 +175,24 @@ def cmd_run_many(args: argparse.Namespace) -> int:
         )
     print(f"ok: {len(summaries)} programs planned")
     return 0
+
+
+PATH_COLUMN_CHARS = 48
+
+
+def _shown_path(path: str) -> str:
+    """The program's path as the table shows it: relative to the working directory when the
+    file lies under it, else as given; a longer one keeps its last folders and the file name
+    behind '…/' (the full path is printed under the table for a failed program)."""
+    try:
+        shown = Path(path).resolve().relative_to(Path.cwd().resolve()).as_posix()
+    except ValueError:
+        shown = path
+    parts = shown.split("/")
+    while len(shown) > PATH_COLUMN_CHARS and len(parts) > 1:
+        parts = parts[1:]
+        shown = "…/" + "/".join(parts)
+    return shown
 
 
 def cmd_reach(args: argparse.Namespace) -> int:

@@ -94,6 +94,23 @@ def test_batch_table_counts_the_files_moves(capsys):
     assert "12/12" in row, row
 
 
+def test_batch_table_keeps_a_long_paths_file_name_whole(tmp_path, capsys):
+    """CI found it: a path longer than the table's room was folded over two lines, the file
+    name split. The table keeps the last folders and the whole file name behind '…/'."""
+    import shutil
+
+    from kinplan.cli import main
+
+    deep = tmp_path / ("a_rather_long_folder_name_" * 3) / "cell_programs"
+    deep.mkdir(parents=True)
+    program = deep / "lecture_2r.yaml"
+    shutil.copy(EXAMPLES / "lecture_2r.yaml", program)
+    assert main(["run", str(program), str(program)]) == 0
+    rows = [line for line in capsys.readouterr().out.splitlines() if "lecture_2r.yaml" in line]
+    assert len(rows) == 2, rows
+    assert all("…/cell_programs/lecture_2r.yaml" in row and "3/3" in row for row in rows), rows
+
+
 def test_caption_gives_the_instant_the_bodies_turn_red():
     """A ptp folding the UR5 into its base, sampled coarsely: the failure lies between two
     samples; the caption's time is the instant the playback shows the bodies red (rounded up
