@@ -70,6 +70,31 @@ class Event:
         return f"{self.message}; {self.remedy}" if self.remedy else self.message
 
 
+@dataclass(frozen=True)
+class OutOfReach:
+    """A stretch of path that no joint configuration within the limits reaches, on any branch
+    (:func:`unreachable_stretch`).
+
+    Attributes:
+        start: Path fraction of the first unreachable point found [-].
+        end: Path fraction of the last one of the same stretch [-].
+        position: Tool position of the first one [m].
+        why: Why it is out of reach, as text.
+    """
+
+    start: float
+    end: float
+    position: np.ndarray
+    why: str
+
+    def __str__(self) -> str:
+        return (
+            f"the path is out of reach from s = {self.start:.3f} to s = {self.end:.3f} "
+            f"({where(self.position)}: {self.why}), so no start configuration, branch or slower "
+            "motion can follow it: move the path or the robot's base"
+        )
+
+
 def out_of_reach(robot: Robot, result: IKResult, position: np.ndarray) -> str:
     """Why a target is out of reach, from an unsuccessful IK ``result``: the distance from the
     arm's first joint and its reach, or how close the best configuration came."""

@@ -25,7 +25,7 @@ import numpy as np
 
 from cartesian.between import check_between
 from cartesian.events import Status
-from cartesian.geometry import trace_geometry
+from cartesian.geometry import trace_geometry, unreachable_stretch
 from cartesian.paths import Path
 from cartesian.plan import CartesianPlan
 from cartesian.remedies import offer_finer_sampling, offer_slower
@@ -185,6 +185,12 @@ def follow(
         return plan
 
     plan = plan_at(dt)
+    if plan.status in REMEDIED_BY_MOTION:
+        beyond = unreachable_stretch(robot, path, position_only, plan.events[0].s)
+        if beyond is not None:  # no slower law or other start would pass: say so, offer none
+            plan.events[0].remedy = str(beyond)
+            plan.out_of_reach = beyond
+            return plan
     if plan.status == Status.SAMPLING:
         offer_finer_sampling(plan, dt, plan_at)
     elif not retime and plan.status in (Status.VELOCITY_LIMIT, Status.ACCELERATION_LIMIT):
@@ -199,6 +205,14 @@ def follow(
                 f"of {plan.duration:.4g} s)"
             )
     return plan
+
+
+#: Refusals whose usual remedy (a slower law, another start configuration, keeping away from
+#: a singularity or a limit) :func:`follow` replaces when the path ahead is out of reach.
+REMEDIED_BY_MOTION = frozenset(
+    (Status.SINGULAR, Status.VELOCITY_LIMIT, Status.ACCELERATION_LIMIT, Status.JUMP,
+     Status.JOINT_LIMIT)
+)  # fmt: skip
 
 
 def _planned(

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from cartesian import lean_track
-from cartesian.events import Event, Status, where
+from cartesian.events import Event, OutOfReach, Status, where
 from cartesian.paths import Path
 from cartesian.tracker import SINGULAR_FRACTION, Tracker, path_targets, resolve_task
 from kinplan.robot import Robot
@@ -227,13 +227,12 @@ def check_reachability(
     )
 
 
-def _planar_check(robot: Robot, path: Path, s: np.ndarray, reach) -> Reachability:
+def _planar_check(
+    robot: Robot, path: Path, s: np.ndarray, reach: tuple[float, float]
+) -> Reachability:
     """Analytic check of a planar arm: annulus about the first joint, in its plane."""
-    base = robot.model.jointPlacements[1]
-    local = (path.position(s) - base.translation) @ base.rotation  # in the first joint's frame
-    r = np.hypot(local[:, 0], local[:, 1])
+    local, r, bad = _in_planar_frame(robot, path, s, reach)
     r_min, r_max = reach
-    bad = (r < r_min - 1e-9) | (r > r_max + 1e-9) | (np.abs(local[:, 2]) > 1e-9)
     if not bad.any():
         return Reachability(True, Status.OK, 1.0, [], s, np.empty((0, robot.nq)))
     k = int(np.argmax(bad))
@@ -253,3 +252,83 @@ def _planar_check(robot: Robot, path: Path, s: np.ndarray, reach) -> Reachabilit
     return Reachability(
         False, Status.UNREACHABLE, fraction, [event], s[:k], np.empty((0, robot.nq))
     )
+
+
+#: Arms whose closed form lists every IK branch of a full pose: 6 joints, and a closed form
+#: (UR family, spherical wrists). A redundant arm's closed form (panda) fixes a joint, so its
+#: "no solution" does not mean out of reach.
+COMPLETE_CLOSED_FORM_JOINTS = 6
+
+
+def unreachable_stretch(
+    robot: Robot,
+    path: Path,
+    position_only: bool,
+    start: float = 0.0,
+    *,
+    resolution: float = 0.005,
+) -> OutOfReach | None:
+    """The first stretch of ``path`` beyond fraction ``start`` that the arm cannot reach at all,
+    decided exactly where the arm allows it: the annulus of a planar arm (position targets) or a
+    6-joint arm's closed-form IK (every branch, within the joint limits; full poses). None when
+    every checked point is reachable, or when the arm has neither (the numerical IK could only
+    say that it did not find a solution).
+
+    Used by :func:`cartesian.follow` to tell a refusal whose remedy cannot work (a path through
+    the hole around a 2R arm's base or the column above a UR's) from one that a slower motion
+    or another start would fix.
+
+    Args:
+        robot: The arm.
+        path: The path, resolved for the task (:func:`resolve_task`).
+        position_only: Whether the tool orientation is free.
+        start: Path fraction from which to look [-].
+        resolution: Spacing of the checked points along the path [m].
+    """
+    count = max(50, int(np.ceil(path.length * (1.0 - start) / resolution)) + 1)
+    s = np.linspace(start, 1.0, count)
+    reach = robot.planar_reach()
+    if position_only and reach is not None:
+        bad = _in_planar_frame(robot, path, s, reach)[2]
+        if not bad.any():
+            return None
+        event = _planar_check(robot, path, s, reach).events[0]  # its reason, in words
+        return OutOfReach(
+            event.s, _stretch_end(s, bad, event.index), event.position,
+            event.message.split("out of reach: ", 1)[-1],
+        )  # fmt: skip
+    solver = robot.closed_form_ik
+    if position_only or solver is None or robot.nq != COMPLETE_CLOSED_FORM_JOINTS:
+        return None
+    rotations = path.rotation(s)
+    if rotations is None:
+        return None
+    positions = path.position(s)
+    solutions = solver.nearest_batch(positions, rotations, robot.neutral())
+    bad = np.isnan(solutions).any(axis=1)
+    if not bad.any():
+        return None
+    k = int(np.argmax(bad))
+    why = "no joint configuration within the limits puts the tool at this pose, on any branch"
+    distance, arm_reach = robot.shoulder_distance(positions[k]), robot.reach()
+    if distance > arm_reach * (1 + 1e-12):
+        why = f"it is {distance:.4f} m from the arm's first joint, which reaches {arm_reach:.4f} m"
+    return OutOfReach(float(s[k]), _stretch_end(s, bad, k), positions[k].copy(), why)
+
+
+def _in_planar_frame(
+    robot: Robot, path: Path, s: np.ndarray, reach: tuple[float, float]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The path's points in a planar arm's first-joint frame, their distance from its axis [m]
+    and whether each is out of the annulus ``reach`` = (r_min, r_max) or off the plane."""
+    base = robot.model.jointPlacements[1]
+    local = (path.position(s) - base.translation) @ base.rotation
+    r = np.hypot(local[:, 0], local[:, 1])
+    bad = (r < reach[0] - 1e-9) | (r > reach[1] + 1e-9) | (np.abs(local[:, 2]) > 1e-9)
+    return local, r, bad
+
+
+def _stretch_end(s: np.ndarray, bad: np.ndarray, first: int) -> float:
+    """Path fraction of the last point of the unreachable run that starts at index ``first``."""
+    after = np.flatnonzero(~bad[first:])
+    return float(s[first + after[0] - 1]) if after.size else float(s[-1])

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from cartesian.events import Event
+from cartesian.events import Event, OutOfReach
 from cartesian.paths import Path
 from kinplan.cell import MotionCheck, WorkCell
 from kinplan.motion import MotionKind, MoveSpan, PlannedPath, no_waypoints
@@ -72,6 +72,10 @@ class CartesianPlan:
             :func:`cartesian.follow`.
         tilt: For a plan of :func:`cartesian.plan_seam`: the torch axis' (work, travel)
             deviation from the seam's at each sample [rad], shape (N, 2); None otherwise.
+        out_of_reach: For a plan of :func:`cartesian.follow` stopped by a singularity, a limit
+            or a jump: the stretch ahead that no configuration reaches, when the arm's closed
+            form or planar workspace proves one (:func:`cartesian.geometry.
+            unreachable_stretch`); its remedy then says so instead of offering a slower law.
     """
 
     t: np.ndarray
@@ -107,6 +111,7 @@ class CartesianPlan:
     cell_check: MotionCheck | None = None  # that check: pairs, per-sample distances
     roll: np.ndarray | None = None  # plan_seam: roll about the torch axis per sample [rad]
     tilt: np.ndarray | None = None  # plan_seam: (work, travel) deviation per sample [rad]
+    out_of_reach: OutOfReach | None = None  # follow: the unreachable stretch ahead, if proven
 
     # -- kinplan.motion.SampledMotion: what viewers, plots and exports read --------------------
     @property

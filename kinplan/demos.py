@@ -312,6 +312,7 @@ def _short_forearm(lines: list[str], dt: float) -> dict[str, Any]:
         if check.events
         else "    reachability check: ok (unexpected)",
         f"    following it: {followed.summary()}",
+        *([f"    {followed.out_of_reach}"] if followed.out_of_reach is not None else []),
         "  joint-space cubic between the same end points: ok, the tip goes around the hole "
         + (
             f"on a circle of radius {radius.mean():.3f} m (only θ1 turns)"
