@@ -177,17 +177,13 @@ def _elbow_edges(
 ) -> list[float]:
     """The ψ values [rad] (θ7 at roll 0, any angle) where the elbow joint reaches a limit for
     this pose, 1e-6 rad inside the ranges where it is within them, sorted: the ends of the
-    panda closed form's θ7 intervals (its ``_elbow_q7_intervals``), for the pose and for the
-    pose turned half a turn (θ7's range is not a whole turn). Empty when the solver offers no
-    intervals."""
+    panda closed form's θ7 intervals (:meth:`~kinplan.ik.panda.PandaIK.elbow_q7_intervals`), for
+    the pose and for the pose turned half a turn (θ7's range is not a whole turn)."""
     lo7, hi7 = float(robot.lower[-1]), float(robot.upper[-1])
     edges: set[float] = set()
     for shift in (0.0, math.pi):
         turned = rotation @ _rz(-sign * shift)  # (P·Rz(ρ), θ7 = ψ + sign·ρ): ψ = θ7 + shift
-        try:
-            intervals = solver._elbow_q7_intervals(solver._prepare(*solver._pose(position, turned)))
-        except AttributeError:  # pragma: no cover - another closed form without intervals
-            return []
+        intervals = solver.elbow_q7_intervals(position, turned)
         for start, end in intervals:
             for value, inward in ((start, 1e-6), (end, -1e-6)):
                 if lo7 + 1e-9 < value < hi7 - 1e-9:  # the elbow's end, not θ7's own limit

@@ -47,6 +47,8 @@ class LadderPath:
         roll: Roll per waypoint [rad], unwrapped (K,).
         tilt: (work, travel) per waypoint [rad] (K, 2).
         cost: Its cost.
+        searched: Whether ``q`` is the ladder's own path (its self-motion chosen by the
+            search, to be followed as chosen), not a start or a constant roll put in by hand.
     """
 
     nodes: np.ndarray
@@ -54,6 +56,7 @@ class LadderPath:
     roll: np.ndarray
     tilt: np.ndarray
     cost: float
+    searched: bool = True
 
 
 @dataclass

@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from cartesian import seam_self_motion
 from cartesian.events import Status
 from cartesian.follow import follow
 from cartesian.geometry import check_reachability
@@ -279,7 +280,14 @@ def _other_starts(ladder: Ladder, best: LadderPath | None, count: int) -> list[L
     q = c.q[0][tuple(nodes.T)]
     order = np.argsort(np.abs(q - best.q[0]).sum(axis=1))[1 : count + 1]
     return [
-        LadderPath(best.nodes, np.vstack([q[j], best.q[1:]]), best.roll, best.tilt, best.cost)
+        LadderPath(
+            best.nodes,
+            np.vstack([q[j], best.q[1:]]),
+            best.roll,
+            best.tilt,
+            best.cost,
+            searched=False,
+        )
         for j in order.tolist()
     ]
 
@@ -313,7 +321,12 @@ def _constant_roll_choices(
 
     def attempt(q: np.ndarray, r: float) -> LadderPath:
         return LadderPath(
-            np.zeros(K, int), np.tile(q, (K, 1)), np.full(K, r), np.zeros((K, 2)), 0.0
+            np.zeros(K, int),
+            np.tile(q, (K, 1)),
+            np.full(K, r),
+            np.zeros((K, 2)),
+            0.0,
+            searched=False,
         )
 
     made = 0
@@ -577,20 +590,56 @@ def _track(
     screen: bool = False,
 ) -> CartesianPlan | None:
     """Follow the seam rotated by the ladder path's smoothed roll and tilt laws; ``screen``:
-    None when the geometric pre-check (:func:`cartesian.check_reachability`, no timing) already
-    fails from that start."""
+    skip :func:`cartesian.follow` when the geometric pre-check (:func:`cartesian.
+    check_reachability`, no timing) already fails from that start. A redundant arm's ladder
+    path that follow cannot track is then followed with its self-motion as the search chose it
+    (:mod:`cartesian.seam_self_motion`). None when neither was planned (screened out)."""
     anchor = start is not None
     roll = _law(s, choice.roll, choice.roll[0] if anchor else None, None)
     work = _law(s, choice.tilt[:, 0], choice.tilt[0, 0] if anchor else None, work_tolerance)
     travel = _law(s, choice.tilt[:, 1], choice.tilt[0, 1] if anchor else None, travel_tolerance)
     seam = SeamPath(path, roll, work, travel)
     seed = choice.q[0] if start is None else start
-    if screen and not check_reachability(robot, seam, q_seed=seed).ok:
-        return None
-    plan = follow(
-        robot, seam, duration=duration, speed=speed, dt=dt, q_seed=seed, retime=retime,
-        cell=cell, clearance=clearance, **follow_options,
-    )  # fmt: skip
-    plan.roll = seam.roll(plan.s) if len(plan.s) else np.zeros(0)
-    plan.tilt = seam.tilt(plan.s) if len(plan.s) else np.zeros((0, 2))
+    plan = None
+    if not screen or check_reachability(robot, seam, q_seed=seed).ok:
+        plan = follow(
+            robot, seam, duration=duration, speed=speed, dt=dt, q_seed=seed, retime=retime,
+            cell=cell, clearance=clearance, **follow_options,
+        )  # fmt: skip
+        plan.roll = seam.roll(plan.s) if len(plan.s) else np.zeros(0)
+        plan.tilt = seam.tilt(plan.s) if len(plan.s) else np.zeros((0, 2))
+        if plan.ok:
+            return plan
+    if choice.searched and seam_self_motion.tracks_self_motion(robot) and not retime:
+        # a redundant arm: follow resolved its self-motion its own way (minimum-norm rates)
+        # and ran into something the search avoided: the self-motion as the search chose it
+        tracked = _self_motion_plan(
+            robot, s, choice, start, (speed, duration, dt, cell, clearance), seam,
+            follow_options,
+        )  # fmt: skip
+        if tracked is not None:
+            return tracked
+    return plan
+
+
+def _self_motion_plan(
+    robot: Robot,
+    s: np.ndarray,
+    choice: LadderPath,
+    start: np.ndarray | None,
+    motion: tuple[float | None, float | None, float, WorkCell | None, float | None],
+    seam: SeamPath,
+    follow_options: dict[str, Any],
+) -> CartesianPlan | None:
+    """``seam`` (the path rotated by the ladder path's smoothed laws) followed with the
+    self-motion pulled toward the ladder path's configurations
+    (:mod:`cartesian.seam_self_motion`), or None when that is not clean.
+    ``motion``: (speed, duration, dt, cell, clearance)."""
+    speed, duration, dt, cell, clearance = motion
+    seed = choice.q[0] if start is None else start
+    plan = seam_self_motion.track(
+        robot, seam, s, choice.q, seed, speed, duration, dt, cell, clearance, follow_options
+    )
+    if plan is not None:
+        plan.roll, plan.tilt = seam.roll(plan.s), seam.tilt(plan.s)
     return plan

@@ -385,6 +385,14 @@ class PandaIK(PandaBatch):
                 found.append(q)
         return np.array(found).reshape(-1, 7)
 
+    def elbow_q7_intervals(
+        self, position: np.ndarray, rotation: np.ndarray
+    ) -> list[tuple[float, float]]:
+        """The θ7 values [rad] within its limits for which the elbow (θ4) has a value within
+        its limits at this tool pose (position [m], 3×3 rotation, world frame): sorted disjoint
+        intervals, possibly none. Outside them no θ7 has a solution within the limits."""
+        return self._elbow_q7_intervals(self._prepare(*self._pose(position, rotation)))
+
     def kernel_constants(self) -> tuple[np.ndarray, ...]:
         """The geometry and precomputed terms the compiled solve reads
         (:func:`kinplan.ik.panda_kernel.nearest_for_q7`), as arrays."""

@@ -413,3 +413,49 @@ def test_panda_with_q_start_and_tolerances(panda: kinplan.Robot) -> None:
     )
     check_plan(panda, seam, plan, work_tolerance=work, travel_tolerance=travel)
     np.testing.assert_allclose(plan.q[0], first.q[0], atol=1e-9)
+
+
+# ------------------------------------------------------------------------------ self-motion
+def test_panda_seam_follow_cannot_track_is_planned_with_the_searched_self_motion(
+    panda: kinplan.Robot,
+) -> None:
+    """Corpus tube 0 on the panda: follow's own redundancy resolution (minimum-norm rates) of
+    the ladder's path runs joint 7 into its limit; the self-motion the search chose does not."""
+    seam = corpus("panda", 1)[0].path
+    plan = cartesian.plan_seam(panda, seam, speed=0.02)
+    check_plan(panda, seam, plan)
+    again = cartesian.follow(panda, plan.path, speed=0.02, q_seed=plan.q[0])
+    assert not again.ok  # follow alone, from the same start on the same rotated seam, fails
+
+
+def test_self_motion_tracker_reproduces_a_motion_on_the_path(panda: kinplan.Robot) -> None:
+    """Pulled toward the configurations of a follow plan at its waypoints, the tracker gives
+    that plan back (the same path, the same start): its own q̇ = dq/dt and the TCP by FK are
+    checked by check_plan; the self-motion matches follow's to the integration error."""
+    from cartesian import seam_self_motion
+
+    seam = SeamPath(corpus("panda", 20)[3].path, SmoothLaw.fixed(0.0))
+    start = panda.ik(seam.start, q_seed=panda.neutral()).q
+    reference = cartesian.follow(panda, seam, speed=0.02, q_seed=start)
+    assert reference.ok
+    pick = np.linspace(0, len(reference.s) - 1, 15).round().astype(int)
+    plan = seam_self_motion.track(
+        panda, seam, reference.s[pick], reference.q[pick], start, 0.02, None, 0.01, None, None, {}
+    )
+    assert plan is not None and plan.ok
+    plan.roll, plan.tilt = np.zeros(len(plan.s)), np.zeros((len(plan.s), 2))
+    check_plan(panda, seam, plan)
+    assert np.abs(plan.q - reference.q).max() < 0.02
+
+
+def test_elbow_intervals_hold_every_theta7_with_a_solution(panda: kinplan.Robot) -> None:
+    """PandaIK.elbow_q7_intervals against brute force: every θ7 on a fine grid with a solution
+    within the limits lies in one of the intervals."""
+    solver = panda.closed_form_ik
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        pose = panda.fk(panda.random_configuration(rng))
+        intervals = solver.elbow_q7_intervals(pose.translation, pose.rotation)
+        for q7 in np.linspace(panda.lower[6], panda.upper[6], 200):
+            if len(solver.solutions_q7(pose.translation, pose.rotation, q7)):
+                assert any(a - 1e-9 <= q7 <= b + 1e-9 for a, b in intervals), (q7, intervals)
