@@ -22,7 +22,7 @@ from kinplan.errors import (
     ViewerError,
 )
 from kinplan.ik import IKResult
-from kinplan.robot import Robot, load_robot, planar_arm
+from kinplan.model.robot import Robot, load_robot, planar_arm
 
 if TYPE_CHECKING:  # imported on first use (see __getattr__): the planners load the timing
     from kinplan.planning import MotionPlan, free_motion
@@ -52,18 +52,53 @@ __all__ = [
 ]
 
 
+#: Submodules loaded on first use, by attribute name (old names of moved modules included).
+_SUBMODULES = {
+    **{name: f"kinplan.{name}" for name in ("trajectory", "viewer", "plot", "program", "export")},
+    "planning": "kinplan.planning",
+    "cli": "kinplan.apps.cli",
+    "teach": "kinplan.apps.teach",
+    "demos": "kinplan.apps.demos",
+    "lecture": "kinplan.apps.lecture",
+    "reach": "kinplan.scale.reach",
+    "reach_view": "kinplan.scale.reach_view",
+    "batch": "kinplan.scale.batch",
+    "placement": "kinplan.scale.placement",
+    "engines": "kinplan.scale.engines",
+    "_profiles": "kinplan.trajectory._profiles",
+    "batch_ik": "kinplan.ik.batch",
+    "time_optimal": "kinplan.trajectory.totg",
+    "phase_plane": "kinplan.trajectory.phase_plane",
+    "sampling": "kinplan.trajectory.sampling",
+    "motion": "kinplan.trajectory.motion",
+    **{
+        name: f"kinplan.model.{name}"
+        for name in (
+            "robot",
+            "urdf_model",
+            "urdf_read",
+            "urdf_frames",
+            "sources",
+            "planar",
+            "mesh_files",
+            "tool",
+            "arm",
+        )
+    },  # fmt: skip
+}
+
+
 def __getattr__(name: str) -> ModuleType | Any:
     # `free_motion` and `MotionPlan` (kinplan.planning) on first use
     if name in ("free_motion", "MotionPlan"):
         from kinplan import planning
 
         return getattr(planning, name)
-    # Submodules imported on first use: `kinplan.trajectory`, `kinplan.viewer`, `kinplan.plot`.
-    if name in (
-        "trajectory", "viewer", "plot", "program", "cli", "teach", "demos", "export",
-        "reach", "batch", "placement", "planning",
-    ):  # fmt: skip
+    # Submodules imported on first use: `kinplan.trajectory`, `kinplan.viewer`, `kinplan.plot`, ...
+    # and the old names of the modules that moved into sub-packages (issue 31): `kinplan.reach`
+    # is `kinplan.scale.reach` (its old path is a shim that aliases the new module).
+    if name in _SUBMODULES:
         import importlib
 
-        return importlib.import_module(f"kinplan.{name}")
+        return importlib.import_module(_SUBMODULES[name])
     raise AttributeError(f"module 'kinplan' has no attribute {name!r}")

@@ -4,7 +4,7 @@ matplotlib is imported only inside these functions. They return stand-alone
 ``matplotlib.figure.Figure`` objects that do not touch pyplot's global state, so they work
 without a display (saving renders with Agg) and need no closing; :func:`show` puts figures on
 screen. Besides joint :class:`~kinplan.trajectory.Trajectory` objects (evaluated exactly on a
-fine grid), both plots take any planned motion (:class:`kinplan.motion.SampledMotion`: a
+fine grid), both plots take any planned motion (:class:`kinplan.trajectory.motion.SampledMotion`: a
 Cartesian or program plan) and draw its samples and tool positions.
 
 Example:
@@ -25,14 +25,14 @@ from numpy.typing import ArrayLike
 from kinplan import checks
 from kinplan.checks import describe
 from kinplan.errors import InputError, KinplanError
-from kinplan.motion import (
+from kinplan.trajectory import Trajectory, Waypoints
+from kinplan.trajectory.motion import (
     DEFAULT_DT,
     JointTrajectory,
     MotionLike,
     SampledMotion,
     as_sampled_motion,
 )
-from kinplan.trajectory import Trajectory, Waypoints
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -63,7 +63,8 @@ def plot_trajectory(
 
     Args:
         trajectory: One trajectory or several with the same number of joints: joint
-            trajectories, or planned motions (:class:`kinplan.motion.SampledMotion`, drawn at
+            trajectories, or planned motions (:class:`kinplan.trajectory.motion.SampledMotion`,
+            drawn at
             their own samples).
         path: Image file to save to (format from the suffix, e.g. ``.png``); None: don't save.
         dt: Sampling step of a joint trajectory [s]; default duration / 1000.
@@ -156,7 +157,8 @@ def plot_tip_path(
 
     Args:
         tip_paths: One path of shape (k, 2) or (k, 3), a sequence of them, or a mapping from
-            label to path [m]; a planned motion (:class:`kinplan.motion.SampledMotion`) stands
+            label to path [m]; a planned motion (:class:`kinplan.trajectory.motion.SampledMotion`)
+            stands
             for the tool positions it achieved.
         path: Image file to save to; None: don't save.
         labels: One legend label per path (ignored for a mapping).

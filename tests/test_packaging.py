@@ -81,7 +81,7 @@ def test_installed_wheel_runs_without_the_repository(wheel, tmp_path):
         from pathlib import Path
 
         import kinplan
-        from kinplan import demos
+        from kinplan.apps import demos
         from kinplan.program import parse_program, plan_program
 
         assert Path(kinplan.__file__).is_relative_to(Path(sys.argv[1])), kinplan.__file__

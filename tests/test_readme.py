@@ -30,7 +30,7 @@ def test_readme_examples_run(tmp_path, monkeypatch):
 def test_readme_quotes_the_failure_message_the_cli_prints(capsys):
     """The one-line failure quoted in the README's command-line section is what `kinplan run`
     prints for the example program (up to the README's `...`)."""
-    from kinplan.cli import main
+    from kinplan.apps.cli import main
 
     text = " ".join(README.read_text().split())
     quoted = re.search(r"e\.g\. `(move 3 \(weld across the base.*?)`", text).group(1)

@@ -16,11 +16,11 @@ import pytest
 
 import cartesian
 import kinplan
-from kinplan.cli import main
+from kinplan.apps.cli import main
+from kinplan.apps.teach import TeachPendant, home_configuration, run_session
 from kinplan.errors import InputError, KinplanError, RobotNotFoundError
 from kinplan.ik import IKSolver, frobenius_tolerance, halton
 from kinplan.program import load_program, parse_program, resolve_robot_source
-from kinplan.teach import TeachPendant, home_configuration, run_session
 
 NAN, INF = math.nan, math.inf
 P0, P1, P2 = [0.4, 0.0, 0.3], [0.5, 0.0, 0.3], [0.45, 0.05, 0.3]

@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 
-from kinplan.time_optimal import JointPath
+from kinplan.trajectory.totg import JointPath
 
 TOPPRA_SPACING = 0.002
 """Largest TOPP-RA grid spacing along the path [rad of path length]. TOPP-RA's duration

@@ -33,9 +33,9 @@ import pinocchio as pin
 import cartesian
 import kinplan
 from kinplan import checks, export, plot, trajectory
-from kinplan import lecture as lecture_data
+from kinplan.apps import lecture as lecture_data
+from kinplan.apps.lecture import DURATION, END_XY, START_XY, VIA_TIME, VIA_XY
 from kinplan.errors import InputError
-from kinplan.lecture import DURATION, END_XY, START_XY, VIA_TIME, VIA_XY
 from kinplan.program import (
     MotionBuilder,
     ProgramError,

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from kinplan.errors import KinplanError
-from kinplan.robot import Robot
+from kinplan.model.robot import Robot
 from kinplan.trajectory import Trajectory
 
 TIP = (1.0 + np.sqrt(3.0)) / 2.0

@@ -2,7 +2,8 @@
 
 The geometry comes from the URDF's ``<collision>`` elements (its ``<visual>`` ones when its links
 have no ``<collision>`` at all, as kinplan's planar arms; said in the log), read by
-``pin.buildGeomFromUrdfString`` on the URDF's whole model (:func:`kinplan.urdf_model.full_model`)
+``pin.buildGeomFromUrdfString`` on the URDF's whole model
+(:func:`kinplan.model.urdf_model.full_model`)
 and moved onto the robot's reduced model: each element keeps its pose in its link's frame, and
 the link's frame in the reduced model carries the held joints' values and the base pose. Meshes
 become their convex hulls (coal's ``buildConvexHull``, qhull): a solid that covers the mesh, with
@@ -39,11 +40,11 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from kinplan.arm import Arm
 from kinplan.cell.body import CellError, convex_hull
 from kinplan.errors import KinplanError
-from kinplan.urdf_model import full_model
-from kinplan.urdf_read import read_urdf
+from kinplan.model.arm import Arm
+from kinplan.model.urdf_model import full_model
+from kinplan.model.urdf_read import read_urdf
 
 logger = logging.getLogger(__name__)
 
@@ -164,7 +165,7 @@ def _resolve_meshes(root: ET.Element, kind: str, urdf_path: Path, package_dirs) 
     Raises:
         CellError: a mesh file found nowhere.
     """
-    from kinplan.mesh_files import resolve_mesh, search_folders
+    from kinplan.model.mesh_files import resolve_mesh, search_folders
 
     folders = search_folders(urdf_path, package_dirs)
     for link in root.findall("link"):

@@ -18,7 +18,6 @@ import numpy as np
 import pinocchio as pin
 
 from kinplan import checks
-from kinplan.arm import Arm
 from kinplan.cell.body import Body, CellError, bounding_radius
 from kinplan.cell.motion import MotionCheck, Problem, check, joint_levers
 from kinplan.cell.robot_geometry import (
@@ -29,6 +28,7 @@ from kinplan.cell.robot_geometry import (
     self_pairs,
 )
 from kinplan.errors import InputError
+from kinplan.model.arm import Arm
 
 logger = logging.getLogger(__name__)
 

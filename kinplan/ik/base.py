@@ -12,9 +12,9 @@ from typing import Protocol
 import numpy as np
 import pinocchio as pin
 
-from kinplan.arm import Arm
 from kinplan.errors import InputError
 from kinplan.ik.screws import LIMIT_TOL, TAU, compose_scan, wrap_angle, wrap_near
+from kinplan.model.arm import Arm
 
 logger = logging.getLogger(__name__)
 

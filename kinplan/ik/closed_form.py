@@ -46,7 +46,6 @@ import logging
 
 import numpy as np
 
-from kinplan.arm import Arm
 from kinplan.ik.base import AnalyticIK, ClosedFormIK, self_check
 from kinplan.ik.panda import panda_solver_for
 from kinplan.ik.planar import planar_2r_solver
@@ -54,6 +53,7 @@ from kinplan.ik.screws import screws_at_zero
 from kinplan.ik.spherical_wrist import SphericalWristIK
 from kinplan.ik.spherical_wrist_geometry import wrist_geometry
 from kinplan.ik.ur import URIK, ur_geometry
+from kinplan.model.arm import Arm
 
 logger = logging.getLogger(__name__)
 

@@ -18,8 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from kinplan.arm import Arm
 from kinplan.ik.screws import STRUCTURE_TOL, screws_at_zero
+from kinplan.model.arm import Arm
 
 Vec = tuple[float, float, float]
 Mat = tuple[float, float, float, float, float, float, float, float, float]

@@ -7,7 +7,6 @@ import math
 
 import numpy as np
 
-from kinplan.arm import Arm
 from kinplan.ik.base import ClosedFormIK, NeedsBatch
 from kinplan.ik.screws import (
     CLAMP,
@@ -22,6 +21,7 @@ from kinplan.ik.screws import (
     plane_basis,
     wrap_angle,
 )
+from kinplan.model.arm import Arm
 
 logger = logging.getLogger(__name__)
 

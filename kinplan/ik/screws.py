@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from kinplan.arm import Arm
+from kinplan.model.arm import Arm
 
 logger = logging.getLogger(__name__)
 

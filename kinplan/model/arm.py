@@ -3,7 +3,7 @@ frame and forward kinematics — as a protocol of their own.
 
 The IK solvers, the batch solver and the work cell take an arm; :class:`kinplan.Robot` builds
 them and has all of this. Typing them with :class:`Arm` (not with ``Robot``) keeps the imports
-one-way: ``kinplan.robot`` imports ``kinplan.ik`` and ``kinplan.cell``, never the reverse.
+one-way: ``kinplan.model.robot`` imports ``kinplan.ik`` and ``kinplan.cell``, never the reverse.
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 Mesh files are found as ROS does: ``package://pkg/...`` through the robot's package folders,
 example-robot-data's and the URDF's own folder and its parents; ``file://`` and absolute paths as
 they are; bare relative names next to the URDF. The viewer (:mod:`kinplan.viewer.visuals`), the
-work cell's collision geometry (:mod:`kinplan.cell`) and tools (:mod:`kinplan.tool`) resolve
+work cell's collision geometry (:mod:`kinplan.cell`) and tools (:mod:`kinplan.model.tool`) resolve
 meshes here, so they all find the same files.
 """
 
@@ -13,7 +13,7 @@ from collections.abc import Iterable, Sequence
 from os import PathLike
 from pathlib import Path
 
-from kinplan.sources import example_robot_data_dir
+from kinplan.model.sources import example_robot_data_dir
 
 __all__ = ["ANCESTOR_LEVELS", "not_found_reason", "resolve_mesh", "search_folders"]
 

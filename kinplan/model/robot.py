@@ -20,7 +20,6 @@ import numpy as np
 import pinocchio as pin
 
 from kinplan import checks
-from kinplan.batch_ik import BatchSolver, parse_targets
 from kinplan.checks import parse_target
 from kinplan.errors import InputError, RobotNotFoundError
 from kinplan.ik import (
@@ -31,11 +30,19 @@ from kinplan.ik import (
     finite_bounds,
     halton,
 )
-from kinplan.planar import planar_arm_urdf, write_planar_arm
-from kinplan.sources import RobotSpec, known_names, resolve_source
-from kinplan.tool import Tool, tool_urdf
-from kinplan.urdf_frames import frame_id
-from kinplan.urdf_model import build_chain
+from kinplan.ik.batch import BatchSolver
+from kinplan.ik.batch_kinematics import batch_seeds, parse_targets
+from kinplan.model.extent import planar_link_lengths, prismatic_joints, search_reach
+from kinplan.model.jacobians import (
+    jacobian_time_variation,
+    manipulability_of,
+    mimic_jacobian_time_variations,
+)
+from kinplan.model.planar import planar_arm_urdf, write_planar_arm
+from kinplan.model.sources import RobotSpec, known_names, resolve_source
+from kinplan.model.tool import Tool, tool_urdf
+from kinplan.model.urdf_frames import frame_id
+from kinplan.model.urdf_model import build_chain
 
 if TYPE_CHECKING:
     from kinplan.cell import Body
@@ -43,7 +50,6 @@ if TYPE_CHECKING:
 logger = logging.getLogger(__name__)
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-_WORLD = pin.ReferenceFrame.WORLD
 _TAU = 2.0 * math.pi
 
 
@@ -85,7 +91,7 @@ class Robot:
     ) -> None:
         if not isinstance(spec, RobotSpec):
             raise InputError(
-                "Robot(spec) takes a kinplan.sources.RobotSpec; load a robot with "
+                "Robot(spec) takes a kinplan.model.sources.RobotSpec; load a robot with "
                 f"kinplan.load_robot(name or URDF path), got {checks.describe(spec)}"
             )
         if tip is not None:
@@ -122,12 +128,9 @@ class Robot:
         self._ik = IKSolver(self.model, self.tip_id, self.lower, self.upper)
         self._reference_manipulability: dict[bool, float] = {}
         self._unbounded = np.flatnonzero(~np.isfinite(self.lower) & ~np.isfinite(self.upper))
-        self.prismatic = np.zeros(self.nq, dtype=bool)
-        for joint in self.model.joints[1:]:
-            if joint.nq == 1 and joint.shortname().startswith("JointModelP"):  # PX/PY/PZ/Unaligned
-                self.prismatic[joint.idx_q] = True
+        self.prismatic = prismatic_joints(self.model)
         self._task = self._task_structure()
-        self.link_lengths = self._planar_link_lengths()
+        self.link_lengths = planar_link_lengths(self.model, self.tip_id)
 
     def __repr__(self) -> str:
         return (
@@ -246,23 +249,6 @@ class Robot:
             structure[position_only] = (rows, rank)
         return structure
 
-    def _planar_link_lengths(self) -> list[float] | None:
-        """Link lengths [m] if the arm is planar (revolute about parallel z axes, links in the
-        xy-plane of the first joint), else None."""
-        model = self.model
-        if any(model.joints[j].shortname() != "JointModelRZ" for j in range(1, model.njoints)):
-            return None
-        offsets = [model.jointPlacements[j] for j in range(2, model.njoints)]
-        offsets.append(model.frames[self.tip_id].placement)
-        lengths = []
-        for placement in offsets:
-            if not np.allclose(placement.rotation, np.eye(3), atol=1e-12):
-                return None
-            if abs(placement.translation[2]) > 1e-12:
-                return None
-            lengths.append(float(np.linalg.norm(placement.translation)))
-        return lengths
-
     def planar_reach(self) -> tuple[float, float] | None:
         """Workspace annulus (r_min, r_max) [m] about the first joint, for planar arms.
 
@@ -292,55 +278,8 @@ class Robot:
         if annulus is not None:
             self._reach = annulus[1]
             return self._reach
-        origin = np.array(self.model.jointPlacements[1].translation)
-        solver = IKSolver(self.model, self.tip_id, self.lower, self.upper)
-        # a distance no configuration exceeds: the chain's offsets laid end to end
-        far = 10.0 * (self._chain_length() + 1.0)
-
-        def distance_of(q: np.ndarray) -> float:
-            return self.shoulder_distance(self.tool_positions(q[None])[0])
-
-        count = 128
-        k = np.arange(count) + 0.5
-        polar, azimuth = np.arccos(1 - 2 * k / count), np.pi * (1 + 5**0.5) * k
-        directions = np.stack(
-            [np.sin(polar) * np.cos(azimuth), np.sin(polar) * np.sin(azimuth), np.cos(polar)], 1
-        )
-        start = self.neutral()
-        candidates = []
-        for u in directions:
-            q, *_ = solver.descend(start, origin + far * u, None, 1e-12, 1.0, 30)
-            candidates.append((distance_of(q), q))
-        candidates.sort(key=lambda pair: -pair[0])
-        best = 0.0
-        for distance, q in candidates[:4]:  # the best few basins
-            step = 0.05
-            for _ in range(400):
-                if step < 1e-7:
-                    break
-                tool = self.tool_positions(q[None])[0] - origin
-                direction = tool / max(float(np.linalg.norm(tool)), 1e-12)
-                target = origin + (distance + step) * direction
-                q_next, *_ = solver.descend(q, target, None, 1e-12, 1.0, 20)
-                reached = distance_of(q_next)
-                if reached > distance + 1e-12:
-                    q, distance = q_next, reached
-                    step = min(2.0 * step, 0.05)
-                else:
-                    step *= 0.5
-            best = max(best, distance)
-        self._reach = float(best)
+        self._reach = search_reach(self)
         return self._reach
-
-    def _chain_length(self) -> float:
-        """Sum of the distances between consecutive joint origins and the tool offset, plus
-        the largest extension of every prismatic joint [m]: an upper bound of the reach."""
-        model = self.model
-        offsets = [model.jointPlacements[j] for j in range(2, model.njoints)]
-        total = sum(float(np.linalg.norm(p.translation)) for p in offsets)
-        total += float(np.linalg.norm(model.frames[self.tip_id].placement.translation))
-        extension = np.maximum(np.abs(self.lower), np.abs(self.upper))[self.prismatic]
-        return total + float(extension.sum())
 
     def shoulder_distance(self, position: Sequence[float] | np.ndarray) -> float:
         """Distance [m] of a position (base frame) from the first joint's origin."""
@@ -469,7 +408,7 @@ class Robot:
         and keep per target the solution nearest its seed, as :meth:`ik` does (the panda's θ7
         search stage by stage over the targets); other arms run the damped least-squares
         iteration of :meth:`ik` on all targets at once, restarting the failed ones from the
-        same Halton configurations (see :mod:`kinplan.batch_ik`). A target the closed form
+        same Halton configurations (see :mod:`kinplan.ik.batch`). A target the closed form
         cannot reach within the limits fails without numerical attempts. An (N, 4, 4) array is
         the fastest form of the targets (a list of ``pin.SE3`` costs ~0.6 µs a target to
         convert).
@@ -496,21 +435,7 @@ class Robot:
         positions, rotations = parse_targets(targets)
         if checks.flag(position_only, "position_only"):
             rotations = None
-        count = len(positions)
-        if q_seed is None:
-            seeds = np.tile(self.neutral(), (count, 1))
-        else:
-            seeds = np.asarray(q_seed, dtype=float) if not isinstance(q_seed, str) else None
-            if seeds is not None and seeds.shape == (self.nq,):
-                seeds = np.tile(self.check_q(seeds, "q_seed"), (count, 1))
-            elif seeds is None or seeds.shape != (count, self.nq):
-                raise InputError(
-                    f"q_seed must be one configuration ({self.nq},) or one per target "
-                    f"({count}, {self.nq}) [rad or m], got {checks.describe(q_seed)}"
-                )
-            elif not np.all(np.isfinite(seeds)):
-                raise InputError("q_seed must be finite")
-            seeds = np.clip(seeds, self.lower - _TAU, self.upper + _TAU)
+        seeds = batch_seeds(self, q_seed, len(positions))
         position_tolerance = checks.number(
             position_tolerance, "position_tolerance", positive=True, unit="m"
         )
@@ -530,7 +455,7 @@ class Robot:
 
     @property
     def batch_solver(self) -> BatchSolver:
-        """The solver behind :meth:`ik_batch` (:class:`kinplan.batch_ik.BatchSolver`), built
+        """The solver behind :meth:`ik_batch` (:class:`kinplan.ik.batch.BatchSolver`), built
         on first use."""
         if "_batch_solver" not in self.__dict__:
             self._batch_solver = BatchSolver(self)
@@ -560,26 +485,7 @@ class Robot:
             if jacobians is None:
                 jacobians = np.array([self.jacobian(row) for row in q]).reshape(-1, 6, self.nq)
             return jacobian_time_variation(jacobians, qd)
-        out = np.empty((len(q), 6, self.nq))
-        model, data = self.model, self.data
-        joint = model.frames[self.tip_id].parentJoint
-        for k, (row, rate) in enumerate(zip(q, qd)):
-            pin.computeJointJacobiansTimeVariation(model, data, row, rate)
-            p = pin.updateFramePlacement(model, data, self.tip_id).translation
-            J = pin.getJointJacobian(model, data, joint, _WORLD).reshape(6, self.nq)
-            J_dot = pin.getJointJacobianTimeVariation(model, data, joint, _WORLD)
-            J_dot = J_dot.reshape(6, self.nq)
-            # WORLD gives the velocity of the point at the world origin; the tool point p moves
-            # at v − p × ω: J_lin = J_w,lin − p × J_w,ang, J̇_lin = J̇_w,lin − p × J̇_w,ang − ṗ × J_ang
-            linear = J[:3] - np.cross(p, J[3:], axisb=0, axisc=0)
-            p_dot = linear @ rate
-            out[k, 3:] = J_dot[3:]
-            out[k, :3] = (
-                J_dot[:3]
-                - np.cross(p, J_dot[3:], axisb=0, axisc=0)
-                - np.cross(p_dot, J[3:], axisb=0, axisc=0)
-            )
-        return out
+        return mimic_jacobian_time_variations(self.model, self.data, self.tip_id, q, qd)
 
     @property
     def ik_solver(self) -> IKSolver:
@@ -640,7 +546,7 @@ class Robot:
         """This robot with a tool on its flange (the current tip frame): a new Robot whose tip
         is the tool centre point, so FK, IK, Jacobians and paths all work at the TCP, and whose
         tool body (if given) collides like a link in a :class:`kinplan.WorkCell` and is drawn
-        by the viewer (see :mod:`kinplan.tool`).
+        by the viewer (see :mod:`kinplan.model.tool`).
 
         Args:
             pose: The TCP in the flange frame: ``pin.SE3``, 4×4 matrix or position 3-vector [m]
@@ -650,7 +556,7 @@ class Robot:
                 or None.
 
         Returns:
-            The new robot; ``robot.tool`` describes the tool (:class:`kinplan.tool.Tool`).
+            The new robot; ``robot.tool`` describes the tool (:class:`kinplan.model.tool.Tool`).
 
         Raises:
             CellError: a pose that is not a pose, a body that is not a ``Body``.
@@ -670,70 +576,6 @@ class Robot:
         return tooled
 
 
-def manipulability_of(J: np.ndarray, rank: int) -> float | np.ndarray:
-    """Product of the ``rank`` largest singular values of ``J`` (0 when rank is 0).
-
-    When ``rank`` is the smaller dimension of J this is |det J| (square J), sqrt(det(J Jᵀ))
-    (wide J) or sqrt(det(Jᵀ J)) (tall J), computed from the smaller Gram matrix.
-
-    Args:
-        J: A Jacobian (r, c), or a stack of them (N, r, c).
-        rank: Its rank at a generic configuration.
-
-    Returns:
-        A float for one Jacobian, an array (N,) for a stack.
-    """
-    rows, cols = J.shape[-2:]
-    if rank == 0:
-        value = np.zeros(J.shape[:-2])
-    elif rank == rows == cols:  # |det J|, as the follower's factorisation gives it
-        value = np.abs(np.linalg.det(J))
-    elif rank == min(rows, cols):
-        J_t = np.swapaxes(J, -1, -2)
-        gram = J @ J_t if rows <= cols else J_t @ J
-        value = np.sqrt(np.maximum(np.linalg.det(gram), 0.0))
-    else:
-        value = np.prod(np.linalg.svd(J, compute_uv=False)[..., :rank], axis=-1)
-    return float(value) if J.ndim == 2 else value
-
-
-def jacobian_time_variation(J: np.ndarray, qd: np.ndarray) -> np.ndarray:
-    """J̇ of serial-chain tool Jacobians from the Jacobians and joint velocities alone (stacked).
-
-    For the world-aligned tool Jacobian of a chain of 1-dof revolute and prismatic joints, as
-    :meth:`Robot.jacobian` gives it (columns base to tip; rows [linear v; angular w]), column i
-    changes at the rate
-        ẇ_i = ω_i × w_i,    v̇_i = ω_i × v_i + w_i × Σ_(j ≥ i) q̇_j v_j,
-    with ω_i = Σ_(j < i) q̇_j w_j the angular velocity of the link that carries joint i (the tool
-    point's velocity relative to joint i's axis is ω_i × r_i + Σ_(j ≥ i) q̇_j v_j, and the Jacobi
-    identity folds the two terms with r_i into ω_i × v_i). This is what Pinocchio's
-    ``getFrameJacobianTimeVariation`` gives in ``LOCAL_WORLD_ALIGNED``, computed for many
-    samples at once with no kinematics pass.
-
-    Args:
-        J: Tool Jacobians, shape (..., 6, nq).
-        qd: Joint velocities [rad/s or m/s], shape (..., nq).
-
-    Returns:
-        J̇, shape (..., 6, nq) (per second).
-    """
-    v, w = J[..., :3, :], J[..., 3:, :]
-    w_qd = w * qd[..., None, :]
-    omega = np.cumsum(w_qd, axis=-1) - w_qd  # Σ over the joints before each column
-    v_qd = v * qd[..., None, :]
-    sigma = np.cumsum(v_qd[..., ::-1], axis=-1)[..., ::-1]  # Σ over the column and after
-    return np.concatenate(
-        [_cross_rows(omega, v) + _cross_rows(w, sigma), _cross_rows(omega, w)], axis=-2
-    )
-
-
-def _cross_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Cross products of the columns of two stacks of 3-row matrices (..., 3, n)."""
-    a0, a1, a2 = a[..., 0, :], a[..., 1, :], a[..., 2, :]
-    b0, b1, b2 = b[..., 0, :], b[..., 1, :], b[..., 2, :]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-2)
-
-
 def load_robot(
     source: str | os.PathLike[str],
     tip: str | None = None,
@@ -747,7 +589,7 @@ def load_robot(
 
     Continuous joints become unbounded revolute joints (``lower = -inf``, ``upper = +inf``),
     mimic joints follow their master (not in ``q``), a floating or planar root joint is held at
-    ``base_pose`` (see :mod:`kinplan.urdf_model`).
+    ``base_pose`` (see :mod:`kinplan.model.urdf_model`).
 
     Args:
         source: A bundled robot (``"planar_2r"``), an example-robot-data arm (``"ur3"``,

@@ -27,10 +27,10 @@ from typing import Protocol
 import pinocchio as pin
 
 from kinplan import checks
-from kinplan.arm import Arm
 from kinplan.cell.body import Body, CellError, as_pose
-from kinplan.sources import RobotSpec
-from kinplan.urdf_read import read_urdf
+from kinplan.model.arm import Arm
+from kinplan.model.sources import RobotSpec
+from kinplan.model.urdf_read import read_urdf
 
 
 class FlangedArm(Arm, Protocol):
@@ -68,7 +68,7 @@ class ToolUrdf:
     """The URDF of an arm with a tool (:func:`tool_urdf`).
 
     Attributes:
-        spec: Where the new URDF is (a :class:`~kinplan.sources.RobotSpec` to load).
+        spec: Where the new URDF is (a :class:`~kinplan.model.sources.RobotSpec` to load).
         tool: The tool (its ``tcp_link`` is the new robot's tip frame).
     """
 
@@ -207,7 +207,7 @@ def _add_link(
 def _absolute_meshes(root: ET.Element, urdf_path: Path, package_dirs) -> None:
     """Write the absolute path of every mesh file found into ``root`` (the copy lives in a
     cache folder, where relative and ``package://`` names would not resolve)."""
-    from kinplan.mesh_files import resolve_mesh, search_folders
+    from kinplan.model.mesh_files import resolve_mesh, search_folders
 
     folders = search_folders(urdf_path, package_dirs)
     for mesh in root.iter("mesh"):

@@ -24,7 +24,8 @@ locked value must lie within its joint's limits; base poses, joint origins and f
 the joint's acceleration limit; prefixes a file uses without declaring them (airo-models' UR5e)
 are declared before parsing (:func:`read_urdf`).
 
-The XML is read by :mod:`kinplan.urdf_read`; the tool frame is chosen by :mod:`kinplan.urdf_frames`.
+The XML is read by :mod:`kinplan.model.urdf_read`; the tool frame is chosen by
+:mod:`kinplan.model.urdf_frames`.
 """
 
 from __future__ import annotations
@@ -41,8 +42,8 @@ import pinocchio as pin
 
 from kinplan import checks
 from kinplan.errors import InputError, URDFError
-from kinplan.urdf_frames import default_tool_frame, frame_id
-from kinplan.urdf_read import (
+from kinplan.model.urdf_frames import default_tool_frame, frame_id
+from kinplan.model.urdf_read import (
     ONE_DOF,
     UrdfJoint,
     float_or_nan,

@@ -3,7 +3,7 @@
 * :func:`free_motion` — a timed joint motion around a work cell's obstacles, from a start
   configuration to a joint goal or a tool pose, every segment certified by the cell's motion
   check (:mod:`kinplan.planning.planner`);
-* :class:`MotionPlan` — its result (a :class:`kinplan.motion.SampledMotion`), with
+* :class:`MotionPlan` — its result (a :class:`kinplan.trajectory.motion.SampledMotion`), with
   :class:`PlanEvent` when it failed.
 
 Inside: ``plan`` (the result) → ``goals`` (goal configurations) → ``search`` (RRT-Connect on

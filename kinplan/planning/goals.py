@@ -20,7 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from kinplan.cell import PairDistance, WorkCell
-from kinplan.robot import Robot
+from kinplan.model.robot import Robot
 
 __all__ = ["MAX_GOALS", "GoalSet", "equivalents", "goal_set", "pose_goals"]
 

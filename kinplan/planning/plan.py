@@ -1,7 +1,8 @@
 """What :func:`kinplan.free_motion` returns: :class:`MotionPlan`, its :class:`PlanEvent` and
 its :class:`WaypointArray`.
 
-A :class:`MotionPlan` is a :class:`kinplan.motion.SampledMotion` (the viewer, plots and exports
+A :class:`MotionPlan` is a :class:`kinplan.trajectory.motion.SampledMotion` (the viewer, plots and
+exports
 take it): its samples are those of its timed trajectory on the grid ``0, dt, …`` with the last
 exactly at the end of the motion. A plan that failed stands still at its start (a trajectory of
 zero duration, one sample) and carries one event that says why and what to do.
@@ -17,11 +18,11 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
-from kinplan.motion import MotionKind, MoveSpan, PlannedPath, TrajectoryToolPath
 from kinplan.trajectory import Trajectory, time_grid
+from kinplan.trajectory.motion import MotionKind, MoveSpan, PlannedPath, TrajectoryToolPath
 
 if TYPE_CHECKING:
-    from kinplan.robot import Robot
+    from kinplan.model.robot import Robot
 
 __all__ = ["STATUSES", "MotionPlan", "PlanEvent", "PlanStatus", "WaypointArray"]
 
@@ -40,7 +41,7 @@ STATUSES: tuple[str, ...] = (
 
 @dataclass(frozen=True)
 class PlanEvent:
-    """Why a free motion could not be planned (a :class:`kinplan.motion.MotionEvent`).
+    """Why a free motion could not be planned (a :class:`kinplan.trajectory.motion.MotionEvent`).
 
     Attributes:
         kind: The status it causes: ``"no_path"``, ``"start_in_collision"``,

@@ -28,12 +28,12 @@ import pinocchio as pin
 from kinplan import checks, trajectory
 from kinplan.cell import PairDistance, WorkCell
 from kinplan.errors import InputError
+from kinplan.model.robot import Robot
 from kinplan.planning.goals import GoalSet, goal_set, pose_goals
 from kinplan.planning.plan import MotionPlan, PlanEvent, WaypointArray
 from kinplan.planning.search import EdgeChecker, rrt_connect
 from kinplan.planning.shortcut import shorten
 from kinplan.planning.timing import DEFAULT_BLEND, timed_motion
-from kinplan.robot import Robot
 
 __all__ = ["DEFAULT_RAMP_TIME", "FALLBACK_VELOCITY", "free_motion", "motion_limits"]
 

@@ -3,7 +3,7 @@
 The waypoints are timed by :func:`kinplan.trajectory.time_optimal` (time-optimal along straight
 lines with circular blends at the corners, each within ``blend`` rad of its corner; rest to rest,
 within the joint velocity and acceleration limits). The blends leave the certified polyline, so
-the timed motion's path — the :class:`kinplan.time_optimal.JointPath` of the same waypoints and
+the timed motion's path — the :class:`kinplan.trajectory.totg.JointPath` of the same waypoints and
 blend, which the trajectory follows to 1e-12 rad — is checked again with
 :meth:`kinplan.WorkCell.check_motion` on points along it: at most :data:`LINE_STEP` rad apart,
 and on the blends close enough that the chord between two points leaves the arc by at most
@@ -24,13 +24,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from kinplan import trajectory
-from kinplan.arm import Arm
 from kinplan.cell import MotionCheck, WorkCell
 from kinplan.cell.body import bounding_radius
 from kinplan.cell.motion import joint_levers
 from kinplan.cell.robot_geometry import robot_geometry
-from kinplan.time_optimal import JointPath
+from kinplan.model.arm import Arm
 from kinplan.trajectory import Trajectory
+from kinplan.trajectory.totg import JointPath
 
 __all__ = [
     "DEFAULT_BLEND",

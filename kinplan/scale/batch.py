@@ -1,6 +1,6 @@
 """Plan many motion programs at once: :func:`plan_many` (``kinplan run A.yaml B.yaml --jobs N``).
 
-Each program is one work item (:mod:`kinplan.engines`): its YAML *text*, its folder (relative
+Each program is one work item (:mod:`kinplan.scale.engines`): its YAML *text*, its folder (relative
 URDF and mesh paths are taken from there) and the sampling period, so the same programs give the
 same summaries in this process, on a Dask ``LocalCluster`` or on a remote Dask scheduler (whose
 workers must see the files a program names by path). A program that does not validate or does
@@ -20,12 +20,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from kinplan import checks
-from kinplan.engines import Progress, batch_options, open_engine, tune_allocator
 from kinplan.errors import InputError, KinplanError
+from kinplan.scale.engines import Progress, batch_options, open_engine, tune_allocator
 
 if TYPE_CHECKING:  # type-only: imported where used (the program package loads much)
+    from kinplan.model.robot import Robot
     from kinplan.program import Program, ProgramPlan
-    from kinplan.robot import Robot
 
 __all__ = ["PlanSummary", "plan_many"]
 
@@ -140,7 +140,7 @@ def plan_many(
     Args:
         paths: Program files (YAML).
         engine: ``"local"``, ``"dask"`` or a ``distributed.Client`` (see
-            :func:`kinplan.engines.open_engine`).
+            :func:`kinplan.scale.engines.open_engine`).
         scheduler: Address of a Dask scheduler (``tcp://HOST:8786``).
         jobs: Worker processes of a LocalCluster (``jobs > 1`` implies ``"dask"``).
         dt: Sampling period [s] (default :data:`kinplan.program.DEFAULT_DT`).

@@ -1,7 +1,9 @@
 """Where batch work runs: in this process, on a Dask ``LocalCluster``, or on a Dask scheduler.
 
-Every batch job of kinplan (:func:`kinplan.reach.capability_map`, :func:`kinplan.placement.place`,
-:func:`kinplan.batch.plan_many`) is a list of **work items**: a module-level function called as
+Every batch job of kinplan (:func:`kinplan.scale.reach.capability_map`,
+:func:`kinplan.scale.placement.place`,
+:func:`kinplan.scale.batch.plan_many`) is a list of **work items**: a module-level function called
+as
 ``function(chunk, payload=payload)``, pure in its arguments (the payload holds the URDF or
 program *text* and the options, never an object of this process), so the same items give
 bit-identical results wherever they run. :func:`open_engine` gives the engine that runs them:
@@ -41,7 +43,7 @@ from kinplan.errors import InputError, KinplanError
 if TYPE_CHECKING:  # type-only: Dask and the robot are imported where they are used
     from distributed import Client
 
-    from kinplan.robot import Robot
+    from kinplan.model.robot import Robot
 
 logger = logging.getLogger(__name__)
 
@@ -248,8 +250,9 @@ def _jobs(jobs: object) -> int:
 def batch_options(
     engine: object, jobs: object, progress: object
 ) -> tuple[object, int | None, Progress | None]:
-    """The checked engine arguments of a batch job (:func:`kinplan.reach.capability_map`,
-    :func:`kinplan.placement.place`, :func:`kinplan.batch.plan_many`): ``(engine, jobs for
+    """The checked engine arguments of a batch job (:func:`kinplan.scale.reach.capability_map`,
+    :func:`kinplan.scale.placement.place`, :func:`kinplan.scale.batch.plan_many`): ``(engine, jobs
+    for
     open_engine, progress)``. ``jobs > 1`` with the ``"local"`` engine means ``"dask"``; the
     local engine takes no jobs.
 
@@ -342,8 +345,8 @@ def robot_from_payload(payload: dict[str, Any]) -> Robot:
         return robot
     import pinocchio as pin
 
-    from kinplan.robot import Robot
-    from kinplan.sources import RobotSpec
+    from kinplan.model.robot import Robot
+    from kinplan.model.sources import RobotSpec
 
     text = payload["urdf"]
     folder = Path(tempfile.gettempdir()) / "kinplan-urdf"

@@ -15,7 +15,7 @@ so a margin of 1 is comfortable on every count and 0 touches a limit. :func:`wit
 writes a candidate back as a program (the file's text kept, its ``base_pose:`` replaced or
 added after ``robot:``); :func:`heat_map` draws the grid.
 
-Each chunk of candidates is a pure work item (:mod:`kinplan.engines`) of the program text, its
+Each chunk of candidates is a pure work item (:mod:`kinplan.scale.engines`) of the program text, its
 folder and the candidates: the ranking is the same in this process, on a ``LocalCluster`` or on a
 remote Dask scheduler.
 """
@@ -34,15 +34,15 @@ import pinocchio as pin
 import yaml
 
 from kinplan import checks
-from kinplan.batch import joint_margin, plan_text
-from kinplan.engines import (
+from kinplan.errors import InputError, KinplanError
+from kinplan.scale.batch import joint_margin, plan_text
+from kinplan.scale.engines import (
     Progress,
     batch_options,
     open_engine,
     tune_allocator,
     write_atomically,
 )
-from kinplan.errors import InputError, KinplanError
 
 __all__ = ["Placement", "PlacementSearch", "heat_map", "place", "with_base_pose"]
 
@@ -291,7 +291,7 @@ def place(
             the program's). Roll and pitch stay the program's.
         step: Grid step of x, y, z [m].
         yaw_step_deg: Grid step of the yaw [deg].
-        engine, scheduler, jobs: Where to run (see :func:`kinplan.engines.open_engine`).
+        engine, scheduler, jobs: Where to run (see :func:`kinplan.scale.engines.open_engine`).
         dt: Sampling period [s] (default :data:`kinplan.program.DEFAULT_DT`).
         progress: Called as ``progress(done, total)`` in chunks of candidates.
 

@@ -1,4 +1,5 @@
-"""A capability map in MeshCat: one offline HTML page (:meth:`kinplan.reach.ReachMap.save_html`).
+"""A capability map in MeshCat: one offline HTML page
+(:meth:`kinplan.scale.reach.ReachMap.save_html`).
 
 Built with MeshCat's own Python scene objects and its viewer bundle (inlined, so the page works
 offline): the reachable voxels as a point cloud of voxel-sized squares coloured by the
@@ -18,11 +19,12 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 
 if TYPE_CHECKING:
-    from kinplan.robot import Robot
+    from kinplan.model.robot import Robot
 
 
 class MapToDraw(Protocol):
-    """What the page needs of a map (a :class:`kinplan.reach.ReachMap` has it; this module does
+    """What the page needs of a map (a :class:`kinplan.scale.reach.ReachMap` has it; this module
+    does
     not import the class that draws with it, so the two do not depend on each other)."""
 
     robot: str

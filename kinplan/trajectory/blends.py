@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from kinplan import _profiles
 from kinplan.errors import InfeasibleError, InputError
+from kinplan.trajectory import _profiles
 from kinplan.trajectory.arguments import (
     checked_blend_time,
     describe,

@@ -1,6 +1,6 @@
 """Profiles timed by kinematic limits: :func:`scurve` (jerk-limited point to point) and
 :func:`time_optimal` (the fastest motion through waypoints under velocity and acceleration
-limits, TOTG; the method is in :mod:`kinplan.time_optimal`)."""
+limits, TOTG; the method is in :mod:`kinplan.trajectory.totg`)."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from kinplan import _profiles
 from kinplan.errors import InfeasibleError, InputError
+from kinplan.trajectory import _profiles
 from kinplan.trajectory.arguments import (
     check_magnitudes,
     duration_value,
@@ -98,7 +98,7 @@ def time_optimal(
     the joints); with ``max_deviation=0`` the path goes exactly through every point and the
     motion stops at each corner (a corner that reverses the direction stops too; points on a
     straight line are passed without stopping). The timing is the fastest one that keeps every
-    joint within its velocity and acceleration limits; see :mod:`kinplan.time_optimal` for the
+    joint within its velocity and acceleration limits; see :mod:`kinplan.trajectory.totg` for the
     method, the representation and its accuracy (lines exact; blends as quintics that keep the
     path to 1e-12 rad, planned 1e-4 below the limits and checked on dense samples).
 
@@ -122,7 +122,7 @@ def time_optimal(
         InfeasibleError: ``duration`` shorter than the limits allow (the message states the
             minimum time).
     """
-    from kinplan import time_optimal as totg  # builds on this module's profiles
+    from kinplan.trajectory import totg  # builds on this module's profiles
 
     points = point_rows(points, "points")
     n = points.shape[1]
@@ -151,7 +151,7 @@ def _check_requested_duration(
     limits: Sequence[np.ndarray],
 ) -> None:
     """InfeasibleError stating the minimum time when ``requested`` is below ``least`` (relative
-    slack :data:`~kinplan._profiles.RELATIVE_TOLERANCE` for rounding)."""
+    slack :data:`~kinplan.trajectory._profiles.RELATIVE_TOLERANCE` for rounding)."""
     if requested >= least * (1.0 - _profiles.RELATIVE_TOLERANCE):
         return
     names = ("max_velocity", "max_acceleration", "max_jerk")

@@ -34,7 +34,7 @@ from kinplan.trajectory import Trajectory, Waypoints, time_grid
 
 if TYPE_CHECKING:
     from kinplan.cell import MotionCheck
-    from kinplan.robot import Robot
+    from kinplan.model.robot import Robot
 
 __all__ = [
     "DEFAULT_DT",
@@ -401,7 +401,7 @@ def as_sampled_motion(
     raise InputError(
         f"cannot {use} a {type(motion).__name__}: give a joint Trajectory (with duration and "
         "sample(t)), a CartesianPlan or a program plan (with t, q, qd, qdd, ...: "
-        "kinplan.motion.SampledMotion), e.g. kinplan.trajectory.cubic(...) or "
+        "kinplan.trajectory.motion.SampledMotion), e.g. kinplan.trajectory.cubic(...) or "
         "cartesian.follow(...)"
     )
 

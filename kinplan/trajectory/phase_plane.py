@@ -13,7 +13,7 @@ largest controllable x at a node follows from the next node's in closed form (Fo
 elimination of u: the reachability analysis of TOPP-RA, Pham & Pham, IEEE T-RO 2018, with no
 linear programme), and a forward pass from rest takes the largest admissible u at every node.
 
-One implementation serves joint-space paths through waypoints (:mod:`kinplan.time_optimal`)
+One implementation serves joint-space paths through waypoints (:mod:`kinplan.trajectory.totg`)
 and Cartesian paths (:mod:`cartesian.retime`).
 """
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from kinplan._profiles import quintic_coefficients
+from kinplan.trajectory._profiles import quintic_coefficients
 
 #: Fewest sampling intervals of a motion (joint or Cartesian).
 MIN_INTERVALS = 16

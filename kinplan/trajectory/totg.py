@@ -47,9 +47,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kinplan import _profiles, phase_plane
 from kinplan.errors import InfeasibleError
-from kinplan.phase_plane import PathLaw
+from kinplan.trajectory import _profiles, phase_plane
+from kinplan.trajectory.phase_plane import PathLaw
 
 __all__ = [
     "ANGLE_TOLERANCE",
@@ -398,7 +398,7 @@ def _intervals(
     starts: np.ndarray,
     piece: np.ndarray,
 ) -> phase_plane.Intervals:
-    """The limits on each interval (see :class:`kinplan.phase_plane.Intervals`).
+    """The limits on each interval (see :class:`kinplan.trajectory.phase_plane.Intervals`).
 
     Args:
         path: The path.

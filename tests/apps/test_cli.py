@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 from conftest import REPOSITORY
 
-from kinplan.cli import main
-from kinplan.planar import planar_arm_urdf
+from kinplan.apps.cli import main
+from kinplan.model.planar import planar_arm_urdf
 from kinplan.program import load_program, plan_program
 
 EXAMPLES = REPOSITORY / "examples" / "programs"
@@ -424,7 +424,7 @@ def test_info_prints_metres_for_prismatic_joints(capsys):
 
 
 def test_info_prints_the_unit_of_a_locked_prismatic_joint(capsys):
-    from kinplan.sources import example_robot_data_dir
+    from kinplan.model.sources import example_robot_data_dir
 
     tiago = example_robot_data_dir() / "example-robot-data/robots/tiago_description/robots"
     code, out, _ = run(

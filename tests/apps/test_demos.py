@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from conftest import REPOSITORY
 
-from kinplan import demos
-from kinplan.cli import main
+from kinplan.apps import demos
+from kinplan.apps.cli import main
 
 EXAMPLES = REPOSITORY / "examples"
 

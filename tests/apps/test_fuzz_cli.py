@@ -31,7 +31,7 @@ hypothesis = pytest.importorskip("hypothesis")
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
-from kinplan.cli import main  # noqa: E402
+from kinplan.apps.cli import main  # noqa: E402
 from kinplan.errors import KinplanError  # noqa: E402
 from kinplan.program import load_program, run_program  # noqa: E402
 

@@ -86,7 +86,7 @@ moves:
 
 
 def test_batch_table_counts_the_files_moves(capsys):
-    from kinplan.cli import main
+    from kinplan.apps.cli import main
 
     assert main(["run", str(EXAMPLES / "weld_cell.yaml"), str(EXAMPLES / "lecture_2r.yaml")]) == 0
     out = capsys.readouterr().out
@@ -99,7 +99,7 @@ def test_batch_table_keeps_a_long_paths_file_name_whole(tmp_path, capsys):
     name split. The table keeps the last folders and the whole file name behind '…/'."""
     import shutil
 
-    from kinplan.cli import main
+    from kinplan.apps.cli import main
 
     deep = tmp_path / ("a_rather_long_folder_name_" * 3) / "cell_programs"
     deep.mkdir(parents=True)

@@ -10,8 +10,8 @@ import re
 import pytest
 from conftest import REPOSITORY
 
-from kinplan.cli import main
-from kinplan.cli.batch_commands import PlainProgress
+from kinplan.apps.cli import main
+from kinplan.apps.cli.batch_commands import PlainProgress
 
 EXAMPLES = REPOSITORY / "examples" / "programs"
 LINE = re.compile(r"^kinplan: (.+): (\d+)/(\d+) (\w+)(?: \((\d+) %\))?, \d+\.\d s$")
@@ -39,7 +39,7 @@ def test_short_work_prints_no_progress_lines():
 
 @pytest.fixture
 def no_delay(monkeypatch):
-    import kinplan.cli.batch_commands as batch_commands
+    import kinplan.apps.cli.batch_commands as batch_commands
 
     monkeypatch.setattr(batch_commands, "PROGRESS_DELAY", 0.0)
 
@@ -68,7 +68,7 @@ def test_place_warns_when_the_best_pose_is_on_the_grid_edge(capsys, tmp_path, no
             "0", "--step", "0.1", "-o", str(tmp_path / "best.yaml")]  # fmt: skip
     assert main(argv) == 0
     out, err = capsys.readouterr()
-    from kinplan.placement import place
+    from kinplan.scale.placement import place
 
     search = place(EXAMPLES / "ur5_pick_place.yaml", x=[-0.1, 0.1], y=[0, 0], step=0.1)
     edges = search.best_on_edge
@@ -85,7 +85,7 @@ def test_place_warns_when_the_best_pose_is_on_the_grid_edge(capsys, tmp_path, no
 def test_best_on_edge_names_each_axis_where_the_best_pose_is_at_an_end():
     import numpy as np
 
-    from kinplan.placement import Placement, PlacementSearch
+    from kinplan.scale.placement import Placement, PlacementSearch
 
     def search(xyz, yaw, yaws, ok=True):
         best = Placement(xyz, (0.0, 0.0, yaw), ok, 3, 3, "", margin=1.0)
@@ -108,9 +108,10 @@ def test_a_note_while_numba_compiles_for_the_first_time(capsys, caplog, monkeypa
     import numba
 
     import kinplan.compiled as compiled
-    from kinplan.cli import main
+    from kinplan.apps.cli import main
 
-    cli_main = sys.modules["kinplan.cli.main"]  # the module (kinplan.cli.main is the function)
+    # the module (the attribute kinplan.apps.cli.main is the function)
+    cli_main = sys.modules["kinplan.apps.cli.main"]
 
     monkeypatch.setattr(cli_main, "interactive", lambda: True)  # as at a terminal
 

@@ -11,10 +11,7 @@ import numpy as np
 import pytest
 import yaml
 
-from kinplan.errors import InputError, KinplanError
-from kinplan.planar import planar_arm_urdf
-from kinplan.program import load_program, plan_program
-from kinplan.teach import (
+from kinplan.apps.teach import (
     COMMANDS,
     HELP,
     HISTORY_ENV,
@@ -25,6 +22,9 @@ from kinplan.teach import (
     home_configuration,
     run_session,
 )
+from kinplan.errors import InputError, KinplanError
+from kinplan.model.planar import planar_arm_urdf
+from kinplan.program import load_program, plan_program
 
 
 def session(pendant: TeachPendant, script: str) -> tuple[bool, list[str]]:
@@ -622,7 +622,7 @@ def test_prompt_lines_keep_a_history(tmp_path, monkeypatch):
 
 
 def test_cli_teach_records_a_path(capsys, tmp_path, monkeypatch):
-    from kinplan.cli import main
+    from kinplan.apps.cli import main
 
     output = tmp_path / "taught.yaml"
     monkeypatch.setattr(sys, "stdin", io.StringIO("rec start\nj 0 20\nx -0.2\nrec stop\nq\n"))

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import kinplan
+from kinplan.apps.teach import TeachPendant
 from kinplan.program import parse_program, plan_program
-from kinplan.teach import TeachPendant
 
 HOME = np.radians([0, -90, 90, -90, -90, 0])
 

@@ -39,7 +39,7 @@ import pinocchio as pin
 
 import kinplan
 from kinplan import Robot, load_robot
-from kinplan.sources import example_robot_data_dir
+from kinplan.model.sources import example_robot_data_dir
 
 POSITION_TOLERANCE = 1e-4  # [m]
 ROTATION_TOLERANCE = 1e-3  # [rad]

@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 import kinplan
-from kinplan.reach import capability_map
+from kinplan.scale.reach import capability_map
 
 URDF = Path(__file__).resolve().parents[1] / "urdf"
 
@@ -66,7 +66,9 @@ def ik_batch_rows(seed: int, quick: bool) -> list[list[str]]:
         started = time.perf_counter()
         q, success = robot.ik_batch(targets)
         batch_rate = n_batch / (time.perf_counter() - started)
-        loop_targets = [t if t.ndim == 1 else kinplan.robot.pin.SE3(t) for t in targets[:n_loop]]
+        loop_targets = [
+            t if t.ndim == 1 else kinplan.model.robot.pin.SE3(t) for t in targets[:n_loop]
+        ]
         started = time.perf_counter()
         results = [robot.ik(t) for t in loop_targets]
         loop_rate = n_loop / (time.perf_counter() - started)
@@ -91,8 +93,8 @@ def ik_batch_rows(seed: int, quick: bool) -> list[list[str]]:
 
 def chunk_memory(robot, resolution: float, orientations: int) -> float:
     """Peak Python-allocated memory [MB] of one work item of a map (numpy arrays included)."""
-    from kinplan.engines import robot_payload
-    from kinplan.reach import CHUNK_TARGETS, _map_chunk, orientation_set
+    from kinplan.scale.engines import robot_payload
+    from kinplan.scale.reach import CHUNK_TARGETS, _map_chunk, orientation_set
 
     rotations = orientation_set(orientations)
     per_chunk = CHUNK_TARGETS[robot.batch_solver.method(False)] // orientations
@@ -143,7 +145,7 @@ def map_rows(quick: bool) -> tuple[list[list[str]], float]:
 def scaling_rows(quick: bool) -> list[list[str]]:
     from distributed import Client, LocalCluster
 
-    from kinplan.engines import robot_from_payload, robot_payload
+    from kinplan.scale.engines import robot_from_payload, robot_payload
 
     robot = kinplan.load_robot(URDF / "skewed_axes.urdf")
     resolution = 0.2 if quick else 0.12

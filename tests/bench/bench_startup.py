@@ -17,7 +17,7 @@ import sys
 import time
 
 COMMANDS = {
-    "kinplan info ur5": [sys.executable, "-m", "kinplan.cli", "info", "ur5"],
+    "kinplan info ur5": [sys.executable, "-m", "kinplan.apps.cli", "info", "ur5"],
     "python -c 'import kinplan'": [sys.executable, "-c", "import kinplan"],
     "python -c 'import pinocchio' (its floor)": [sys.executable, "-c", "import pinocchio"],
 }

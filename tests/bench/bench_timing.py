@@ -35,8 +35,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: the peer
 
 from timing_references import ruckig_duration, toppra_duration  # noqa: E402
 
-from kinplan import time_optimal as totg  # noqa: E402
 from kinplan import trajectory  # noqa: E402
+from kinplan.trajectory import totg  # noqa: E402
 
 UR5_VELOCITY = np.array([3.15, 3.15, 3.15, 3.2, 3.2, 3.2])  # rad/s, the URDF's limits
 UR5_ACCELERATION = np.array([8.0, 8.0, 8.0, 16.0, 16.0, 16.0])  # rad/s², a typical choice

@@ -35,7 +35,7 @@ from cartesian.batch_track import (
     SAME_BRANCH,
 )
 from cartesian.tracker import SINGULAR_FRACTION, Tracker
-from kinplan.sampling import hermite_between, joint_speeds
+from kinplan.trajectory.sampling import hermite_between, joint_speeds
 
 UR5_START = np.array([0.0, -1.2, 1.5, -1.9, -1.57, 0.0])
 PLANAR_START = np.array([0.3, 1.2])

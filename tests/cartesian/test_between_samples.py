@@ -6,7 +6,8 @@ not, with and without joint acceleration limits, at periods from 1 to 20 ms). Ev
 checked by an independent evaluation ten times denser than its grid: the quintic Hermite
 through its samples (what exports and viewers play, built by
 :func:`kinplan.program.segments.hermite_segments` and evaluated by the trajectory evaluator, not by
-the follower's own :func:`kinplan.sampling.hermite_between`) within the joint limits, speed limits
+the follower's own :func:`kinplan.trajectory.sampling.hermite_between`) within the joint limits,
+speed limits
 and, where limited, acceleration limits; its tool (FK by Pinocchio, a fresh data) within the
 interpolation allowance of the path at the same time; q̇ consistent with Δq/Δt. Every refusal
 that names a period or a slower law is applied literally: it then passes, or fails for another
@@ -306,10 +307,11 @@ def test_a_triangle_weave_has_rounded_corners_and_true_accelerations():
 
 
 def test_hermite_peaks_are_the_interpolants_extremes():
-    """kinplan.sampling.hermite_peaks against the trajectory evaluator 20,000 times denser on 300
+    """kinplan.trajectory.sampling.hermite_peaks against the trajectory evaluator 20,000 times
+    denser on 300
     random intervals: never below what the dense evaluation finds (to 1e-12), never above it by
     more than the dense grid can miss (1e-6 of the range)."""
-    from kinplan.sampling import hermite_peaks
+    from kinplan.trajectory.sampling import hermite_peaks
 
     rng = np.random.default_rng(5)
     count, n = 301, 3

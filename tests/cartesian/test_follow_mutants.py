@@ -17,7 +17,7 @@ import kinplan
 from cartesian.geometry import trace_between
 from cartesian.tracker import SINGULAR_FRACTION, Tracker
 from kinplan.errors import InputError
-from kinplan.robot import planar_arm
+from kinplan.model.robot import planar_arm
 
 #: Passing 2 cm beside the 2R's base axis in 2 s: joint1 swings round fast but continuously.
 BESIDE_AXIS = ([0.5, 0.02, 0.0], [-0.5, 0.02, 0.0])

@@ -24,7 +24,7 @@ from conftest import cached_robot
 
 import cartesian
 import kinplan
-from kinplan.sampling import joint_speeds
+from kinplan.trajectory.sampling import joint_speeds
 
 LINES_PER_ARM = 2000
 #: Tool position tolerance of the plans [m] (follow's default).

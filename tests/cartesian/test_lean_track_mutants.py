@@ -28,8 +28,8 @@ from cartesian import batch_track, lean_track
 from cartesian.batch_track import CLEARANCE_MARGIN, JUMP_SHARE, LIMIT_MARGIN, RELATIVE_MARGIN
 from cartesian.geometry import MAX_JOINT_STEP, MIN_REFINE_DS
 from cartesian.tracker import SINGULAR_FRACTION, Tracker, matvec, pseudo_inverses
-from kinplan.robot import manipulability_of
-from kinplan.sampling import hermite_between, joint_speeds
+from kinplan.model.robot import manipulability_of
+from kinplan.trajectory.sampling import hermite_between, joint_speeds
 
 PANDA_START = np.array([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.78])
 

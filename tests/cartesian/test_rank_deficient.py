@@ -20,7 +20,7 @@ from conftest import TESTS
 import cartesian
 import kinplan
 from cartesian.tracker import truncated_pinv
-from kinplan.sources import example_robot_data_dir
+from kinplan.model.sources import example_robot_data_dir
 
 ARM = TESTS / "urdf" / "rank_deficient_arm.urdf"
 #: lift 0.6 m, each segment 5 cm out, wrist yaw, pitch, roll (rad)

@@ -15,7 +15,7 @@ import pytest
 
 import cartesian
 from cartesian.retime import LIMIT_MARGIN, SMOOTHING_PERIODS, optimal_speeds, timing_from_speeds
-from kinplan.sampling import joint_speeds
+from kinplan.trajectory.sampling import joint_speeds
 
 UR5_START = np.array([0.0, -1.2, 1.5, -1.9, -1.57, 0.0])
 PANDA_START = np.array([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8])

@@ -21,7 +21,7 @@ from conftest import TESTS
 import cartesian
 import kinplan
 from cartesian.tracker import Tracker
-from kinplan.robot import planar_arm
+from kinplan.model.robot import planar_arm
 
 #: Unit 2R whose first joint cannot go below −0.5 rad: of the two solutions of (1, 0), the
 #: elbow-up one (θ1 = −π/3) is beyond that limit and only the elbow-down one is left.

@@ -109,7 +109,7 @@ def test_an_srdf_naming_unknown_links_is_one_line_naming_the_robot_key(tmp_path,
     line of `kinplan run`."""
     from test_cell import PROBE_URDF
 
-    from kinplan.cli import main
+    from kinplan.apps.cli import main
 
     (tmp_path / "probe.urdf").write_text(PROBE_URDF)
     (tmp_path / "probe.srdf").write_text(
@@ -294,7 +294,7 @@ def test_run_summary_has_the_clearance_of_each_move_and_the_pair_in_the_total(ca
     """`kinplan run` on a program with obstacles: the clearance column [mm] is each move's
     min_clearance (a ball near the lin's end, the table far below), and the total row names
     the nearest pair; without obstacles there is no such column."""
-    from kinplan.cli import main
+    from kinplan.apps.cli import main
 
     cell = (
         "obstacles:\n"

@@ -802,7 +802,9 @@ def skewed_planar_2r(tmp_path: Path, lower: float, upper: float) -> kinplan.Robo
     """A 2R arm whose second axis points the other way, with the tool off the link's line
     (r2 not along x) and first-axis limits of more than a turn: every term of the single-pose
     path differs from the lecture's arm."""
-    text = kinplan.planar.planar_arm_urdf([0.8, 0.45], lower=[lower, -2.5], upper=[upper, 2.9])
+    text = kinplan.model.planar.planar_arm_urdf(
+        [0.8, 0.45], lower=[lower, -2.5], upper=[upper, 2.9]
+    )
     second = '<origin xyz="0.8 0 0" rpy="0 0 0" />\n    <axis xyz="0 0 1" />'
     tool = '<origin xyz="0.45 0 0" rpy="0 0 0" />\n  </joint>\n</robot>'
     text = text.replace(second, second.replace('"0 0 1"', '"0 0 -1"'))
@@ -967,7 +969,7 @@ def test_two_joints_on_crossed_axes_have_no_planar_closed_form(tmp_path, caplog)
     """A 2-joint arm whose second axis is not parallel to the first (z then y) is not a planar
     2R: no closed form (the numerical solver serves it), refused by its geometry before any
     solver is built and checked against the forward kinematics."""
-    text = kinplan.planar.planar_arm_urdf([0.8, 0.45])
+    text = kinplan.model.planar.planar_arm_urdf([0.8, 0.45])
     second = '<origin xyz="0.8 0 0" rpy="0 0 0" />\n    <axis xyz="0 0 1" />'
     assert second in text
     path = tmp_path / "crossed.urdf"

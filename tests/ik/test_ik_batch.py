@@ -15,7 +15,7 @@ import pytest
 from conftest import TESTS
 
 import kinplan
-from kinplan.batch_ik import BLAS_COLUMNS, BatchKinematics, _rotation_defects, log3
+from kinplan.ik.batch_kinematics import BLAS_COLUMNS, BatchKinematics, _rotation_defects, log3
 from kinplan.ik.screws import TAU, joint_choice, joint_choice_many
 
 URDF = TESTS / "urdf"

@@ -14,7 +14,7 @@ import pytest
 import kinplan
 from kinplan.errors import InputError
 from kinplan.ik import numeric
-from kinplan.sources import example_robot_data_dir
+from kinplan.model.sources import example_robot_data_dir
 
 UNREACHABLE = np.array([5.0, 0.0, 0.0])
 

@@ -10,7 +10,7 @@ from wrist_arms import wrist_arm_urdf
 
 import kinplan
 from kinplan.ik import numeric_kernel
-from kinplan.sources import example_robot_data_dir
+from kinplan.model.sources import example_robot_data_dir
 
 pytestmark = pytest.mark.skipif(not numeric_kernel.available(), reason="numba switched off")
 

@@ -417,7 +417,7 @@ EQUIVALENTS: list[dict[str, str]] = [
 
 
 # ------------------------------------------------------------------ issue 20, second pass
-_robot = _module(("kinplan/robot.py",))
+_robot = _module(("kinplan/model/robot.py",))
 _geometry = _module(("cartesian/geometry.py",))
 _follow = _module(("cartesian/follow.py",))
 _tracker = _module(("cartesian/tracker.py",))

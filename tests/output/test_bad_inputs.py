@@ -19,9 +19,11 @@ import pytest
 from conftest import REPOSITORY
 
 import kinplan
-from kinplan import batch, demos, engines, export, placement, plot, reach, trajectory, viewer
+from kinplan import export, plot, trajectory, viewer
+from kinplan.apps import demos
 from kinplan.errors import InputError, KinplanError
-from kinplan.motion import sampled
+from kinplan.scale import batch, engines, placement, reach
+from kinplan.trajectory.motion import sampled
 
 LECTURE = str(REPOSITORY / "examples" / "programs" / "lecture_2r.yaml")
 

@@ -21,11 +21,11 @@ from hypothesis import strategies as st
 
 import kinplan
 from kinplan import export, trajectory
-from kinplan.cli import main
+from kinplan.apps.cli import main
 from kinplan.errors import InputError
-from kinplan.motion import sampled
-from kinplan.planar import planar_arm_urdf
+from kinplan.model.planar import planar_arm_urdf
 from kinplan.program import load_program, plan_program
+from kinplan.trajectory.motion import sampled
 
 EXAMPLES = REPOSITORY / "examples" / "programs"
 UR_PROGRAM = EXAMPLES / "ur5_pick_place.yaml"

@@ -21,7 +21,7 @@ import pytest
 import kinplan
 from kinplan import export, trajectory
 from kinplan.errors import InputError, KinplanError
-from kinplan.motion import sampled
+from kinplan.trajectory.motion import sampled
 
 SERVOJ = re.compile(r"^\s*servoj\(\[([^\]]*)\], t=", re.M)
 #: Peak speed and acceleration of a rest-to-rest quintic of amplitude 1 over 1 s.

@@ -1,4 +1,5 @@
-"""kinplan.motion: the SampledMotion protocol plans provide and viewers, plots and exports read.
+"""kinplan.trajectory.motion: the SampledMotion protocol plans provide and viewers, plots and
+exports read.
 
 Every kind of motion (a sampled joint trajectory, a Cartesian plan, a program plan) is checked
 against the protocol's promises: shapes, the robot, tool positions by forward kinematics, planned
@@ -14,7 +15,8 @@ import pytest
 import cartesian
 from kinplan import export, plot, trajectory
 from kinplan.errors import InputError
-from kinplan.motion import (
+from kinplan.program import MotionBuilder
+from kinplan.trajectory.motion import (
     JointMotion,
     PlannedPath,
     SampledMotion,
@@ -22,7 +24,6 @@ from kinplan.motion import (
     sampled,
     tool_track,
 )
-from kinplan.program import MotionBuilder
 
 Q0, Q1 = np.array([0.3, 1.1]), np.array([1.5, -0.4])
 

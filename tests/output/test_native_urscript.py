@@ -15,7 +15,7 @@ from conftest import REPOSITORY
 
 import kinplan
 from kinplan import export
-from kinplan.cli import main
+from kinplan.apps.cli import main
 from kinplan.errors import InputError
 from kinplan.export.controller_model import (
     arc_track,
@@ -191,7 +191,7 @@ def test_a_move_without_native_form_becomes_servoj_with_its_reason():
 def test_native_style_needs_a_program_plan():
     robot = kinplan.load_robot("ur5")
     from kinplan import trajectory
-    from kinplan.motion import sampled
+    from kinplan.trajectory.motion import sampled
 
     q0 = np.radians([0, -90, 90, -90, -90, 0])
     motion = sampled(trajectory.quintic(q0, q0 + 0.2, 1.0), robot)

@@ -98,7 +98,7 @@ def test_tip_path_legend_is_off_the_paths():
 def test_reach_map_panels_do_not_overlap(monkeypatch, tmp_path, ur5):
     import matplotlib.pyplot as plt
 
-    from kinplan.reach import capability_map
+    from kinplan.scale.reach import capability_map
 
     figures = []
     monkeypatch.setattr(plt, "close", lambda figure=None: figures.append(figure))

@@ -21,7 +21,7 @@ from pages import animation, objects, page_parts, transforms
 import kinplan
 from kinplan import viewer
 from kinplan.errors import InputError, KinplanError
-from kinplan.motion import PlannedPath, no_waypoints, pose_to_track
+from kinplan.trajectory.motion import PlannedPath, no_waypoints, pose_to_track
 from kinplan.viewer import commands as ms
 
 UR5_Q0 = np.array([0.0, -1.2, 1.5, -1.9, -1.57, 0.0])
@@ -53,7 +53,8 @@ def cubic_stand_in(q0, q1, duration: float, waypoints=None) -> types.SimpleNames
 def line_plan_stand_in(robot, q0, delta, duration: float, fail_at: float | None, dt=0.01):
     """A CartesianPlan stand-in: a straight tool line, stopped by an event at ``fail_at``.
 
-    It has exactly what :class:`kinplan.motion.SampledMotion` asks of a plan (no tool positions:
+    It has exactly what :class:`kinplan.trajectory.motion.SampledMotion` asks of a plan (no tool
+    positions:
     the viewer computes them).
     """
     start = robot.fk(q0)

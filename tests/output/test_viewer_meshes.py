@@ -24,8 +24,9 @@ from pages import animation, objects, page_parts, transforms
 from test_viewer import cubic_stand_in
 
 import kinplan
-from kinplan import mesh_files, viewer
-from kinplan.sources import example_robot_data_dir
+from kinplan import viewer
+from kinplan.model import mesh_files
+from kinplan.model.sources import example_robot_data_dir
 from kinplan.viewer import commands as ms
 from kinplan.viewer import elements, meshes, visuals
 

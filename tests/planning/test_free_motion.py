@@ -18,9 +18,9 @@ from independent import Recheck, obstacles_of
 
 import kinplan
 from kinplan import InputError, KinplanError
-from kinplan.motion import SampledMotion, as_sampled_motion
 from kinplan.planning import STATUSES, MotionPlan, free_motion
 from kinplan.planning.planner import motion_limits
+from kinplan.trajectory.motion import SampledMotion, as_sampled_motion
 
 JOINT_EXACT = 1e-12  # [rad]: where a motion must start and end
 LIMIT_SLACK = 1e-6  # relative slack on the velocity and acceleration limits (TOTG: 1e-4 below)

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kinplan.cli import main
-from kinplan.reach import ReachMap
+from kinplan.apps.cli import main
+from kinplan.scale.reach import ReachMap
 
 PROGRAM = """\
 robot: ur5

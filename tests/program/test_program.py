@@ -12,7 +12,7 @@ from conftest import REPOSITORY
 
 import cartesian
 from kinplan import plot
-from kinplan.planar import planar_arm_urdf
+from kinplan.model.planar import planar_arm_urdf
 from kinplan.program import (
     MotionBuilder,
     MoveError,

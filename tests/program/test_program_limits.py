@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from kinplan.program import parse_program, plan_program
-from kinplan.sampling import MIN_INTERVALS, joint_speeds
+from kinplan.trajectory.sampling import MIN_INTERVALS, joint_speeds
 
 UR5_START = "start: {joints_deg: [0, -90, 90, -90, -90, 0]}"
 

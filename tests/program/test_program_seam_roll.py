@@ -181,7 +181,7 @@ def test_readme_programs_section_documents_the_torch_keys():
 
 
 def test_kinplan_run_shows_the_roll_range(tmp_path, capsys, monkeypatch, free_plan):
-    from kinplan.cli import main
+    from kinplan.apps.cli import main
 
     monkeypatch.setenv("COLUMNS", "200")
     path = tmp_path / "tube.yaml"

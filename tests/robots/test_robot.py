@@ -14,7 +14,7 @@ import yourdfpy
 from conftest import cached_robot
 
 import kinplan
-from kinplan.robot import jacobian_time_variation, manipulability_of
+from kinplan.model.robot import jacobian_time_variation, manipulability_of
 
 ARMS = ["planar_2r", "ur3", "ur5", "ur10", "panda"]
 
@@ -192,7 +192,7 @@ def test_ik_is_deterministic(panda):
 
 
 def test_bundled_planar_2r_is_the_generator_output(planar_2r):
-    from kinplan.planar import planar_arm_urdf
+    from kinplan.model.planar import planar_arm_urdf
 
     assert planar_2r.urdf_path.read_text() == planar_arm_urdf([1.0, 1.0], name="planar_2r")
     assert planar_2r.link_lengths == [1.0, 1.0]

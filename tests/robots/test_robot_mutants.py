@@ -1,4 +1,5 @@
-"""Robot properties the mutation survivors of ``kinplan/robot.py`` showed untested, each checked
+"""Robot properties the mutation survivors of ``kinplan/model/robot.py`` showed untested, each
+checked
 against an independent answer: the reach against a bounded optimiser started from sampled
 configurations, the chain length as an upper bound of every sampled tool distance, batch IK
 against per-target IK and the FK of its answers, J̇ against central differences of the
@@ -15,7 +16,8 @@ from scipy.optimize import minimize
 
 import kinplan
 from kinplan.errors import InputError
-from kinplan.robot import manipulability_of, planar_arm
+from kinplan.model.extent import chain_length
+from kinplan.model.robot import manipulability_of, planar_arm
 
 URDF = TESTS / "urdf"
 #: Arms without a planar annulus: UR5 (shoulder above the base), panda (7 joints), a gantry
@@ -58,17 +60,17 @@ def test_reach_is_the_largest_tool_distance_a_bounded_optimiser_finds(source):
     assert reach >= sampled.max()
     np.testing.assert_allclose(reach, best, rtol=1e-8)
     # the chain laid end to end (prismatic joints at their longest) bounds every distance
-    assert robot._chain_length() >= reach
+    assert chain_length(robot) >= reach
 
 
 def test_chain_length_counts_every_prismatic_extension_and_the_tool_offset():
     gantry = kinplan.load_robot(URDF / "prismatic_gantry.urdf")
     # joint offsets 0.1 + 0.1 + 0.35 + 0.3 + 0.08, tool 0.1, rail 0.5 and lift 0.4 extended
-    np.testing.assert_allclose(gantry._chain_length(), 0.1 + 0.1 + 0.35 + 0.3 + 0.08 + 0.1 + 0.9)
+    np.testing.assert_allclose(chain_length(gantry), 0.1 + 0.1 + 0.35 + 0.3 + 0.08 + 0.1 + 0.9)
     lower, upper = bounds(gantry)
     q = np.random.default_rng(2).uniform(lower, upper, (500, gantry.nq))
     q[:, :2] = upper[:2]  # rail and lift at their ends
-    assert shoulder_distances(gantry, q).max() <= gantry._chain_length()
+    assert shoulder_distances(gantry, q).max() <= chain_length(gantry)
     # rail and lift are the prismatic joints (yourdfpy reads the joint types independently)
     urdf = yourdfpy.URDF.load(str(URDF / "prismatic_gantry.urdf"), load_meshes=False)
     kinds = [urdf.joint_map[name].type == "prismatic" for name in gantry.joint_names]

@@ -12,9 +12,9 @@ import pytest
 from conftest import REPOSITORY, TESTS
 
 import kinplan
-from kinplan.cli import main
+from kinplan.apps.cli import main
+from kinplan.model.sources import example_robot_data_dir
 from kinplan.program import ProgramError, load_program, parse_program, plan_program
-from kinplan.sources import example_robot_data_dir
 
 ROBOTS = example_robot_data_dir() / "example-robot-data" / "robots"
 HERE = TESTS / "urdf"

@@ -37,7 +37,7 @@ import cartesian
 import kinplan
 from kinplan import viewer
 from kinplan.errors import FrameError, URDFError
-from kinplan.sources import example_robot_data_dir
+from kinplan.model.sources import example_robot_data_dir
 
 SHARE = example_robot_data_dir()
 ROBOTS = SHARE / "example-robot-data" / "robots" if SHARE is not None else Path("missing")

@@ -21,7 +21,7 @@ from conftest import TESTS
 import cartesian
 import kinplan
 from kinplan.errors import FrameError, InputError, URDFError
-from kinplan.sources import example_robot_data_dir
+from kinplan.model.sources import example_robot_data_dir
 
 ROBOTS = example_robot_data_dir() / "example-robot-data" / "robots"
 HERE = TESTS / "urdf"

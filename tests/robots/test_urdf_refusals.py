@@ -22,8 +22,8 @@ import yourdfpy
 
 import kinplan
 from kinplan.errors import InputError, URDFError
-from kinplan.sources import example_robot_data_dir
-from kinplan.urdf_model import MAX_OFFSET
+from kinplan.model.sources import example_robot_data_dir
+from kinplan.model.urdf_model import MAX_OFFSET
 
 ROBOTS = example_robot_data_dir() / "example-robot-data" / "robots"
 UR5 = ROBOTS / "ur_description/urdf/ur5_robot.urdf"

@@ -11,10 +11,10 @@ import yaml
 from conftest import REPOSITORY
 
 import kinplan
-from kinplan.batch import plan_many
-from kinplan.cli import main
-from kinplan.placement import heat_map, place, with_base_pose
+from kinplan.apps.cli import main
 from kinplan.program import load_program, parse_program, run_program
+from kinplan.scale.batch import plan_many
+from kinplan.scale.placement import heat_map, place, with_base_pose
 
 EXAMPLES = REPOSITORY / "examples" / "programs"
 

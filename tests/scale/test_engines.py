@@ -19,10 +19,10 @@ import pytest
 from conftest import REPOSITORY, TESTS
 
 import kinplan
-from kinplan.batch import plan_many
-from kinplan.engines import CONNECT_TIMEOUT, EngineError, open_engine
-from kinplan.placement import place
-from kinplan.reach import capability_map
+from kinplan.scale.batch import plan_many
+from kinplan.scale.engines import CONNECT_TIMEOUT, EngineError, open_engine
+from kinplan.scale.placement import place
+from kinplan.scale.reach import capability_map
 
 distributed = pytest.importorskip("distributed", reason="the Dask engine needs kinplan[dask]")
 # two clusters in one session: the second's HTTP server moves to another port, and says so
@@ -30,7 +30,7 @@ pytestmark = pytest.mark.filterwarnings("ignore:Port .* is already in use")
 
 EXAMPLES = REPOSITORY / "examples" / "programs"
 URDF = TESTS / "urdf"
-KINPLAN = [sys.executable, "-m", "kinplan.cli"]
+KINPLAN = [sys.executable, "-m", "kinplan.apps.cli"]
 
 
 @pytest.fixture(scope="module")

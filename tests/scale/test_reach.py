@@ -14,7 +14,7 @@ from conftest import REPOSITORY, TESTS
 
 import kinplan
 from kinplan.errors import KinplanError
-from kinplan.reach import ReachMap, capability_map, orientation_set
+from kinplan.scale.reach import ReachMap, capability_map, orientation_set
 
 
 def test_orientation_sets_are_rotations_spread_over_the_group():

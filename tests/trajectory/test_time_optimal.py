@@ -20,8 +20,8 @@ import numpy as np
 import pytest
 
 from kinplan import InfeasibleError, InputError, trajectory
-from kinplan import time_optimal as totg
 from kinplan.program import PTP_RAMP_TIME, parse_program, plan_program
+from kinplan.trajectory import totg
 
 SEED = 20_251_128
 PATH_TOL = 1e-9

@@ -17,8 +17,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numpy.polynomial import polynomial as P
 
-from kinplan import InfeasibleError, InputError, KinplanError, _profiles, trajectory
-from kinplan.trajectory import Segment, Trajectory, time_grid
+from kinplan import InfeasibleError, InputError, KinplanError, trajectory
+from kinplan.trajectory import Segment, Trajectory, _profiles, time_grid
 
 KNOT_TOL = 1e-9
 PI = np.pi

@@ -1,5 +1,5 @@
-"""The ``kinplan`` command (the console script ``kinplan = kinplan.cli:main``; also
-``python -m kinplan.cli``).
+"""The ``kinplan`` command (the console script ``kinplan = kinplan.apps.cli:main``; also
+``python -m kinplan.apps.cli``).
 
 Usage::
 
@@ -26,25 +26,26 @@ Modules, each one job (imports go down the list, never up, type-only imports inc
 command alone needs, such as rich, Matplotlib, the program planner, the exports, the viewer or Dask,
 is imported inside that command, so that start-up stays short):
 
-* :mod:`~kinplan.cli.__main__`: ``python -m kinplan.cli``;
-* :mod:`~kinplan.cli.main`: :func:`main`: parse, call the command's handler, every failure one
+* :mod:`~kinplan.apps.cli.__main__`: ``python -m kinplan.apps.cli``;
+* :mod:`~kinplan.apps.cli.main`: :func:`main`: parse, call the command's handler, every failure one
   ``kinplan: error:`` line, the exit status;
-* :mod:`~kinplan.cli.parser`: :func:`build_parser`: the subcommands and their handlers, the
+* :mod:`~kinplan.apps.cli.parser`: :func:`build_parser`: the subcommands and their handlers, the
   argument types (finite numbers, numbers > 0, whole numbers), one-line usage errors;
-* :mod:`~kinplan.cli.app_commands`: ``demo`` and ``teach`` (the demos, the teach pendant);
-* :mod:`~kinplan.cli.run_command`: ``run`` of one program: progress, summary table, ``--csv``,
+* :mod:`~kinplan.apps.cli.app_commands`: ``demo`` and ``teach`` (the demos, the teach pendant);
+* :mod:`~kinplan.apps.cli.run_command`: ``run`` of one program: progress, summary table, ``--csv``,
   ``--plot``, ``--html`` and the controller exports ``--urscript``, ``--trajectory``;
-* :mod:`~kinplan.cli.batch_commands`: ``reach``, ``place`` and ``run`` of several programs
+* :mod:`~kinplan.apps.cli.batch_commands`: ``reach``, ``place`` and ``run`` of several programs
   (in-process or on Dask);
-* :mod:`~kinplan.cli.robot_commands`: ``info``, ``fk``, ``ik``;
-* :mod:`~kinplan.cli.robot_args`: the robot a command names (``ROBOT``, ``--tip``, ``--lock``)
+* :mod:`~kinplan.apps.cli.robot_commands`: ``info``, ``fk``, ``ik``;
+* :mod:`~kinplan.apps.cli.robot_args`: the robot a command names (``ROBOT``, ``--tip``, ``--lock``)
   and the joint values it is given;
-* :mod:`~kinplan.cli.output`: the console, one-line errors, numbers, ``--plot``/``--png`` files.
+* :mod:`~kinplan.apps.cli.output`: the console, one-line errors, numbers, ``--plot``/``--png``
+  files.
 """
 
 from __future__ import annotations
 
-from kinplan.cli.main import main
-from kinplan.cli.parser import build_parser as build_parser
+from kinplan.apps.cli.main import main
+from kinplan.apps.cli.parser import build_parser as build_parser
 
 __all__ = ["main"]

@@ -1,7 +1,7 @@
-"""``python -m kinplan.cli``: the ``kinplan`` command."""
+"""``python -m kinplan.apps.cli``: the ``kinplan`` command."""
 
 import sys
 
-from kinplan.cli import main
+from kinplan.apps.cli import main
 
 sys.exit(main())

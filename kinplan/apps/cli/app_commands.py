@@ -6,13 +6,13 @@ from __future__ import annotations
 import argparse
 import sys
 
-from kinplan.cli.output import fail, one_line
-from kinplan.cli.robot_args import joint_values, robot_of
+from kinplan.apps.cli.output import fail, one_line
+from kinplan.apps.cli.robot_args import joint_values, robot_of
 from kinplan.errors import KinplanError
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
-    from kinplan import demos
+    from kinplan.apps import demos
 
     out = args.out or f"out/{args.name}"
 
@@ -32,7 +32,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 
 def cmd_teach(args: argparse.Namespace) -> int:
-    from kinplan import teach
+    from kinplan.apps import teach
 
     robot = robot_of(args)
     start = None if args.start is None else joint_values(robot, args.start, args.deg, "--start")

@@ -14,8 +14,8 @@ from typing import TextIO
 
 import numpy as np
 
-from kinplan.cli.output import console, fail, fmt, plot_file
-from kinplan.cli.robot_args import robot_of
+from kinplan.apps.cli.output import console, fail, fmt, plot_file
+from kinplan.apps.cli.robot_args import robot_of
 from kinplan.errors import KinplanError
 
 PROGRESS_DELAY = 3.0
@@ -107,7 +107,7 @@ def cmd_run_many(args: argparse.Namespace) -> int:
     from rich.table import Table
     from rich.text import Text
 
-    from kinplan.batch import plan_many
+    from kinplan.scale.batch import plan_many
 
     extra = [
         flag
@@ -196,7 +196,7 @@ def _shown_path(path: str) -> str:
 
 
 def cmd_reach(args: argparse.Namespace) -> int:
-    from kinplan.reach import capability_map
+    from kinplan.scale.reach import capability_map
 
     robot = robot_of(args)
     if args.cone_deg is not None and args.direction is None:
@@ -254,7 +254,7 @@ def _program_cell(program: str, robot):  # -> kinplan.WorkCell
 def cmd_place(args: argparse.Namespace) -> int:
     from rich.table import Table
 
-    from kinplan.placement import heat_map, place
+    from kinplan.scale.placement import heat_map, place
 
     png = plot_file(args.png) if args.png else None
     with _work_progress("placing the robot", "chunks") as progress:

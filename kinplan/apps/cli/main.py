@@ -10,8 +10,8 @@ import sys
 import warnings
 from collections.abc import Sequence
 
-from kinplan.cli.output import fail, one_line
-from kinplan.cli.parser import build_parser
+from kinplan.apps.cli.output import fail, one_line
+from kinplan.apps.cli.parser import build_parser
 from kinplan.errors import KinplanError
 
 __all__ = ["main"]

@@ -9,10 +9,10 @@ import math
 from typing import NoReturn
 
 import kinplan
-from kinplan.cli.app_commands import cmd_demo, cmd_teach
-from kinplan.cli.batch_commands import cmd_place, cmd_reach
-from kinplan.cli.robot_commands import cmd_fk, cmd_ik, cmd_info
-from kinplan.cli.run_command import cmd_run
+from kinplan.apps.cli.app_commands import cmd_demo, cmd_teach
+from kinplan.apps.cli.batch_commands import cmd_place, cmd_reach
+from kinplan.apps.cli.robot_commands import cmd_fk, cmd_ik, cmd_info
+from kinplan.apps.cli.run_command import cmd_run
 from kinplan.defaults import DEFAULT_DT, DEFAULT_SERVO_PERIOD
 
 

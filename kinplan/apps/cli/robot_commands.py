@@ -13,8 +13,8 @@ import numpy as np
 import pinocchio as pin
 
 import kinplan
-from kinplan.cli.output import console, fail, fmt, one_line
-from kinplan.cli.robot_args import joint_values, robot_of
+from kinplan.apps.cli.output import console, fail, fmt, one_line
+from kinplan.apps.cli.robot_args import joint_values, robot_of
 from kinplan.errors import FrameError, KinplanError
 
 # ----------------------------------------------------------------------------------------------
@@ -39,7 +39,7 @@ def _limit_text(value: float, prismatic: bool, units: bool = False) -> str:
 
 def _urdf_joint_types(robot: kinplan.Robot) -> dict[str, str]:
     """The URDF type of every joint of the robot's file ({} when it cannot be read)."""
-    from kinplan.urdf_read import read_urdf
+    from kinplan.model.urdf_read import read_urdf
 
     try:
         root = read_urdf(Path(robot.urdf_path))
@@ -150,8 +150,8 @@ def _print_frames(source: str) -> None:
     """The table of every frame of the robot's URDF with the joint that moves it."""
     from rich.table import Table
 
-    from kinplan.sources import resolve_source
-    from kinplan.urdf_model import frame_table
+    from kinplan.model.sources import resolve_source
+    from kinplan.model.urdf_model import frame_table
 
     path = resolve_source(source).urdf_path
     table = Table(title=f"frames of {path.name}")

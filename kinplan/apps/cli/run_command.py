@@ -1,7 +1,7 @@
 """``kinplan run PROGRAM.yaml``: one program planned with a progress bar, its summary table and
 the files it writes (``--csv``, ``--plot``, ``--html``; the controller exports ``--urscript`` and
 ``--trajectory``, checked before planning and never written for a failed plan). Several programs,
-or ``--jobs`` / ``--scheduler``, go to :func:`kinplan.cli.batch_commands.cmd_run_many`."""
+or ``--jobs`` / ``--scheduler``, go to :func:`kinplan.apps.cli.batch_commands.cmd_run_many`."""
 
 from __future__ import annotations
 
@@ -12,8 +12,8 @@ import sys
 from pathlib import Path
 
 import kinplan
-from kinplan.cli.batch_commands import cmd_run_many
-from kinplan.cli.output import console, fail, one_line, plot_file
+from kinplan.apps.cli.batch_commands import cmd_run_many
+from kinplan.apps.cli.output import console, fail, one_line, plot_file
 from kinplan.errors import InputError, KinplanError
 
 

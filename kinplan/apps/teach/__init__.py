@@ -22,23 +22,23 @@ Tool jogs solve IK seeded from the current configuration and refuse a jog that i
 beyond a joint limit, or that would flip the arm to another branch.
 
 Modules, one job each, in import order (a module imports only modules above it, type-only
-imports included; none imports from ``kinplan.teach`` itself):
+imports included; none imports from ``kinplan.apps.teach`` itself):
 
-- :mod:`~kinplan.teach.settings`: the defaults and limits (steps, rate, tolerance, jog speed);
-- :mod:`~kinplan.teach.parsing`: what the operator types: numbers with units, names, jog words;
-- :mod:`~kinplan.teach.help`: :data:`HELP`, :data:`COMMANDS`, aliases, completions, ``help``;
-- :mod:`~kinplan.teach.paths`: :class:`RecordedPath`, :func:`fit_spline`, the program's spline;
-- :mod:`~kinplan.teach.capture`: a recording under way, each jog sampled into it at jog speed;
-- :mod:`~kinplan.teach.state`: the session's state, :class:`Reply`, status, moving the arm;
-- :mod:`~kinplan.teach.jogging`: jog commands (``j``, ``x``, ``yaw+``, ``step``, ``home``);
-- :mod:`~kinplan.teach.points`: point commands (``r``, ``del``, ``list``);
-- :mod:`~kinplan.teach.process`: process commands (``tool``, ``r NAME lin|circ``, ``weave``,
+- :mod:`~kinplan.apps.teach.settings`: the defaults and limits (steps, rate, tolerance, jog speed);
+- :mod:`~kinplan.apps.teach.parsing`: what the operator types: numbers with units, names, jog words;
+- :mod:`~kinplan.apps.teach.help`: :data:`HELP`, :data:`COMMANDS`, aliases, completions, ``help``;
+- :mod:`~kinplan.apps.teach.paths`: :class:`RecordedPath`, :func:`fit_spline`, the program's spline;
+- :mod:`~kinplan.apps.teach.capture`: a recording under way, each jog sampled into it at jog speed;
+- :mod:`~kinplan.apps.teach.state`: the session's state, :class:`Reply`, status, moving the arm;
+- :mod:`~kinplan.apps.teach.jogging`: jog commands (``j``, ``x``, ``yaw+``, ``step``, ``home``);
+- :mod:`~kinplan.apps.teach.points`: point commands (``r``, ``del``, ``list``);
+- :mod:`~kinplan.apps.teach.process`: process commands (``tool``, ``r NAME lin|circ``, ``weave``,
   ``torch``, ``arc``) and the cell the jogs are checked against (``use_cell``);
-- :mod:`~kinplan.teach.recording`: continuous-path commands (``rec start``, ``rec stop``);
-- :mod:`~kinplan.teach.writer`: the program's YAML text and file (``program_text``, ``save``);
-- :mod:`~kinplan.teach.pendant`: :class:`TeachPendant`, one command line dispatched by kind;
-- :mod:`~kinplan.teach.prompt`: :class:`PromptLines`, terminal lines with editing and history;
-- :mod:`~kinplan.teach.session`: :func:`run_session`, the console loop feeding the pendant.
+- :mod:`~kinplan.apps.teach.recording`: continuous-path commands (``rec start``, ``rec stop``);
+- :mod:`~kinplan.apps.teach.writer`: the program's YAML text and file (``program_text``, ``save``);
+- :mod:`~kinplan.apps.teach.pendant`: :class:`TeachPendant`, one command line dispatched by kind;
+- :mod:`~kinplan.apps.teach.prompt`: :class:`PromptLines`, terminal lines with editing and history;
+- :mod:`~kinplan.apps.teach.session`: :func:`run_session`, the console loop feeding the pendant.
 
 The pendant's other defaults and limits (``MAX_LINEAR_JOG``, ``HISTORY_LENGTH``, ...) are
 importable from here too, as they were from the module this package replaced.
@@ -46,17 +46,17 @@ importable from here too, as they were from the module this package replaced.
 
 from __future__ import annotations
 
-from kinplan.teach.help import COMMANDS, HELP
-from kinplan.teach.paths import RecordedPath, fit_spline
-from kinplan.teach.pendant import TeachPendant
-from kinplan.teach.prompt import (  # noqa: F401
+from kinplan.apps.teach.help import COMMANDS, HELP
+from kinplan.apps.teach.paths import RecordedPath, fit_spline
+from kinplan.apps.teach.pendant import TeachPendant
+from kinplan.apps.teach.prompt import (  # noqa: F401
     HISTORY_ENV,
     HISTORY_LENGTH,
     PromptLines,
     default_history_file,
 )
-from kinplan.teach.session import run_session
-from kinplan.teach.settings import (  # noqa: F401
+from kinplan.apps.teach.session import run_session
+from kinplan.apps.teach.settings import (  # noqa: F401
     DEFAULT_ANGULAR_STEP_DEG,
     DEFAULT_JOG_SPEED,
     DEFAULT_LINEAR_STEP,
@@ -70,7 +70,7 @@ from kinplan.teach.settings import (  # noqa: F401
     MAX_RECORDING_SAMPLES,
     MAX_ROTATION_JOG_DEG,
 )
-from kinplan.teach.state import Reply, home_configuration
+from kinplan.apps.teach.state import Reply, home_configuration
 
 __all__ = [
     "COMMANDS",

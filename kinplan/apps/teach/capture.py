@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kinplan import trajectory
-from kinplan.teach.settings import MAX_RECORDING_SAMPLES
+from kinplan.apps.teach.settings import MAX_RECORDING_SAMPLES
 from kinplan.trajectory import Trajectory
 
 

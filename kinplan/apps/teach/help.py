@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from kinplan.teach.parsing import JOG
+from kinplan.apps.teach.parsing import JOG
 
 HELP = """\
 j <i> <deg>           jog joint i (0-based index or name) by deg; j <i>+ / j <i>- use the step

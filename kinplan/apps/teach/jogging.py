@@ -10,15 +10,15 @@ import numpy as np
 import pinocchio as pin
 
 import cartesian
-from kinplan.robot import Robot
-from kinplan.teach.parsing import AXES, ROTATIONS, number
-from kinplan.teach.settings import (
+from kinplan.apps.teach.parsing import AXES, ROTATIONS, number
+from kinplan.apps.teach.settings import (
     MAX_BRANCH_STEP,
     MAX_JOINT_JOG_DEG,
     MAX_LINEAR_JOG,
     MAX_ROTATION_JOG_DEG,
 )
-from kinplan.teach.state import PendantState, Reply
+from kinplan.apps.teach.state import PendantState, Reply
+from kinplan.model.robot import Robot
 
 
 class JogCommands(PendantState):

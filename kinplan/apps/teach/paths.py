@@ -11,11 +11,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from kinplan import checks, trajectory
+from kinplan.apps.teach.settings import DEFAULT_PATH_TOLERANCE
 from kinplan.errors import InputError
-from kinplan.robot import Robot
-from kinplan.sampling import joint_speeds
-from kinplan.teach.settings import DEFAULT_PATH_TOLERANCE
+from kinplan.model.robot import Robot
 from kinplan.trajectory import Trajectory
+from kinplan.trajectory.sampling import joint_speeds
 
 _SPEED_MARGIN = 1e-3
 """Extra share by which a recorded path's times are stretched when its spline would exceed a

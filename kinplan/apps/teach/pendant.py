@@ -4,15 +4,15 @@ one command line at a time, dispatching it to the commands of its kind."""
 from __future__ import annotations
 
 from kinplan import checks
+from kinplan.apps.teach.help import command_help
+from kinplan.apps.teach.jogging import JogCommands
+from kinplan.apps.teach.parsing import AXES, JOG, ROTATIONS, control_message
+from kinplan.apps.teach.points import PointCommands
+from kinplan.apps.teach.process import ProcessCommands
+from kinplan.apps.teach.recording import RecordingCommands
+from kinplan.apps.teach.state import Reply
+from kinplan.apps.teach.writer import ProgramWriter
 from kinplan.errors import KinplanError
-from kinplan.teach.help import command_help
-from kinplan.teach.jogging import JogCommands
-from kinplan.teach.parsing import AXES, JOG, ROTATIONS, control_message
-from kinplan.teach.points import PointCommands
-from kinplan.teach.process import ProcessCommands
-from kinplan.teach.recording import RecordingCommands
-from kinplan.teach.state import Reply
-from kinplan.teach.writer import ProgramWriter
 
 
 class TeachPendant(JogCommands, ProcessCommands, PointCommands, RecordingCommands, ProgramWriter):

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from kinplan.teach.parsing import NAME
-from kinplan.teach.state import MoveSpec, PendantState, Reply
+from kinplan.apps.teach.parsing import NAME
+from kinplan.apps.teach.state import MoveSpec, PendantState, Reply
 
 
 class PointCommands(PendantState):
@@ -40,7 +40,7 @@ class PointCommands(PendantState):
 
     def _move_spec(self, arguments: list[str]) -> MoveSpec:
         """How the program reaches a point recorded with ``arguments`` after its name
-        (:class:`kinplan.teach.process.ProcessCommands` reads them; a plain ptp here)."""
+        (:class:`kinplan.apps.teach.process.ProcessCommands` reads them; a plain ptp here)."""
         if arguments:
             raise ValueError("usage: r [name]")
         return MoveSpec()

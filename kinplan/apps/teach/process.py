@@ -2,7 +2,7 @@
 points are reached (``r NAME lin [SPEED]``, ``r NAME circ VIA [SPEED]``), the weld options of
 those moves (``weave``, ``torch``) and the arc (``arc on|off``, on the next recorded move).
 
-What they set is written by :mod:`kinplan.teach.writer`: ``tool: {xyz, rpy_deg}`` and each
+What they set is written by :mod:`kinplan.apps.teach.writer`: ``tool: {xyz, rpy_deg}`` and each
 point's move, e.g. ``{lin: b, speed: 0.008, weave: {...}, torch: {...}, arc: on}``.
 """
 
@@ -15,9 +15,9 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
+from kinplan.apps.teach.parsing import NAME
+from kinplan.apps.teach.state import MoveSpec, PendantState, Reply
 from kinplan.errors import KinplanError
-from kinplan.teach.parsing import NAME
-from kinplan.teach.state import MoveSpec, PendantState, Reply
 
 __all__ = ["ProcessCommands"]
 

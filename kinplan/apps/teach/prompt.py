@@ -11,9 +11,9 @@ from pathlib import Path
 from types import ModuleType
 
 from kinplan import checks
+from kinplan.apps.teach.help import COMPLETIONS
+from kinplan.apps.teach.parsing import control_message
 from kinplan.errors import InputError
-from kinplan.teach.help import COMPLETIONS
-from kinplan.teach.parsing import control_message
 
 logger = logging.getLogger("kinplan.teach")  # the package's name, as in the log lines before
 

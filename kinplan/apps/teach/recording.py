@@ -1,6 +1,6 @@
 """Continuous-path commands: ``rec start [hz]`` begins a recording, ``rec stop [tol_deg]`` fits
 its spline (timed as recorded, within the tolerance) and stores it as a :class:`RecordedPath
-<kinplan.teach.paths.RecordedPath>`, with its report."""
+<kinplan.apps.teach.paths.RecordedPath>`, with its report."""
 
 from __future__ import annotations
 
@@ -8,11 +8,11 @@ import math
 
 import numpy as np
 
-from kinplan.teach.capture import Recording
-from kinplan.teach.parsing import number
-from kinplan.teach.paths import RecordedPath, fit_spline, program_spline
-from kinplan.teach.settings import DEFAULT_RATE_HZ, MAX_PATH_TOLERANCE_DEG, MAX_RATE_HZ
-from kinplan.teach.state import PendantState, Reply
+from kinplan.apps.teach.capture import Recording
+from kinplan.apps.teach.parsing import number
+from kinplan.apps.teach.paths import RecordedPath, fit_spline, program_spline
+from kinplan.apps.teach.settings import DEFAULT_RATE_HZ, MAX_PATH_TOLERANCE_DEG, MAX_RATE_HZ
+from kinplan.apps.teach.state import PendantState, Reply
 
 _FIT_ATTEMPTS = 4
 """Fits ``rec stop`` tries, each aiming tighter by what the last missed: the program reads the

@@ -1,5 +1,5 @@
 """The console session: :func:`run_session` feeds command lines to a :class:`TeachPendant
-<kinplan.teach.pendant.TeachPendant>` until ``q``, ``abort`` or the end of the input."""
+<kinplan.apps.teach.pendant.TeachPendant>` until ``q``, ``abort`` or the end of the input."""
 
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ from collections.abc import Callable, Iterable
 import numpy as np
 
 from kinplan import checks
+from kinplan.apps.teach.pendant import TeachPendant
 from kinplan.errors import InputError
-from kinplan.teach.pendant import TeachPendant
 
 
 def run_session(

@@ -11,13 +11,9 @@ import numpy as np
 import pinocchio as pin
 
 from kinplan import checks
-from kinplan.cell import WorkCell
-from kinplan.errors import InputError
-from kinplan.program.schema import FALLBACK_JOINT_SPEED, PTP_RAMP_TIME
-from kinplan.robot import Robot
-from kinplan.teach.capture import Recording, capture
-from kinplan.teach.paths import RecordedPath
-from kinplan.teach.settings import (
+from kinplan.apps.teach.capture import Recording, capture
+from kinplan.apps.teach.paths import RecordedPath
+from kinplan.apps.teach.settings import (
     DEFAULT_ANGULAR_STEP_DEG,
     DEFAULT_JOG_SPEED,
     DEFAULT_LINEAR_STEP,
@@ -26,6 +22,10 @@ from kinplan.teach.settings import (
     MAX_PATH_TOLERANCE_DEG,
     MAX_ROTATION_JOG_DEG,
 )
+from kinplan.cell import WorkCell
+from kinplan.errors import InputError
+from kinplan.model.robot import Robot
+from kinplan.program.schema import FALLBACK_JOINT_SPEED, PTP_RAMP_TIME
 
 _HOME_DEG = {
     "ur": [0.0, -90.0, 90.0, -90.0, -90.0, 0.0],
@@ -109,7 +109,7 @@ class MoveSpec:
 
 class PendantState:
     """A teach session's state, shared by the pendant's commands (:class:`TeachPendant
-    <kinplan.teach.TeachPendant>` documents the arguments and attributes)."""
+    <kinplan.apps.teach.TeachPendant>` documents the arguments and attributes)."""
 
     def __init__(
         self,

@@ -12,9 +12,9 @@ from pathlib import Path
 import numpy as np
 
 from kinplan import checks
+from kinplan.apps.teach.paths import decimals
+from kinplan.apps.teach.state import PendantState
 from kinplan.errors import KinplanError
-from kinplan.teach.paths import decimals
-from kinplan.teach.state import PendantState
 
 logger = logging.getLogger("kinplan.teach")  # the package's name, as in the log lines before
 

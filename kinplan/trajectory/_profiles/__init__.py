@@ -10,21 +10,26 @@ Joints are numbered from 0 in messages, as in the arrays.
 Modules, each importing only those before it (and :mod:`kinplan.errors`); every name is
 re-exported here, where the trajectories, Cartesian time laws and programs import it from:
 
-* :mod:`~kinplan._profiles.basics` — the profile names (:data:`PROFILES`, :data:`PTP_PROFILES`),
+* :mod:`~kinplan.trajectory._profiles.basics` — the profile names (:data:`PROFILES`,
+  :data:`PTP_PROFILES`),
   :data:`REST_TO_REST_PEAKS`, the :data:`Pieces` record, tolerances and margins, the rounding of
   printed minima (:func:`round_up`, :func:`round_down`);
-* :mod:`~kinplan._profiles.polynomials` — Hermite cubics, quintics, cubic splines through via
+* :mod:`~kinplan.trajectory._profiles.polynomials` — Hermite cubics, quintics, cubic splines
+  through via
   points (:func:`solve_tridiagonal`), the 4-3-4 profile;
-* :mod:`~kinplan._profiles.piecewise` — piecewise-constant acceleration or jerk as polynomial
+* :mod:`~kinplan.trajectory._profiles.piecewise` — piecewise-constant acceleration or jerk as
+  polynomial
   pieces on merged knots;
-* :mod:`~kinplan._profiles.lspb` — trapezoids (LSPB), synchronised within the limits, and Craig's
+* :mod:`~kinplan.trajectory._profiles.lspb` — trapezoids (LSPB), synchronised within the limits,
+  and Craig's
   blends through via points;
-* :mod:`~kinplan._profiles.scurve` — seven-phase S-curves, synchronised within the limits.
+* :mod:`~kinplan.trajectory._profiles.scurve` — seven-phase S-curves, synchronised within the
+  limits.
 """
 
 from __future__ import annotations
 
-from kinplan._profiles.basics import (
+from kinplan.trajectory._profiles.basics import (
     LIMIT_MARGIN,
     NEGLIGIBLE_MOVE,
     PROFILES,
@@ -36,7 +41,7 @@ from kinplan._profiles.basics import (
     round_up,
     without_negligible_moves,
 )
-from kinplan._profiles.lspb import (
+from kinplan.trajectory._profiles.lspb import (
     blend_phases,
     check_lspb_acceleration,
     lspb_blend_time,
@@ -47,13 +52,13 @@ from kinplan._profiles.lspb import (
     synchronised_lspb,
     synchronised_minimum_time,
 )
-from kinplan._profiles.piecewise import (
+from kinplan.trajectory._profiles.piecewise import (
     KNOT_MERGE_TOLERANCE,
     constant_acceleration_pieces,
     constant_derivative_pieces,
     merged_knots,
 )
-from kinplan._profiles.polynomials import (
+from kinplan.trajectory._profiles.polynomials import (
     four_three_four_coefficients,
     hermite_cubic,
     hermite_peaks,
@@ -63,7 +68,7 @@ from kinplan._profiles.polynomials import (
     solve_tridiagonal,
     spline_velocities,
 )
-from kinplan._profiles.scurve import (
+from kinplan.trajectory._profiles.scurve import (
     SCURVE_JERK_SIGNS,
     cubic_peak_rates,
     scurve_durations,

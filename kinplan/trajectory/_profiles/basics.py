@@ -1,5 +1,5 @@
 """Names, tolerances and rounding shared by every 1-D profile (private; the first module of
-:mod:`kinplan._profiles`, importing none of the others).
+:mod:`kinplan.trajectory._profiles`, importing none of the others).
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Trapezoidal velocity profiles: linear segments with parabolic blends (LSPB), rest to rest and
 synchronised within every joint's limits, and Craig's blends through via points (private; after
-:mod:`~kinplan._profiles.basics` and :mod:`~kinplan._profiles.piecewise` in
-:mod:`kinplan._profiles`).
+:mod:`~kinplan.trajectory._profiles.basics` and :mod:`~kinplan.trajectory._profiles.piecewise` in
+:mod:`kinplan.trajectory._profiles`).
 """
 
 from __future__ import annotations
@@ -11,15 +11,15 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from kinplan._profiles.basics import (
+from kinplan.errors import InfeasibleError
+from kinplan.trajectory._profiles.basics import (
     LIMIT_MARGIN,
     NEGLIGIBLE_MOVE,
     RELATIVE_TOLERANCE,
     Pieces,
     round_up,
 )
-from kinplan._profiles.piecewise import constant_acceleration_pieces
-from kinplan.errors import InfeasibleError
+from kinplan.trajectory._profiles.piecewise import constant_acceleration_pieces
 
 # ----------------------------------------------------------------------------------------------
 # Piecewise-constant acceleration (trapezoidal velocity profiles and parabolic blends)

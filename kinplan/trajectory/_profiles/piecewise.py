@@ -1,6 +1,7 @@
 """Motions whose acceleration or jerk is piecewise constant, as polynomial pieces on knots common
-to every joint (private; after :mod:`~kinplan._profiles.basics` in :mod:`kinplan._profiles`,
-used by :mod:`~kinplan._profiles.lspb` and :mod:`~kinplan._profiles.scurve`).
+to every joint (private; after :mod:`~kinplan.trajectory._profiles.basics` in
+:mod:`kinplan.trajectory._profiles`,
+used by :mod:`~kinplan.trajectory._profiles.lspb` and :mod:`~kinplan.trajectory._profiles.scurve`).
 """
 
 from __future__ import annotations
@@ -9,7 +10,7 @@ import math
 
 import numpy as np
 
-from kinplan._profiles.basics import Pieces
+from kinplan.trajectory._profiles.basics import Pieces
 
 KNOT_MERGE_TOLERANCE = 64.0 * np.finfo(float).eps
 """Phase boundaries of different joints closer than this fraction of the duration are merged

@@ -1,6 +1,6 @@
 """Polynomials fixed by boundary conditions: Hermite cubics, quintics, the clamped cubic spline
 through via points (one tridiagonal solve for all joints) and the 4-3-4 profile (private; after
-:mod:`~kinplan._profiles.basics` in :mod:`kinplan._profiles`).
+:mod:`~kinplan.trajectory._profiles.basics` in :mod:`kinplan.trajectory._profiles`).
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from kinplan._profiles.basics import Pieces
+from kinplan.trajectory._profiles.basics import Pieces
 
 # ----------------------------------------------------------------------------------------------
 # Polynomials fixed by boundary conditions

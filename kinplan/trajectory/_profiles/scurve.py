@@ -1,7 +1,7 @@
 """Jerk-limited seven-phase S-curves: each joint's minimum-time phases in closed form, their peaks,
 cubic pieces and the synchronised profile within every joint's limits (private; after
-:mod:`~kinplan._profiles.basics` and :mod:`~kinplan._profiles.piecewise` in
-:mod:`kinplan._profiles`).
+:mod:`~kinplan.trajectory._profiles.basics` and :mod:`~kinplan.trajectory._profiles.piecewise` in
+:mod:`kinplan.trajectory._profiles`).
 """
 
 from __future__ import annotations
@@ -10,9 +10,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from kinplan._profiles.basics import LIMIT_MARGIN, Pieces
-from kinplan._profiles.piecewise import constant_derivative_pieces
 from kinplan.errors import InfeasibleError
+from kinplan.trajectory._profiles.basics import LIMIT_MARGIN, Pieces
+from kinplan.trajectory._profiles.piecewise import constant_derivative_pieces
 
 # ----------------------------------------------------------------------------------------------
 # Piecewise-constant jerk (seven-phase S-curves)

@@ -1,0 +1,11 @@
+"""Moved to :mod:`kinplan.model.arm`; this name stays importable (issue 31)."""
+
+import sys
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from kinplan.model.arm import *  # noqa: F403
+else:
+    from kinplan.model import arm as _moved
+
+    sys.modules[__name__] = _moved

@@ -1,0 +1,11 @@
+"""Moved to :mod:`kinplan.scale.reach`; this name stays importable (issue 31)."""
+
+import sys
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from kinplan.scale.reach import *  # noqa: F403
+else:
+    from kinplan.scale import reach as _moved
+
+    sys.modules[__name__] = _moved

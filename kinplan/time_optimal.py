@@ -1,0 +1,11 @@
+"""Moved to :mod:`kinplan.trajectory.totg`; this name stays importable (issue 31)."""
+
+import sys
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from kinplan.trajectory.totg import *  # noqa: F403
+else:
+    from kinplan.trajectory import totg as _moved
+
+    sys.modules[__name__] = _moved
