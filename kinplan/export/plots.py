@@ -122,19 +122,11 @@ def plot_motion(
 
 
 def _rolls(plan: SampledMotion) -> list[tuple[np.ndarray, np.ndarray]] | None:
-    """(time [s], torch roll [deg]) of every seam whose roll :func:`cartesian.plan_seam` chose:
-    the plan's own ``roll``, or its moves' (a program), or None when there is none."""
-    roll = getattr(plan, "roll", None)
-    if roll is not None and 0 < len(roll) <= len(plan.t):
-        return [(np.asarray(plan.t)[: len(roll)], np.degrees(np.asarray(roll, dtype=float)))]
-    pieces = []
-    for move in getattr(plan, "moves", None) or []:
-        seam = getattr(move, "cartesian_plan", None)
-        roll = getattr(seam, "roll", None)
-        if seam is not None and roll is not None and len(roll):
-            t = float(move.t0) + np.asarray(seam.t, dtype=float)[: len(roll)]
-            pieces.append((t, np.degrees(np.asarray(roll, dtype=float))))
-    return pieces or None
+    """(time [s], torch roll [deg]) of every seam whose roll :func:`cartesian.plan_seam` chose
+    (:func:`kinplan.viewer.playback.seam_rolls`), or None when there is none."""
+    from kinplan.viewer.playback import seam_rolls  # the viewer loads only when plotting
+
+    return seam_rolls(plan) or None
 
 
 @dataclass(frozen=True)

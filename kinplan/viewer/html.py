@@ -14,6 +14,8 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from kinplan import checks
 from kinplan.checks import describe
 from kinplan.errors import InputError, ViewerError
@@ -72,9 +74,26 @@ def render_html(
         "camera_target": ms.to_threejs(scene.view.target),
         "layers": LAYERS,
         "moves": scene.motion.moves,
+        "roll": roll_config(scene.motion.roll),
     }
     caption = scene.motion.caption
     return static_html(scene.commands, config, title or caption[0], caption, scene.legend)
+
+
+#: Most (time, roll) points per seam in a page (the page interpolates between them).
+ROLL_POINTS = 600
+
+
+def roll_config(pieces: list[tuple[np.ndarray, np.ndarray]]) -> list[list[list[float]]]:
+    """The torch roll of each seam for the page script: [[time [s], roll [deg]], ...] per
+    seam, at most :data:`ROLL_POINTS` of them (evenly picked samples, the last kept)."""
+    out = []
+    for times, degrees in pieces:
+        pick = np.unique(np.linspace(0, len(times) - 1, min(len(times), ROLL_POINTS)).round())
+        index = pick.astype(int)
+        out.append([[round(float(t), 4), round(float(d), 2)] for t, d in
+                    zip(times[index], degrees[index])])  # fmt: skip
+    return out
 
 
 def save_html(

@@ -187,6 +187,7 @@ body {{ margin: 0; overflow: hidden; font: 13px/1.4 system-ui, sans-serif;
 #kp-bar input[type=range] {{ flex: 1; }}
 #kp-bar button {{ width: 34px; }}
 #kp-time {{ font-variant-numeric: tabular-nums; min-width: 120px; text-align: right; }}
+#kp-roll {{ font-variant-numeric: tabular-nums; white-space: nowrap; }}
 #kp-move {{ max-width: 40%; overflow: hidden; text-overflow: ellipsis; white-space: nowrap; }}
 </style>
 </head>
@@ -197,6 +198,7 @@ body {{ margin: 0; overflow: hidden; font: 13px/1.4 system-ui, sans-serif;
 <button id="kp-play" title="play / pause (space)">&#9654;</button>
 <input id="kp-slider" type="range" min="0" max="1" step="0.001" value="0">
 <span id="kp-move"></span>
+<span id="kp-roll"></span>
 <span id="kp-time"></span>
 <label><input id="kp-loop" type="checkbox"> loop</label>
 </div>
@@ -257,6 +259,21 @@ _PAGE_SCRIPT = r"""
     for (const [start, name] of moves) { if (t >= start - 1e-9) text = name; else break; }
     return text;
   }
+  // The torch roll plan_seam chose (per seam: [time, degrees] points), at time t, or "".
+  const rollLabel = document.getElementById("kp-roll");
+  const rolls = config.roll || [];
+  function rollAt(t) {
+    for (const points of rolls) {
+      const n = points.length;
+      if (n === 0 || t < points[0][0] - 1e-9 || t > points[n - 1][0] + 1e-9) continue;
+      let k = 1;
+      while (k < n - 1 && points[k][0] < t) k++;
+      const [t0, r0] = points[Math.max(0, k - 1)], [t1, r1] = points[k];
+      const f = t1 > t0 ? Math.min(1, Math.max(0, (t - t0) / (t1 - t0))) : 1;
+      return "torch roll " + (r0 + f * (r1 - r0)).toFixed(0).replace("-", "\u2212") + "\u00b0";
+    }
+    return "";
+  }
   const loop = document.getElementById("kp-loop");
   if (options.get("ui") === "0") {
     bar.style.display = "none";
@@ -304,6 +321,8 @@ _PAGE_SCRIPT = r"""
     label.textContent = t.toFixed(2) + " / " + duration.toFixed(2) + " s";
     const current = moveAt(t);
     if (moveLabel.textContent !== current) moveLabel.textContent = current;
+    const roll = rollAt(t);
+    if (rollLabel.textContent !== roll) rollLabel.textContent = roll;
     button.innerHTML = animator.playing ? "&#10074;&#10074;" : "&#9654;";
     requestAnimationFrame(tick);
   }

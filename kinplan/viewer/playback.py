@@ -48,6 +48,7 @@ __all__ = [
     "marker_points",
     "playback",
     "positive",
+    "seam_rolls",
 ]
 
 logger = logging.getLogger(__name__)
@@ -97,6 +98,9 @@ class Playback:
             at the colliding configuration), or None.
         moves: (start time [s], "number. label") of each move of a program, in time order
             (shown in the playback bar); empty for a single motion.
+        roll: The torch roll :func:`cartesian.plan_seam` chose, per seam: (times [s] on the
+            playback's clock, roll [deg] about the torch axis relative to the taught torch)
+            (shown in the playback bar and the caption); empty when no roll was searched.
     """
 
     t: np.ndarray
@@ -109,6 +113,7 @@ class Playback:
     caption: list[str] = field(default_factory=list)
     collision: Collision | None = None
     moves: list[tuple[float, str]] = field(default_factory=list)
+    roll: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)
 
     @property
     def duration(self) -> float:
@@ -184,6 +189,16 @@ def playback(robot: Robot, motion: MotionLike, fps: float) -> Playback:
         failed.append(_path_points(piece.path, piece.reached, 1.0))
     if not any(p is not None for p in planned) and achieved is not None:
         planned = [achieved]  # no Cartesian path: the joint motion's tool path
+    start = float(times[0]) if len(times) else 0.0
+    rolls = [(times_ - start, degrees) for times_, degrees in seam_rolls(motion)]
+    caption = _caption(robot, sampled, float(t[-1]), None if collision is None else collision.t)
+    if rolls:
+        low = min(float(d.min()) for _, d in rolls)
+        high = max(float(d.max()) for _, d in rolls)
+        caption.append(
+            f"torch roll {low:.0f}° … {high:.0f}° along the seam (plan_seam; the bar shows it "
+            "at the current time)".replace("-", "−")
+        )
     return Playback(
         t=t,
         q=frames,
@@ -192,12 +207,33 @@ def playback(robot: Robot, motion: MotionLike, fps: float) -> Playback:
         failed=[p for p in failed if p is not None],
         last_good=q[-1] if (not sampled.ok and len(q)) else None,
         via=_via_points(robot, sampled),
-        caption=_caption(robot, sampled, float(t[-1]), None if collision is None else collision.t),
+        caption=caption,
         collision=collision,
         moves=[
             (float(m.t0), f"{getattr(m, 'numbers', m.number)}. {m.label}") for m in sampled.moves
         ],
+        roll=rolls,
     )
+
+
+def seam_rolls(motion: object) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(times [s], torch roll [deg]) of every seam whose roll :func:`cartesian.plan_seam`
+    chose: a Cartesian plan's own ``roll`` (at its samples' times), or a program plan's moves'
+    (their plans' times shifted by each move's start); empty when there is none."""
+    roll = getattr(motion, "roll", None)
+    times = getattr(motion, "t", None)
+    if roll is not None and times is not None and 0 < len(roll) <= len(times):
+        return [
+            (np.asarray(times, dtype=float)[: len(roll)], np.degrees(np.asarray(roll, dtype=float)))
+        ]
+    pieces = []
+    for move in getattr(motion, "moves", None) or []:
+        seam = getattr(move, "cartesian_plan", None)
+        roll = getattr(seam, "roll", None)
+        if seam is not None and roll is not None and len(roll):
+            t = float(move.t0) + np.asarray(seam.t, dtype=float)[: len(roll)]
+            pieces.append((t, np.degrees(np.asarray(roll, dtype=float))))
+    return pieces
 
 
 def _collision(motion: object, robot: Robot, times: np.ndarray) -> Collision | None:
