@@ -8,8 +8,9 @@ searches the free coordinates globally, as Descartes does (ROS-Industrial; its l
    of the path's rotation); at each, the roll about the torch axis (every ``resolution``
    radians, or the given roll), the work / travel tilts (−tol, 0, +tol each), a 7-joint arm's
    self-motion (θ7 samples) × every IK branch give the candidate configurations within the
-   joint limits, away from singularities, collision-free in the cell
-   (:mod:`cartesian.seam_candidates`);
+   joint limits, away from singularities (:mod:`cartesian.seam_candidates`); in a cell, the
+   candidates the search's paths use are checked against it, lazily (:mod:`cartesian.
+   seam_cell`);
 2. the ladder graph joins consecutive waypoints' candidates whose joint motion fits the time
    between them at the seam's speed (the joints' speed limits), without a branch flip, with the
    roll changing by a bounded step; dynamic programming finds the path of least joint travel
@@ -36,7 +37,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from cartesian import seam_self_motion
+from cartesian import seam_cell, seam_self_motion
 from cartesian.events import Status
 from cartesian.follow import follow
 from cartesian.geometry import check_reachability
@@ -44,12 +45,12 @@ from cartesian.paths import Path
 from cartesian.plan import CartesianPlan
 from cartesian.seam_candidates import (
     TAU,
-    Candidates,
     generate,
     roll_joint_sign,
     self_motion_samples,
     wide_joints,
 )
+from cartesian.seam_cell import CellVerdict
 from cartesian.seam_ladder import Ladder, LadderPath
 from cartesian.seam_path import (
     CachedPath,
@@ -192,20 +193,26 @@ def plan_seam(
     ladder = _build_ladder(
         robot, path, s, rotations, frames, timing, free, fixed_roll, resolution,
         work_tolerance, travel_tolerance, self_motion, SINGULAR_MARGIN * float(singular_threshold),
-        velocity_scale, retime, cell, clearance,
+        velocity_scale, retime,
     )  # fmt: skip
+    # the cell is asked only about the candidates the search's paths use (seam_cell)
+    verdict = None if cell is None else CellVerdict(ladder.candidates, cell, robot, clearance)
     if start is not None:
         ladder.start, ladder.start_roll, ladder.start_tilt = start, start_roll, start_tilt
     empty = empty_stretch(ladder, s, start is not None, list(robot.joint_names))
     if empty is not None:
         return refused(robot, path, empty, float(singular_threshold))
-    paths, blocked = ladder.solve(ATTEMPTS)
+    paths, blocked = seam_cell.solve(ladder, verdict, ATTEMPTS)
+    if verdict is not None and verdict.complete:  # no way through: is a stretch blocked?
+        empty = empty_stretch(ladder, s, start is not None, list(robot.joint_names))
+        if empty is not None:
+            return refused(robot, path, empty, float(singular_threshold))
     too_fast = blocked is not None and blocked.kind == "velocity_limit"
     if too_fast:
         # the speed caps are the search's estimate: follow judges the speed itself
         caps = ladder.caps
         ladder.caps = np.broadcast_to(ladder.jump_caps, caps.shape).copy()
-        paths, _ = ladder.solve(ATTEMPTS)
+        paths, _ = seam_cell.solve(ladder, verdict, ATTEMPTS)
         ladder.caps = caps
     cached = CachedPath(path)  # every attempt rotates the same seam on the same grids
     track: dict[str, Any] = dict(
@@ -217,7 +224,10 @@ def plan_seam(
     # the grid may miss a way (the self-motion between its samples, a law smoothed away from
     # the nodes): then constant rolls that have candidates at every waypoint, from their starts
     # (computed only when the ladder's paths cannot be tracked)
-    others = _lazy(lambda: _other_starts(ladder, paths[0] if paths else None, OTHER_STARTS))
+    # (the fallbacks read every candidate: the cell checks them all first)
+    others = _lazy(
+        lambda: _other_starts(ladder, paths[0] if paths else None, OTHER_STARTS), verdict
+    )
     choices = itertools.chain(
         paths,
         others,
@@ -244,7 +254,13 @@ def plan_seam(
     return refused(robot, path, event, float(singular_threshold))
 
 
-def _lazy(make: Callable[[], list[LadderPath]]) -> Iterator[LadderPath]:
+def _lazy(
+    make: Callable[[], list[LadderPath]], verdict: CellVerdict | None = None
+) -> Iterator[LadderPath]:
+    """The paths ``make`` gives, made when first asked for (after checking every candidate
+    against the cell, with a ``verdict``)."""
+    if verdict is not None:
+        verdict.check_all()
     yield from make()
 
 
@@ -466,8 +482,6 @@ def _build_ladder(
     singular_threshold: float,
     velocity_scale: float,
     retime: bool,
-    cell: WorkCell | None,
-    clearance: float | None,
 ) -> Ladder:
     """The candidates of every waypoint and the graph's settings."""
     count = len(s)
@@ -510,8 +524,6 @@ def _build_ladder(
         robot, path.position(s), targets, slot_tilt, slot_roll, psi, roll_axis, sign,
         singular_threshold,
     )  # fmt: skip
-    if cell is not None:
-        _check_cell(candidates, cell, robot, clearance)
     # slot adjacency: the roll slot by up to `steps`, tilts and self-motion by one
     # (the elbow-end slots of a panda-type arm, NaN in psi, neighbour every ψ slot)
     P, uniform = len(psi), int(np.isfinite(psi).sum())
@@ -539,27 +551,6 @@ def _build_ladder(
         wide_joints(robot), robot.lower, robot.upper, factored,
         robot.reference_manipulability(False),
     )  # fmt: skip
-
-
-def _check_cell(
-    candidates: Candidates, cell: WorkCell, robot: Robot, clearance: float | None
-) -> None:
-    """Mark colliding candidates invalid (robot–obstacle distance below ``clearance``, or
-    contact between the robot's own checked links)."""
-    if not isinstance(cell, WorkCell):
-        raise InputError(f"cell must be a kinplan.WorkCell, got {checks.describe(cell)}")
-    if cell.robot is not robot:
-        cell = cell.for_robot(robot)
-    margin = 0.0 if clearance is None else checks.number(clearance, "clearance", minimum=0.0)
-    valid = candidates.valid
-    pairs: dict[tuple[str, str], int] = {}
-    for index in zip(*np.nonzero(valid)):
-        hits = cell.collisions(candidates.q[index], margin)
-        if hits:
-            valid[index] = False
-            pairs[hits[0].bodies] = pairs.get(hits[0].bodies, 0) + 1
-    candidates.counts["collision"] = valid.sum(axis=(1, 2, 3))
-    candidates.pairs = pairs
 
 
 # ------------------------------------------------------------------------------ tracking

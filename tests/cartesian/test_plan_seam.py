@@ -459,3 +459,64 @@ def test_elbow_intervals_hold_every_theta7_with_a_solution(panda: kinplan.Robot)
         for q7 in np.linspace(panda.lower[6], panda.upper[6], 200):
             if len(solver.solutions_q7(pose.translation, pose.rotation, q7)):
                 assert any(a - 1e-9 <= q7 <= b + 1e-9 for a, b in intervals), (q7, intervals)
+
+
+# ------------------------------------------------------------------------------ lazy cell checks
+def sphere_cell(robot: kinplan.Robot, centre: np.ndarray, radius: float) -> kinplan.WorkCell:
+    cell = kinplan.WorkCell(robot)
+    cell.add_sphere("ball", radius, pin.SE3(np.eye(3), np.asarray(centre, dtype=float)))
+    return cell
+
+
+def counted_plans(
+    robot: kinplan.Robot, seam: cartesian.Path, cell: kinplan.WorkCell, monkeypatch
+) -> dict[bool, tuple[int, cartesian.CartesianPlan]]:
+    """plan_seam with the cell checked lazily and fully (seam_cell.LAZY), and how many
+    candidate checks (WorkCell.collisions calls) each made."""
+    from cartesian import seam_cell
+
+    out = {}
+    original = kinplan.WorkCell.collisions
+    for lazy in (True, False):
+        calls = [0]
+
+        def counting(self, q, margin=0.0, calls=calls):
+            calls[0] += 1
+            return original(self, q, margin)
+
+        monkeypatch.setattr(kinplan.WorkCell, "collisions", counting)
+        monkeypatch.setattr(seam_cell, "LAZY", lazy)
+        plan = cartesian.plan_seam(robot, seam, speed=0.05, cell=cell)
+        out[lazy] = (calls[0], plan)
+    return out
+
+
+def test_lazy_cell_checks_give_the_full_check_plan(ur5: kinplan.Robot, monkeypatch) -> None:
+    """A ball where the best path's forearm passes: the lazy search checks a fraction of the
+    candidates and plans exactly what checking all of them first plans (certified by the
+    follower's cell check)."""
+    seam = t_joint_seam(np.array([0.5, -0.2, 0.05]), np.array([0.5, 0.25, 0.05]), 1.0)
+    free = cartesian.plan_seam(ur5, seam, speed=0.05)
+    data = ur5.model.createData()
+    pin.framesForwardKinematics(ur5.model, data, free.q[len(free.q) // 2])
+    forearm = data.oMf[ur5.model.getFrameId("forearm_link")].translation.copy()
+    plans = counted_plans(ur5, seam, sphere_cell(ur5, forearm, 0.05), monkeypatch)
+    (lazy_checks, lazy), (full_checks, full) = plans[True], plans[False]
+    check_plan(ur5, seam, lazy)
+    assert lazy.cell_check is not None and lazy.cell_check.index is None
+    assert lazy.min_clearance > 0.0
+    assert np.abs(free.q - lazy.q).max() > 0.1  # the ball moved the plan
+    np.testing.assert_array_equal(lazy.q, full.q)
+    assert lazy_checks < 0.5 * full_checks, (lazy_checks, full_checks)
+
+
+def test_lazy_cell_refusal_is_the_full_check_refusal(ur5: kinplan.Robot, monkeypatch) -> None:
+    """A wall that blocks the seam's end: the lazy search ends by checking every candidate, so
+    the refusal names the same stretch and bodies as the full check."""
+    seam = t_joint_seam(np.array([0.5, -0.2, 0.05]), np.array([0.5, 0.25, 0.05]), 1.0)
+    wall = kinplan.WorkCell(ur5)
+    wall.add_box("wall", [0.04, 0.3, 1.0], pin.SE3(np.eye(3), np.array([0.33, 0.2, 0.3])))
+    plans = counted_plans(ur5, seam, wall, monkeypatch)
+    (_, lazy), (_, full) = plans[True], plans[False]
+    assert lazy.status == full.status == "collision"
+    assert lazy.events[0].message == full.events[0].message
