@@ -67,6 +67,7 @@ def follow(
     cell: WorkCell | None = None,
     clearance: float | None = None,
     interpolation_tolerance: float = 1e-4,
+    whole_periods: bool = False,
 ) -> CartesianPlan:
     """Plan the tool along ``path``: timed, IK at every sample, monitored.
 
@@ -116,6 +117,11 @@ def follow(
             0.1 mm), or 1 % of the tool's travel between the two samples when that is more (a
             coarse grid asks for a coarse motion); a rotation counts as the displacement it
             causes 0.1 m from the tool frame.
+        whole_periods: Hold the tool at rest at the path's end until a whole number of
+            periods ``dt`` (less than one period more): every sample, the last included, on the
+            grid k · dt, the motion itself unchanged. Programs plan their moves so (their
+            samples are one grid, move after move); default False: the last sample exactly at
+            the law's end.
 
     Returns:
         CartesianPlan; an event stops it at the first offending sample.
@@ -137,6 +143,7 @@ def follow(
         rotation_tolerance, "rotation_tolerance", positive=True, unit="rad"
     )
     retime = checks.flag(retime, "retime")
+    whole_periods = checks.flag(whole_periods, "whole_periods")
     if cell is not None:
         if not isinstance(cell, WorkCell):
             raise InputError(f"cell must be a kinplan.WorkCell, got {checks.describe(cell)}")
@@ -177,8 +184,12 @@ def follow(
         (default the caller's)."""
         length_law = (duration, speed, acceleration) if law is None else law
         timing = time_path(path.length, *length_law, profile, step)
+        if whole_periods:
+            timing = timing.on_whole_periods(step)
         if retime:
-            plan = _retimed_plan(tracker, path, timing, seed, step, interpolation_tolerance)
+            plan = _retimed_plan(
+                tracker, path, timing, seed, step, interpolation_tolerance, whole_periods
+            )
         else:
             plan = _planned(tracker, path, timing, seed, interpolation_tolerance)
         plan.accelerations_limited = bool(np.isfinite(accel_limit).all())
@@ -197,7 +208,9 @@ def follow(
         offer_slower(plan, lambda law: plan_at(dt, law), (duration, speed, acceleration))
         # offer retiming only when it would pass: try it
         timing = time_path(path.length, duration, speed, acceleration, profile, dt)
-        retimed = _retimed_plan(tracker, path, timing, seed, dt, interpolation_tolerance)
+        retimed = _retimed_plan(
+            tracker, path, timing, seed, dt, interpolation_tolerance, whole_periods
+        )
         if retimed.ok:
             plan.retime_duration = retimed.duration
             plan.events[0].remedy += (
@@ -264,9 +277,10 @@ def _polish(tracker: Tracker, plan: CartesianPlan) -> None:
 def check_parts(timing: PathTiming) -> int:
     """Into how many parts every interval of the caller's grid is split for the checks: 1,
     or enough that the motion has :data:`~kinplan.sampling.MIN_INTERVALS` check intervals
-    (a 1 ms move is not checked at its two resting ends only)."""
-    intervals = len(timing.t) - 1
-    if intervals < 1:
+    (a 1 ms move is not checked at its two resting ends only; a motion held at rest until a
+    whole period counts the intervals it moves in)."""
+    intervals = timing.moving_intervals
+    if intervals <= 0:
         return 1
     return max(1, math.ceil(MIN_INTERVALS / intervals))
 
@@ -312,6 +326,7 @@ def _retimed_plan(
     seed: np.ndarray,
     dt: float,
     interpolation_tolerance: float,
+    whole_periods: bool = False,
 ) -> CartesianPlan:
     """The plan of ``path`` with its time-optimal law (:mod:`cartesian.retime`) under the joint
     velocity and acceleration limits and the nominal law's top path speed (the nominal law's
@@ -340,6 +355,8 @@ def _retimed_plan(
         retimed = timing_from_speeds(geometry.s, speeds, dt)
         if retimed is None:  # stopped for good at a singular point: the nominal plan says why
             return _planned(tracker, path, timing, seed, interpolation_tolerance)
+        if whole_periods:
+            retimed = retimed.on_whole_periods(dt)
         plan = _planned(tracker, path, retimed, seed, interpolation_tolerance)
         plan.retimed = True
         excess = _limit_excess(plan)

@@ -35,6 +35,8 @@ class PathTiming:
         sdd: d²s/dt² [1/s²].
         duration: Motion duration [s].
         law: The law itself, to sample it at other times.
+        rest_from: When the path's end is reached and the tool held there until
+            ``duration`` (:meth:`on_whole_periods`) [s]; None: at ``duration``.
     """
 
     t: np.ndarray
@@ -43,6 +45,15 @@ class PathTiming:
     sdd: np.ndarray
     duration: float
     law: TimeLaw
+    rest_from: float | None = None
+
+    @property
+    def moving_intervals(self) -> float:
+        """How many intervals of :attr:`t` the motion lasts (a fraction of one for a motion
+        shorter than a period held at rest until the period's end)."""
+        if self.rest_from is None or len(self.t) < 2:
+            return float(len(self.t) - 1)
+        return self.rest_from / float(self.t[1] - self.t[0])
 
     def refined(self, parts: int) -> PathTiming:
         """The same law on a grid that splits every interval of :attr:`t` into ``parts`` equal
@@ -52,6 +63,26 @@ class PathTiming:
         steps = np.diff(self.t)
         inner = self.t[:-1, None] + steps[:, None] * (np.arange(parts) / parts)
         return at_times(self.law, np.append(inner.ravel(), self.t[-1]), self.duration)
+
+    def on_whole_periods(self, dt: float) -> PathTiming:
+        """The same law, then at rest at its end (s = 1) until a whole number of periods
+        ``dt`` [s] (:func:`kinplan.trajectory.whole_periods`: less than one period more),
+        sampled at 0, dt, ..., the end: the motion itself is unchanged (its samples before its
+        end are the same). Programs plan their moves so, that all their samples lie on one
+        grid."""
+        duration = trajectory.whole_periods(self.duration, dt)
+        if duration <= self.duration * (1.0 + 1e-12) or self.duration == 0.0:
+            return self  # whole already, to rounding
+        end, law = self.duration, self.law
+
+        def held(t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            s, sd, sdd = law(np.minimum(t, end))
+            after = t >= end
+            return np.where(after, 1.0, s), np.where(after, 0.0, sd), np.where(after, 0.0, sdd)
+
+        timing = at_times(held, trajectory.time_grid(duration, dt), duration)
+        timing.rest_from = end
+        return timing
 
     @property
     def peak_speed(self) -> float:

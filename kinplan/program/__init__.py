@@ -35,6 +35,11 @@ Moves and their options:
   (default :data:`DEFAULT_TOOL_SPEED`) or in a ``duration`` [s], with the 1-D ``profile``.
 - ``circ``: the tool moves on the arc through ``via`` to the target, as ``lin``.
 
+Every move lasts a whole number of sampling periods ``dt``: the arm is held at rest at the
+move's end for the rest of its last period (its motion, timing and peaks unchanged; a dwell is
+rounded up to whole periods), so the program's samples are one grid t = 0, dt, 2 dt, ..., the
+last at its end.
+
 A Cartesian point given by ``xyz`` alone keeps the tool orientation the move starts with (arms
 with 6 or more joints) or is position-only (arms with fewer). Every move starts from the end
 state of the previous one.

@@ -72,7 +72,7 @@ from kinplan.program.seams import (
 )
 from kinplan.robot import Robot
 from kinplan.sampling import motion_step
-from kinplan.trajectory import Segment, Trajectory
+from kinplan.trajectory import Segment, Trajectory, whole_periods
 
 __all__ = ["Goal", "MotionBuilder", "SeamPiece"]
 
@@ -346,7 +346,9 @@ class MotionBuilder:
             raise KinplanError(f"dwell must be a finite number of seconds >= 0, got {seconds!r}")
         self._check_samples(seconds / self.dt, "dwell", label, key, f"a {seconds:g} s dwell")
         steps = max(1, math.ceil(seconds / self.dt - 1e-9))
-        t = np.linspace(0.0, seconds, steps + 1)
+        if seconds > 0:  # whole periods, as every move: the samples stay on the program's grid
+            seconds = steps * self.dt
+        t = np.arange(steps + 1) * self.dt if seconds > 0 else np.zeros(2)
         q = np.tile(self.q, (len(t), 1))
         zero = np.zeros_like(q)
         still = [Segment(0.0, float(seconds), self.q[:, None].copy())] if seconds > 0 else []
@@ -419,6 +421,9 @@ class MotionBuilder:
         """Sample a joint trajectory from the current configuration (checked within the limits
         over its continuous motion), check it against the cell and record it with its own
         segments (the plan's interpolant between the samples is the profile itself)."""
+        whole = whole_periods(traj.duration, self.dt)
+        if whole > traj.duration:  # held at its end to whole periods: on the program's grid
+            traj = traj.held(whole)
         step = motion_step(traj.duration, self.dt)
         self._check_samples(traj.duration / step, "ptp", label, key, f"a {traj.duration:g} s move")
         # the samples recorded are the caller's grid; the cell is checked on a grid fine enough
@@ -623,7 +628,7 @@ class MotionBuilder:
             roll="free" if torch.roll is None else 0.0,  # a fixed roll is in the path's poses
             work_tolerance=torch.work_tolerance, travel_tolerance=torch.travel_tolerance,
             q_start=q_start, cell=self.cell, clearance=self.clearance, profile=profile,
-            max_acceleration=limit if np.all(np.isfinite(limit)) else None,
+            whole_periods=True, max_acceleration=limit if np.all(np.isfinite(limit)) else None,
         )  # fmt: skip
 
     def _searched_seam(
@@ -727,7 +732,7 @@ class MotionBuilder:
         try:
             plan = cartesian.follow(
                 self.robot, path, duration=duration, speed=speed, profile=profile, dt=self.dt,
-                q_seed=self.q, cell=self.cell, clearance=self.clearance,
+                q_seed=self.q, cell=self.cell, clearance=self.clearance, whole_periods=True,
                 max_acceleration=limit if np.all(np.isfinite(limit)) else None,
             )  # fmt: skip
         except KinplanError as exc:

@@ -50,6 +50,7 @@ from kinplan.trajectory.core import (
     Trajectory,
     Waypoints,
     time_grid,
+    whole_periods,
 )
 from kinplan.trajectory.limited import scurve, time_optimal
 from kinplan.trajectory.polynomials import cubic, cubic_via, four_three_four, quintic, spline
@@ -75,4 +76,5 @@ __all__ = [
     "time_optimal",
     "trapezoid",
     "trapezoid_via",
+    "whole_periods",
 ]

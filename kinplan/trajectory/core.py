@@ -210,6 +210,28 @@ class Trajectory:
             return q[0], qd[0], qdd[0]
         return q, qd, qdd
 
+    def held(self, duration: float) -> Trajectory:
+        """This motion, then standing still at its end until ``duration`` [s] (≥
+        :attr:`duration`): a constant segment appended (its velocity and acceleration zero), so
+        the motion itself — its timing, peaks and end — is unchanged. Programs hold every move
+        so until a whole number of periods (:func:`whole_periods`).
+
+        Raises:
+            InputError: ``duration`` shorter than this motion's, or not a finite number.
+        """
+        duration = scalar_value(duration, "duration")
+        if duration < self.duration:
+            raise InputError(
+                f"a held motion lasts at least its {self.duration:.9g} s, got {duration:.9g} s"
+            )
+        if duration == self.duration:
+            return self
+        hold = Segment(self.duration, duration, self.end[:, None].copy())
+        return Trajectory(
+            [*self.segments, hold], waypoints=self.waypoints, end=self.end,
+            end_velocity=np.zeros(self.n), end_acceleration=np.zeros(self.n),
+        )  # fmt: skip
+
     def then(self, other: Trajectory) -> Trajectory:
         """This motion followed by ``other`` (see :meth:`concatenate`)."""
         return Trajectory.concatenate([self, other])
@@ -379,6 +401,13 @@ def time_grid(duration: float, dt: float) -> np.ndarray:
     t = np.arange(count + 1) * dt
     t[-1] = duration
     return t
+
+
+def whole_periods(duration: float, dt: float) -> float:
+    """The shortest whole number of periods ``dt`` [s] not shorter than ``duration`` [s] (a
+    duration within 1e-9 periods above a whole number counts as that number: rounding): what a
+    program holds each move's end until, so that all its samples lie on one grid k · dt."""
+    return max(0, math.ceil(duration / dt - 1e-9)) * dt
 
 
 def from_pieces(knots: np.ndarray, coefficients: list[np.ndarray], **kwargs) -> Trajectory:

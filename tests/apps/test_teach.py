@@ -25,6 +25,7 @@ from kinplan.apps.teach import (
 from kinplan.errors import InputError, KinplanError
 from kinplan.model.planar import planar_arm_urdf
 from kinplan.program import load_program, plan_program
+from kinplan.trajectory import whole_periods
 
 
 def session(pendant: TeachPendant, script: str) -> tuple[bool, list[str]]:
@@ -333,9 +334,12 @@ def test_the_recorded_program_loads_and_plans(ur5, tmp_path):
     k = len(names) - 1
     assert move.label == f"path1: ptp through {k - 1} points to path1_{k}"
     assert program.moves[2].times == tuple(path.times)
-    # as long as the recording, passing each knot (as the program reads it) at its time
-    assert move.t1 - move.t0 == pytest.approx(path.duration, abs=5e-7)
-    assert move.t1 - move.t0 == pytest.approx(path.spline.duration, abs=1e-12)
+    # as long as the recording (then at rest until the next whole period, as every move of
+    # a program), passing each knot (as the program reads it) at its time
+    assert move.t1 - move.t0 == pytest.approx(whole_periods(path.duration, plan.dt), abs=1e-9)
+    assert move.t1 - move.t0 == pytest.approx(
+        whole_periods(path.spline.duration, plan.dt), abs=1e-12
+    )
     passed = plan.sample(move.t0 + np.array(program.moves[2].times))[0]
     expected = np.array([program.points[name].joints for name in names[1:]])
     np.testing.assert_allclose(passed, expected, rtol=0, atol=1e-9)
@@ -378,7 +382,7 @@ def test_a_path_too_fast_for_its_spline_plays_slower_and_says_so(ur5, tmp_path):
     assert "stretched to" in pendant.program_text()
     plan = plan_program(load_program(pendant.save(tmp_path / "fast.yaml")))
     assert plan.ok, plan.reason
-    assert plan.duration == pytest.approx(path.spline.duration)
+    assert plan.duration == pytest.approx(whole_periods(path.spline.duration, plan.dt))
     assert np.max(np.abs(plan.qd) / ur5.velocity_limit) <= 1.0
 
 
