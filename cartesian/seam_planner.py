@@ -19,7 +19,10 @@ searches the free coordinates globally, as Descartes does (ROS-Industrial; its l
 3. the chosen roll and tilt become smooth laws of s (cubic splines, continuous rate), applied to
    the seam's poses (:class:`~cartesian.seam_path.SeamPath`), and :func:`cartesian.follow` tracks
    that path from the chosen start configuration and monitors it as always: the result is an
-   ordinary :class:`~cartesian.CartesianPlan`, with ``roll`` and ``tilt`` per sample.
+   ordinary :class:`~cartesian.CartesianPlan`, with ``roll`` and ``tilt`` per sample. A 7-joint
+   arm's follower resolves the self-motion its own way (minimum-norm rates: the least joint
+   motion where it works); where that fails, the ladder path is tracked with the self-motion
+   the search chose (:mod:`cartesian.seam_self_motion`, not with ``retime``).
 
 When no torch orientation within the tolerances works somewhere, the refused plan says where
 (the ``s`` range) and what blocks it; when configurations exist but cannot be joined, between

@@ -196,8 +196,8 @@ def playback(robot: Robot, motion: MotionLike, fps: float) -> Playback:
         low = min(float(d.min()) for _, d in rolls)
         high = max(float(d.max()) for _, d in rolls)
         caption.append(
-            f"torch roll {low:.0f}° … {high:.0f}° along the seam (plan_seam; the bar shows it "
-            "at the current time)".replace("-", "−")
+            f"torch roll {low:.0f}° … {high:.0f}° along the seam{'s' if len(rolls) > 1 else ''} "
+            "(plan_seam; the bar shows it at the current time)".replace("-", "−")
         )
     return Playback(
         t=t,

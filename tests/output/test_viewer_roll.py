@@ -7,6 +7,8 @@ from __future__ import annotations
 import json
 import math
 import re
+import shutil
+import subprocess
 import sys
 from pathlib import Path
 from types import SimpleNamespace
@@ -80,3 +82,46 @@ def test_playback_caption_names_the_roll_range(ur5: kinplan.Robot, seam_plan) ->
     assert any(line.startswith("torch roll") for line in shown.caption)
     ((times, degrees),) = shown.roll
     assert math.isclose(float(degrees.max()), math.degrees(float(seam_plan.roll.max())))
+
+
+def test_weld_cell_program_page_shows_its_searched_seam_roll() -> None:
+    """examples/programs/weld_cell.yaml: its rectangle seam's roll is searched (torch: without
+    roll_deg); the page carries it on the program's clock, and the caption its range."""
+    from kinplan.program import load_program, plan_program
+
+    program = Path(__file__).parents[2] / "examples" / "programs" / "weld_cell.yaml"
+    plan = plan_program(load_program(program))
+    assert plan.ok
+    page = viewer.render_html(plan.robot, plan)
+    pieces = [np.array(points) for points in page_config(page)["roll"]]
+    seams = [m for m in plan.moves if getattr(m, "cartesian_plan", None) is not None
+             and m.cartesian_plan.roll is not None]  # fmt: skip
+    assert len(pieces) == len(seams) >= 1
+    for points, move in zip(pieces, seams):
+        seam = move.cartesian_plan
+        expected = np.degrees(np.interp(points[:, 0] - move.t0, seam.t, seam.roll))
+        assert points[0, 0] == pytest.approx(move.t0, abs=1e-4)
+        assert np.abs(points[:, 1] - expected).max() < 0.01
+    assert "torch roll" in page.split("<script")[0] and "along the seam" in page
+
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="no chromium or chromium-browser on PATH")
+def test_browser_shows_the_roll_at_the_time_asked(tmp_path, ur5: kinplan.Robot, seam_plan) -> None:
+    """Headless Chromium runs the page script: at #t=3 the bar shows the plan's roll there."""
+    page = viewer.save_html(ur5, seam_plan, tmp_path / "seam.html")
+    result = subprocess.run(
+        [
+            CHROMIUM, "--headless", "--no-sandbox", "--use-angle=swiftshader",
+            "--enable-unsafe-swiftshader", "--no-first-run",
+            f"--user-data-dir={tmp_path / 'profile'}", "--virtual-time-budget=6000",
+            "--dump-dom", f"{page.as_uri()}#t=3",
+        ],
+        capture_output=True, text=True, timeout=90,
+    )  # fmt: skip
+    shown = re.search(r'<span id="kp-roll">torch roll ([−\d]+)°</span>', result.stdout)
+    assert shown is not None, result.stderr[-2000:]
+    expected = math.degrees(float(np.interp(3.0, seam_plan.t, seam_plan.roll)))
+    assert abs(float(shown.group(1).replace("−", "-")) - expected) <= 1.0
