@@ -75,6 +75,7 @@ def render_html(
         "layers": LAYERS,
         "moves": scene.motion.moves,
         "roll": roll_config(scene.motion.roll),
+        "arc": [[round(on, 4), round(off, 4)] for on, off in scene.motion.arc],
     }
     caption = scene.motion.caption
     return static_html(scene.commands, config, title or caption[0], caption, scene.legend)

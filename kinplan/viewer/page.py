@@ -188,6 +188,7 @@ body {{ margin: 0; overflow: hidden; font: 13px/1.4 system-ui, sans-serif;
 #kp-bar button {{ width: 34px; }}
 #kp-time {{ font-variant-numeric: tabular-nums; min-width: 120px; text-align: right; }}
 #kp-roll {{ font-variant-numeric: tabular-nums; white-space: nowrap; }}
+#kp-arc {{ color: #ff6a00; font-weight: 600; white-space: nowrap; }}
 #kp-move {{ max-width: 40%; overflow: hidden; text-overflow: ellipsis; white-space: nowrap; }}
 </style>
 </head>
@@ -199,6 +200,7 @@ body {{ margin: 0; overflow: hidden; font: 13px/1.4 system-ui, sans-serif;
 <input id="kp-slider" type="range" min="0" max="1" step="0.001" value="0">
 <span id="kp-move"></span>
 <span id="kp-roll"></span>
+<span id="kp-arc"></span>
 <span id="kp-time"></span>
 <label><input id="kp-loop" type="checkbox"> loop</label>
 </div>
@@ -274,6 +276,15 @@ _PAGE_SCRIPT = r"""
     }
     return "";
   }
+  // "arc on" while a program's arc is on (config.arc: [on, off] times [s]), else "".
+  const arcLabel = document.getElementById("kp-arc");
+  const arcs = config.arc || [];
+  function arcAt(t) {
+    for (const [on, off] of arcs) {
+      if (t >= on - 1e-9 && t < off - 1e-9) return "\u25cf arc on";
+    }
+    return "";
+  }
   const loop = document.getElementById("kp-loop");
   if (options.get("ui") === "0") {
     bar.style.display = "none";
@@ -323,6 +334,8 @@ _PAGE_SCRIPT = r"""
     if (moveLabel.textContent !== current) moveLabel.textContent = current;
     const roll = rollAt(t);
     if (rollLabel.textContent !== roll) rollLabel.textContent = roll;
+    const arc = arcAt(t);
+    if (arcLabel.textContent !== arc) arcLabel.textContent = arc;
     button.innerHTML = animator.playing ? "&#10074;&#10074;" : "&#9654;";
     requestAnimationFrame(tick);
   }

@@ -45,6 +45,7 @@ __all__ = [
     "Collision",
     "Markers",
     "Playback",
+    "arc_intervals",
     "marker_points",
     "playback",
     "positive",
@@ -101,6 +102,9 @@ class Playback:
         roll: The torch roll :func:`cartesian.plan_seam` chose, per seam: (times [s] on the
             playback's clock, roll [deg] about the torch axis relative to the taught torch)
             (shown in the playback bar and the caption); empty when no roll was searched.
+        arc: (on, off) times [s] on the playback's clock of each interval the arc is on (a
+            program's ``arc:`` / ``weld:`` events, :func:`arc_intervals`): the playback bar
+            shows "arc on" and the torch tip glows then; empty without an arc.
     """
 
     t: np.ndarray
@@ -114,6 +118,7 @@ class Playback:
     collision: Collision | None = None
     moves: list[tuple[float, str]] = field(default_factory=list)
     roll: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)
+    arc: list[tuple[float, float]] = field(default_factory=list)
 
     @property
     def duration(self) -> float:
@@ -199,6 +204,10 @@ def playback(robot: Robot, motion: MotionLike, fps: float) -> Playback:
             f"torch roll {low:.0f}° … {high:.0f}° along the seam{'s' if len(rolls) > 1 else ''} "
             "(plan_seam; the bar shows it at the current time)".replace("-", "−")
         )
+    arcs = [(on - start, off - start) for on, off in arc_intervals(motion)]
+    if arcs:
+        spans = ", ".join(f"{on:.2f}–{off:.2f} s" for on, off in arcs)
+        caption.append(f"arc on {spans} (the bar shows it; the torch tip glows)")
     return Playback(
         t=t,
         q=frames,
@@ -213,7 +222,31 @@ def playback(robot: Robot, motion: MotionLike, fps: float) -> Playback:
             (float(m.t0), f"{getattr(m, 'numbers', m.number)}. {m.label}") for m in sampled.moves
         ],
         roll=rolls,
+        arc=arcs,
     )
+
+
+def arc_intervals(motion: object) -> list[tuple[float, float]]:
+    """(on, off) program times [s] of each interval a program plan's arc is on, from its
+    ``io_events`` of kind ``"arc"`` in time order (``arc: on|off``, ``weld: {job: N}``); an
+    arc still on at the plan's end (a failed plan) lasts to its last sample. Empty for a motion
+    without ``io_events``."""
+    events = sorted(getattr(motion, "io_events", None) or [], key=lambda e: float(e.t))
+    times = getattr(motion, "t", None)
+    end = float(np.asarray(times, dtype=float)[-1]) if times is not None and len(times) else None
+    intervals: list[tuple[float, float]] = []
+    on: float | None = None
+    for event in events:
+        if event.kind != "arc":
+            continue
+        if event.value and on is None:
+            on = float(event.t)
+        elif not event.value and on is not None:
+            intervals.append((on, float(event.t)))
+            on = None
+    if on is not None and end is not None and end > on:
+        intervals.append((on, end))
+    return intervals
 
 
 def seam_rolls(motion: object) -> list[tuple[np.ndarray, np.ndarray]]:

@@ -40,6 +40,7 @@ __all__ = [
     "Scene",
     "View",
     "animation_command",
+    "arc_commands",
     "bounding_points",
     "build_scene",
     "cell_commands",
@@ -439,6 +440,35 @@ def collision_commands(
     return commands, clips, legend
 
 
+_ARC = ("#ffb000", (1.0, 0.69, 0.0))
+
+
+def arc_commands(played: Playback, scale: float) -> tuple[list[ms.Command], list[dict]]:
+    """The torch tip glowing while the arc is on (:attr:`Playback.arc`): a bright ball of
+    0.02 × ``scale`` [m] at the tool node, hidden outside the arc's intervals.
+
+    Returns:
+        (commands, animation clips to load with the pose clips); nothing without an arc.
+    """
+    end = float(played.t[-1])
+    if not played.arc or len(played.t) < 2:
+        return [], []
+    path = f"{LAYERS['tool']}/arc"
+    geometry = ms.sphere_geometry(path, 0.02 * scale, segments=20)
+    material = dict(ms.phong_material(path, _ARC[1], 0.9), emissive=ms.rgb_int(_ARC[1]))
+    commands = [ms.set_object(path, ms.scene_object(path, geometry, material))]
+    keys = [(0.0, False)]
+    for on, off in played.arc:
+        if on <= keys[-1][0] + 1e-9:
+            keys.pop()
+        keys += [(max(on, 0.0), True), (min(off, end), False)]
+    if keys[-1][0] < end:
+        keys.append((end, False))
+    clip = ms.visibility_track_clip(path, np.array([k[0] for k in keys]), [k[1] for k in keys])
+    commands.append(ms.set_property(path, "visible", False))
+    return commands, [clip]
+
+
 def animation_command(
     visuals: RobotVisuals,
     motion: Playback,
@@ -523,8 +553,10 @@ def build_scene(
     commands += overlay
     obstacles, cell_legend = cell_commands(motion)
     red, red_clips, red_legend = collision_commands(visuals, motion, sampled, view.radius)
-    commands += obstacles + red
-    legend += cell_legend + red_legend
+    glow, glow_clips = arc_commands(sampled, view.radius)
+    commands += obstacles + red + glow
+    legend += cell_legend + red_legend + ([(_ARC[0], "arc on (torch tip)")] if glow else [])
     if len(sampled.t) > 1:
-        commands.append(animation_command(visuals, sampled, 1.0, loop, autoplay, red_clips))
+        clips = red_clips + glow_clips
+        commands.append(animation_command(visuals, sampled, 1.0, loop, autoplay, clips))
     return Scene(commands, view, legend, sampled)
