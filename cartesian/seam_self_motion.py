@@ -98,17 +98,17 @@ def track(
         chosen: The configurations [rad] (K, 7) the search chose there (continuous).
         q_start: The configuration [rad] the plan starts from (put on the path's start).
         speed, duration, dt, cell, clearance: As :func:`cartesian.follow`'s.
-        follow_options: The other options of :func:`cartesian.follow`; None when one is not
-            in :data:`SUPPORTED_OPTIONS`.
+        follow_options: The other options of :func:`cartesian.follow` (checked as it checks
+            them); with one not in :data:`SUPPORTED_OPTIONS` the answer is None.
     """
     if not tracks_self_motion(robot) or not set(follow_options) <= SUPPORTED_OPTIONS:
         return None
     tracker, options = _tracker(robot, cell, clearance, follow_options)
     timing = time_path(path.length, duration, speed, options["acceleration"], options["profile"],
                        dt)  # fmt: skip
-    if len(timing.t) - 1 < MIN_INTERVALS:  # follow checks a short motion on a finer grid
-        return None
     s, sd, sdd = timing.s, timing.sd, timing.sdd
+    if len(timing.t) - 1 < MIN_INTERVALS or not np.all(np.diff(s) > 0.0):
+        return None  # follow checks a short motion on a finer grid; a pause has no dq/ds
     targets = path_targets(path, s, False, tracker.rows)
     assert targets.rotations is not None  # an oriented path
     spline = make_interp_spline(waypoints, chosen, k=min(3, len(waypoints) - 1))
