@@ -59,7 +59,8 @@ __all__ = ["SUPPORTED_OPTIONS", "track", "tracks_self_motion"]
 #: Options of :func:`cartesian.follow` this tracker honours (any other: the caller follows).
 SUPPORTED_OPTIONS = frozenset(
     ("profile", "acceleration", "singular_threshold", "velocity_scale", "jump_tolerance",
-     "tolerance", "rotation_tolerance", "max_acceleration", "interpolation_tolerance")
+     "tolerance", "rotation_tolerance", "max_acceleration", "interpolation_tolerance",
+     "whole_periods")
 )  # fmt: skip
 #: Gain κ of the pull toward the chosen configurations, per waypoint interval: the self-motion
 #: closes the gap by e^−GAIN over one interval between waypoints.
@@ -106,6 +107,8 @@ def track(
     tracker, options = _tracker(robot, cell, clearance, follow_options)
     timing = time_path(path.length, duration, speed, options["acceleration"], options["profile"],
                        dt)  # fmt: skip
+    if options["whole_periods"]:  # at rest at the end until a whole number of periods
+        timing = timing.on_whole_periods(dt)
     s, sd, sdd = timing.s, timing.sd, timing.sdd
     if len(timing.t) - 1 < MIN_INTERVALS or not np.all(np.diff(s) > 0.0):
         return None  # follow checks a short motion on a finer grid; a pause has no dq/ds
@@ -244,8 +247,10 @@ def _tracker(
     interpolation = checks.number(
         get("interpolation_tolerance", 1e-4), "interpolation_tolerance", positive=True, unit="m"
     )
+    whole = checks.flag(get("whole_periods", False), "whole_periods")
     return tracker, {
-        "profile": profile, "acceleration": acceleration, "interpolation_tolerance": interpolation
+        "profile": profile, "acceleration": acceleration, "interpolation_tolerance": interpolation,
+        "whole_periods": whole,
     }  # fmt: skip
 
 

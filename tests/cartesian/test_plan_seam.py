@@ -426,6 +426,12 @@ def test_panda_seam_follow_cannot_track_is_planned_with_the_searched_self_motion
     check_plan(panda, seam, plan)
     again = cartesian.follow(panda, plan.path, speed=0.02, q_seed=plan.q[0])
     assert not again.ok  # follow alone, from the same start on the same rotated seam, fails
+    # as programs plan it: at rest at the end until a whole number of periods
+    whole = cartesian.plan_seam(panda, seam, speed=0.02, whole_periods=True)
+    check_plan(panda, seam, whole)
+    steps = whole.t / 0.01
+    np.testing.assert_allclose(steps, np.round(steps), atol=1e-9)
+    assert whole.duration >= plan.duration and not whole.qd[-1].any()
 
 
 def test_self_motion_tracker_reproduces_a_motion_on_the_path(panda: kinplan.Robot) -> None:
