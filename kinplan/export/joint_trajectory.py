@@ -80,11 +80,13 @@ def joint_trajectory(
     ``accelerations`` [rad/s² or m/s²] (the samples' values, unchanged) and
     ``time_from_start`` (:func:`ros_duration` of the time from the plan's first sample). The
     ``header`` has a zero ``stamp`` (a trajectory controller starts it on receipt) and an
-    empty ``frame_id``. A program plan with I/O (``arc:``, ``io:`` on its moves) also carries
-    them as a companion list ``io_events``, one entry per event in time order, beside the
-    message's fields: ``{"time_from_start": {...}, "output": N, "value": 0|1, "kind":
-    "arc"|"io", "move": number, "key": "moves[2].arc"}`` (a ROS node publishes the
-    JointTrajectory fields and sets the outputs at those times)::
+    empty ``frame_id``. A program plan with I/O (``arc:``, ``io:``, ``weld:`` on its moves and
+    points) also carries them as a companion list ``io_events``, one entry per event in time
+    order, beside the message's fields: ``{"time_from_start": {...}, "output": N, "value":
+    0|1, "kind": "arc"|"io"|"job", "move": number, "key": "moves[2].arc"}``; a weld job's
+    entries also have ``"job": N``, and one written to an integer register has ``"register":
+    N`` in place of ``"output"`` and the job number as its ``"value"`` (a ROS node publishes
+    the JointTrajectory fields and sets the outputs at those times)::
 
         {"header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""},
          "joint_names": [...],
@@ -131,18 +133,24 @@ def joint_trajectory(
     }
     events = sorted(getattr(plan, "io_events", None) or [], key=lambda e: e.t)
     if events:
-        document["io_events"] = [
-            {
-                "time_from_start": ros_duration(max(0.0, float(e.t) - float(t[0]))),
-                "output": int(e.output),
-                "value": int(bool(e.value)),
-                "kind": str(e.kind),
-                "move": int(e.move),
-                "key": str(e.key),
-            }
-            for e in events
-        ]
+        document["io_events"] = [_event_entry(e, float(t[0])) for e in events]
     return document
+
+
+def _event_entry(event: Any, start: float) -> dict[str, Any]:
+    """One entry of the companion list ``io_events`` (see :func:`joint_trajectory`)."""
+    register = bool(getattr(event, "register", False))
+    entry: dict[str, Any] = {
+        "time_from_start": ros_duration(max(0.0, float(event.t) - start)),
+        "register" if register else "output": int(event.output),
+        "value": int(event.value) if register else int(bool(event.value)),
+        "kind": str(event.kind),
+        "move": int(event.move),
+        "key": str(event.key),
+    }
+    if getattr(event, "job", None) is not None:
+        entry["job"] = int(event.job)
+    return entry
 
 
 def write_joint_trajectory(

@@ -12,7 +12,10 @@ Each move of the plan is translated to the command a PolyScope programmer would 
   peak tool speed and acceleration;
 * lines blended together (``blend:``) → a ``movep`` chain with ``r=`` the blend radii, when the
   tool orientation is the same along the whole seam;
-* a dwell → ``sleep``; a move's ``arc:`` / ``io:`` → ``set_standard_digital_out`` before it.
+* a dwell → ``sleep``; a move's ``arc:`` / ``io:`` → ``set_standard_digital_out`` before it,
+  a point's after the move that arrives there (before its dwell's ``sleep``); a weld job
+  (``weld: {job: N}``) → ``write_output_integer_register`` or the job outputs' bits, just
+  before its arc goes on.
 
 Before a native move is written it is replayed by the independent model of the controller in
 :mod:`kinplan.export.controller_model` (joint-linear trapezoid for ``movej``; the tool's line,
@@ -50,7 +53,7 @@ from kinplan.export.controller_model import (
     line_track,
     movej_samples,
 )
-from kinplan.export.ur_arm import script_list, script_number, script_pose
+from kinplan.export.ur_arm import io_statement, script_list, script_number, script_pose
 from kinplan.export.whole_motion import whole_motion
 from kinplan.trajectory import time_grid
 
@@ -167,12 +170,12 @@ def native_program(
     out = NativeProgram()
     events = sorted(getattr(plan, "io_events", []), key=lambda e: e.t)
     for report in plan.moves:
+        while events and events[0].t <= report.t0 + 1e-9:  # a point's arrival before a dwell
+            out.lines.append(io_statement(events.pop(0)))
         if report.kind == "dwell":
             number = _ascii(report.numbers)
             out.lines.append(f"  sleep({script_number(report.duration)})  # dwell of move {number}")
             continue
-        while events and events[0].t <= report.t0 + 1e-9:
-            out.lines.append(_event_line(events.pop(0)))
         span = move_span(report.key)
         moves = [] if span is None else program.moves[span[0] - 1 : span[1]]
         title = f"  # move {report.numbers}: {report.label}"
@@ -195,19 +198,13 @@ def native_program(
         out.lines.append(_ascii(f"  # as servoj: {why}"))
         out.lines += _servo_lines(ctx, report, out)
     for event in events:
-        out.lines.append(_event_line(event))
+        out.lines.append(io_statement(event))
     return out
 
 
 def _ascii(text: str) -> str:
     text = text.replace("–", "-").replace("→", "->")
     return "".join(c if " " <= c <= "~" else "?" for c in text)
-
-
-def _event_line(event: Any) -> str:
-    level = "True" if event.value else "False"
-    what = f"arc {'on' if event.value else 'off'}" if event.kind == "arc" else event.key
-    return f"  set_standard_digital_out({event.output}, {level})  # {what}, t = {event.t:.3f} s"
 
 
 def _servo_lines(ctx: _Context, report: Any, out: NativeProgram) -> list[str]:

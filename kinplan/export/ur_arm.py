@@ -1,12 +1,12 @@
 """What URScript needs of a robot and how it writes numbers: :data:`UR_JOINT_NAMES`,
 :func:`ur_arm_problem`, :func:`ur_robot`, :func:`script_number`, :func:`script_list`,
-:func:`script_pose`, :func:`ascii_comment`.
+:func:`script_pose`, :func:`ascii_comment`, :func:`io_statement`.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pinocchio as pin
@@ -22,6 +22,7 @@ if TYPE_CHECKING:
 __all__ = [
     "UR_JOINT_NAMES",
     "ascii_comment",
+    "io_statement",
     "script_list",
     "script_number",
     "script_pose",
@@ -100,3 +101,26 @@ def script_pose(pose: pin.SE3) -> str:
 def ascii_comment(text: str) -> str:
     """``text`` with anything outside printable ASCII replaced by ``?`` (a comment line)."""
     return "".join(c if " " <= c <= "~" else "?" for c in text)
+
+
+def io_statement(event: Any, comment: bool = True) -> str:
+    """The URScript statement of a program's I/O event (:class:`kinplan.program.IoEvent`),
+    indented for the program's ``def``: ``write_output_integer_register(N, job)`` for a weld
+    job written to an integer register, else ``set_standard_digital_out(N, True|False)``;
+    with a comment naming it (``arc on``, ``weld job 3``, its key) and its time [s]."""
+    output, value, kind, key = int(event.output), event.value, str(event.kind), str(event.key)
+    job = getattr(event, "job", None)
+    if getattr(event, "register", False):
+        line = f"  write_output_integer_register({output}, {int(value)})"
+        what = f"weld job {job}, {key}"
+    else:
+        line = f"  set_standard_digital_out({output}, {'True' if value else 'False'})"
+        if kind == "arc":
+            what = f"arc {'on' if value else 'off'}, {key}"
+        elif kind == "job":
+            what = f"weld job {job} bit, {key}"
+        else:
+            what = key
+    if not comment:
+        return line
+    return ascii_comment(f"{line}  # {what}, t = {float(event.t):.3f} s")

@@ -7,7 +7,8 @@
   written (:mod:`kinplan.export.native`).
 
 Both write a program plan's tool as ``set_tcp`` / ``set_payload`` and its I/O events
-(``arc:``, ``io:``) as ``set_standard_digital_out`` at the instant each takes effect.
+(``arc:``, ``io:``, ``weld:``) as ``set_standard_digital_out`` at the instant each takes effect
+(a weld job written to an integer register as ``write_output_integer_register``).
 :func:`ur_arm_problem` says whether a robot is a UR arm.
 """
 
@@ -26,6 +27,7 @@ from kinplan.export.servo import DEFAULT_SERVO_PERIOD, servo_targets
 from kinplan.export.ur_arm import (
     UR_JOINT_NAMES,
     ascii_comment,
+    io_statement,
     script_list,
     script_number,
     script_pose,
@@ -192,17 +194,10 @@ def _servo_body(plan: SampledMotion, times: Any, targets: Any, servo: str, hold:
     lines = []
     for when, q in zip(times.tolist(), targets, strict=True):
         while events and events[0].t - start <= when + 1e-9:
-            event = events.pop(0)
-            level = "True" if event.value else "False"
-            label = f"arc {'on' if event.value else 'off'}" if event.kind == "arc" else event.key
-            lines.append(
-                f"  set_standard_digital_out({event.output}, {level})  # {label}, "
-                f"t = {event.t:.3f} s"
-            )
+            lines.append(io_statement(events.pop(0)))
         lines.append(f"  servoj({script_list(q)}, {servo})")
     for event in events:
-        level = "True" if event.value else "False"
-        lines.append(f"  set_standard_digital_out({event.output}, {level})")
+        lines.append(io_statement(event))
     lines += [
         f"  kinplan_end = {script_list(targets[-1])}",
         "  kinplan_hold = 0",

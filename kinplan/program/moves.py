@@ -254,7 +254,7 @@ def _move_options(
         ok &= avoid is not None
     signals = read_signals(checker, spec, path)
     ok &= signals is not None
-    arc, io = signals if signals is not None else (None, ())
+    arc, io, job = signals if signals is not None else (None, (), None)
     name = spec.get("name")
     if name is not None and not isinstance(name, str):
         checker.error(path + ("name",), f"expected text, got {describe(name)}")
@@ -264,7 +264,7 @@ def _move_options(
     return {
         "duration": duration, "speed": speed, "profile": profile, "name": name, "blend": blend,
         "weave": weave, "torch": torch, "dwell": dwell, "times": times,
-        "max_acceleration": max_acceleration, "arc": arc, "io": io, "avoid": avoid,
+        "max_acceleration": max_acceleration, "arc": arc, "io": io, "avoid": avoid, "job": job,
     }  # fmt: skip
 
 

@@ -14,6 +14,7 @@ import pinocchio as pin
 
 from cartesian.events import out_of_reach
 from kinplan.program.checker import Checker, describe, format_path
+from kinplan.program.process import read_signals
 from kinplan.program.schema import NAME_PATTERN, POINT_KEYS, KeyPath, Point
 from kinplan.robot import Robot
 
@@ -92,8 +93,9 @@ def read_points(
         start: The start configuration [rad] (the seed of the reachability checks), or None.
 
     Returns:
-        Every point by name, in file order; an invalid point is an empty :class:`Point` (so
-        the moves naming it are not reported again).
+        Every point by name, in file order, with its signals (``arc:``, ``io:``, ``weld:``;
+        :mod:`kinplan.program.process`); an invalid point is an empty :class:`Point` (so the
+        moves naming it are not reported again).
     """
     if spec is None:
         return {}
@@ -103,10 +105,14 @@ def read_points(
     points = {}
     for name, value in spec.items():
         point = _read_point(checker, robot, str(name), value, ("points", str(name)), start)
-        if point is not None:
-            points[str(name)] = point
-        else:
-            points[str(name)] = Point(str(name))  # known name, so moves don't re-report it
+        if point is None:
+            point = Point(str(name))  # known name, so moves don't re-report it
+        signals = (
+            read_signals(checker, value, ("points", str(name))) if isinstance(value, dict) else None
+        )
+        if signals is not None:
+            point.arc, point.io, point.job = signals
+        points[str(name)] = point
     return points
 
 
@@ -118,7 +124,7 @@ def _read_point(
     path: KeyPath,
     start: np.ndarray | None,
 ) -> Point | None:
-    expected = "joints, joints_deg, or xyz (+ rpy_deg or quat_xyzw)"
+    expected = "joints, joints_deg, or xyz (+ rpy_deg or quat_xyzw), and arc, io or weld"
     if not isinstance(spec, dict):
         checker.error(path, f"expected a mapping with {expected}, got {describe(spec)}")
         return None

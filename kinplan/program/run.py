@@ -12,6 +12,7 @@ import pinocchio as pin
 from kinplan.program.build import MotionBuilder
 from kinplan.program.errors import MoveError
 from kinplan.program.plan import ProgramPlan
+from kinplan.program.process import Signals, signal_events
 from kinplan.program.schema import DEFAULT_DT, IoEvent, Move, Program
 from kinplan.program.validate import load_program
 
@@ -56,13 +57,14 @@ def plan_program(
         for number, group in enumerate(groups):
             if progress is not None:
                 progress(done, total, group[0].label)
-            events += _signals(group[0], builder.time, program.arc_output)
+            events += _signals(program, group[0], builder.time)
             if len(group) > 1:
                 _plan_blended(builder, program, group)
             else:
                 following = groups[number + 1] if number + 1 < len(groups) else None
                 _plan_move(builder, program, group[0], following)
             last = group[-1]
+            events += _signals(program, last, builder.time, arrival=True)
             if last.dwell > 0:
                 builder.dwell(last.dwell, label=f"dwell {last.dwell:g} s", key=f"{last.key}.dwell")
             done += len(group)
@@ -76,14 +78,15 @@ def plan_program(
     return plan
 
 
-def _signals(move: Move, t: float, arc_output: int) -> list[IoEvent]:
-    """The digital outputs a move sets when it starts, at program time ``t`` [s]."""
-    events = []
-    if move.arc is not None:
-        events.append(IoEvent(t, arc_output, move.arc, "arc", move.index + 1, f"{move.key}.arc"))
-    for output, value in move.io:
-        events.append(IoEvent(t, output, value, "io", move.index + 1, f"{move.key}.io"))
-    return events
+def _signals(program: Program, move: Move, t: float, arrival: bool = False) -> list[IoEvent]:
+    """The outputs a move sets when it starts at program time ``t`` [s], or (``arrival``) the
+    outputs its target point sets when the move has arrived there, at rest, at ``t``."""
+    if arrival:
+        point = program.points[move.target]
+        signals, key = Signals(point.arc, point.io, point.job), f"points.{point.name}"
+    else:
+        signals, key = Signals(move.arc, move.io, move.job), move.key
+    return signal_events(signals, t, move.index + 1, key, program.arc_output, program.job_output)
 
 
 def _motions(moves: list[Move]) -> list[list[Move]]:

@@ -42,6 +42,7 @@ __all__ = [
     "TORCH_KEYS",
     "WEAVE_KEYS",
     "IoEvent",
+    "JobOutput",
     "KeyPath",
     "Move",
     "Payload",
@@ -99,15 +100,17 @@ TOP_KEYS = (
     "moves",
     "description",
     "arc_output",
+    "job_output",
 )
 """The keys a program may have at its top level."""
 POSE_KEYS = ("xyz", "rpy_deg", "quat_xyzw")
 """The keys of a Cartesian pose (``base_pose:``)."""
-POINT_KEYS = ("joints", "joints_deg", "xyz", "rpy_deg", "quat_xyzw")
-"""The keys of a taught point."""
+POINT_KEYS = ("joints", "joints_deg", "xyz", "rpy_deg", "quat_xyzw", "arc", "io", "weld")
+"""The keys of a taught point (``arc``, ``io`` and ``weld``: signals set when a move arrives
+there, :mod:`kinplan.program.process`)."""
 MOVE_OPTIONS = (
     "via", "duration", "speed", "profile", "blend", "times", "weave", "torch", "dwell", "name",
-    "max_acceleration", "arc", "io", "avoid",
+    "max_acceleration", "arc", "io", "weld", "avoid",
 )  # fmt: skip
 """The keys of a move besides its kind."""
 WEAVE_KEYS = ("pattern", "amplitude", "frequency", "dwell", "normal")
@@ -137,6 +140,11 @@ class Point:
         position: Tool position [m], shape (3,), or None for a joint point.
         rotation: Tool rotation (3×3) or None (keep the move's start orientation / position only).
         key: Key path in the program (``points.a``).
+        arc: ``arc: on`` (True) or ``off`` (False) at the point: the arc output switched when a
+            move arrives there (the end of its motion, before its dwell), or None.
+        io: The point's ``io:`` as (output, value) pairs, set when a move arrives there.
+        job: The weld job of the point's ``weld: {job: N}`` (which also switches the arc on
+            there), or None.
     """
 
     name: str
@@ -144,6 +152,9 @@ class Point:
     position: np.ndarray | None = None
     rotation: np.ndarray | None = None
     key: str = ""
+    arc: bool | None = None
+    io: tuple[tuple[int, bool], ...] = ()
+    job: int | None = None
 
     def tool_position(self, robot: Robot) -> np.ndarray:
         """Tool position of the point [m] (by forward kinematics for a joint point).
@@ -240,25 +251,51 @@ class Payload:
 
 
 @dataclass(frozen=True)
+class JobOutput:
+    """Where ``weld: {job: N}`` writes the weld job number (the top-level ``job_output:``).
+
+    Attributes:
+        register: The integer output register (0 to 47) the job is written to
+            (URScript ``write_output_integer_register``), or None when ``outputs`` are used.
+        outputs: The standard digital outputs the job is written to in binary, the least
+            significant bit first (``job_output: {outputs: [4, 5, 6, 7]}``); empty for a
+            register.
+    """
+
+    register: int | None = 0
+    outputs: tuple[int, ...] = ()
+
+
+@dataclass(frozen=True)
 class IoEvent:
-    """A digital output set at an instant of a planned program (``arc:`` or ``io:`` of a move).
+    """An output set at an instant of a planned program (``arc:``, ``io:`` or ``weld:`` of a
+    move or of the point a move arrives at).
 
     Attributes:
         t: Program time at which it takes effect [s]: the start of the move that carries it
-            (after the previous move's dwell).
-        output: Digital output number (0 to 7, the controller's standard outputs).
-        value: The level set (True = on / 1).
-        kind: ``"arc"`` (the move's ``arc:``) or ``"io"`` (its ``io:``).
-        move: 1-based number of the move in the program's ``moves:`` list.
-        key: Key path of the signal in the program (``moves[2].arc``).
+            (after the previous move's dwell), or the end of the motion of a move to the point
+            that carries it (before that move's dwell).
+        output: Digital output number (0 to 7, the controller's standard outputs), or the
+            integer output register's number when ``register`` is true.
+        value: The level set (True = on / 1), or the integer written to a register.
+        kind: ``"arc"`` (``arc:``, or the arc switched on by ``weld:``), ``"io"`` (``io:``) or
+            ``"job"`` (the job number of ``weld: {job: N}``, set just before its arc).
+        move: 1-based number of the move in the program's ``moves:`` list (for a point's
+            signal, the move that arrives at the point).
+        key: Key path of the signal in the program (``moves[2].arc``, ``points.b.io``).
+        job: The weld job number of a ``"job"`` event (one event per bit with
+            ``job_output: {outputs: [...]}``), else None.
+        register: Whether ``output`` is an integer output register (``value`` the job number).
     """
 
     t: float
     output: int
-    value: bool
+    value: bool | int
     kind: str
     move: int
     key: str
+    job: int | None = None
+    register: bool = False
 
 
 @dataclass
@@ -288,8 +325,10 @@ class Move:
         max_acceleration: The move's joint acceleration limits [rad/s² or m/s²]: one number
             for every joint or one per joint, or None (the program's ``max_acceleration:``).
         arc: ``arc: on`` (True) or ``off`` (False): the arc output switched when the move
-            starts, or None.
+            starts, or None (``weld: {job: N}`` gives True).
         io: The move's ``io:`` as (output, value) pairs, set when the move starts.
+        job: The weld job number of the move's ``weld: {job: N}`` (0 to 255), written to
+            the program's ``job_output:`` when the move starts, just before the arc goes on.
         avoid: A ``ptp`` to one point: ``avoid: true`` plans it around the cell's obstacles
             (:func:`kinplan.free_motion`), ``false`` never; None: the program's ``avoid:``.
     """
@@ -312,6 +351,7 @@ class Move:
     arc: bool | None = None
     io: tuple[tuple[int, bool], ...] = ()
     avoid: bool | None = None
+    job: int | None = None
 
     @property
     def key(self) -> str:
@@ -352,6 +392,8 @@ class Program:
         payload: The ``tool:``'s ``payload:``, or None.
         obstacle_colors: ``color:`` of each obstacle that gives one, ``"#rrggbb"``.
         arc_output: The digital output ``arc: on|off`` switches (``arc_output:``, default 0).
+        job_output: Where ``weld: {job: N}`` writes the job number (``job_output:``; default
+            the integer output register 0).
         avoid: ``avoid: true`` at the top level: every ``ptp`` to one point that does not say
             ``avoid: false`` is planned around the obstacles.
     """
@@ -371,6 +413,7 @@ class Program:
     obstacle_colors: dict[str, str] = field(default_factory=dict)
     arc_output: int = 0
     avoid: bool = False
+    job_output: JobOutput = field(default_factory=JobOutput)
 
 
 class ProgramLoader(yaml.SafeLoader):

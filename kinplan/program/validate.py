@@ -22,7 +22,13 @@ from kinplan.program.checker import Checker, describe, format_path
 from kinplan.program.errors import Issue, ProgramError
 from kinplan.program.moves import read_moves
 from kinplan.program.points import read_points, read_start
-from kinplan.program.process import check_signals, read_arc_output, read_colors, read_payload
+from kinplan.program.process import (
+    check_signals,
+    read_arc_output,
+    read_colors,
+    read_job_output,
+    read_payload,
+)
 from kinplan.program.robot_keys import read_robot
 from kinplan.program.schema import TOP_KEYS, KeyPath, Move, Program, ProgramLoader
 
@@ -173,7 +179,8 @@ def _read_program(checker: Checker, data: object, source: str, base_dir: Path) -
     moves = read_moves(checker, data.get("moves"), points, nq)
     avoid = _read_avoid(checker, data, moves)
     arc_output = read_arc_output(checker, data)
-    check_signals(checker, moves, arc_output)
+    job_output = read_job_output(checker, data, arc_output)
+    check_signals(checker, moves, arc_output, points, job_output)
     payload, colors = read_payload(checker, data), read_colors(checker, data)
     description = data.get("description", "")
     if not isinstance(description, str):
@@ -194,6 +201,7 @@ def _read_program(checker: Checker, data: object, source: str, base_dir: Path) -
         payload=payload,
         obstacle_colors=colors,
         arc_output=arc_output,
+        job_output=job_output,
         avoid=avoid,
         max_acceleration=None if max_acceleration is None else np.broadcast_to(
             np.asarray(max_acceleration, dtype=float), (robot.nq,)

@@ -146,22 +146,32 @@ def test_tcp_and_payload_match_the_tool(native_script):
 
 
 def test_io_lines_sit_at_their_moves(native_plan, native_script):
-    """Gas on before the first move; arc on after the approach's dwell, before the seam's
-    movel; arc off after the seam's crater-fill dwell, before the retreat."""
+    """Gas on before the first move; each seam's weld job (register 0), then arc on, after the
+    approach's dwell, before the seam's movel; arc off after the seam's crater-fill dwell,
+    before the retreat; gas off when the arm has arrived at rect_clear (a point's io:)."""
     body = statements(native_script)
     on, off = "set_standard_digital_out(0, True)", "set_standard_digital_out(0, False)"
     first_arc = body.index(on)
-    assert body[first_arc - 1] == "sleep(0.5)" and body[first_arc + 1].startswith("movel(")
+    assert body[first_arc - 2 : first_arc] == ["sleep(0.5)", "write_output_integer_register(0, 3)"]
+    assert body[first_arc + 1].startswith("movel(")
     assert re.search(r"v=0\.008\)$", body[first_arc + 1])  # the fillet itself
     first_off = body.index(off)
     assert body[first_off - 1] == "sleep(0.5)" and body[first_off + 1].startswith("movel(")
     second_arc = body.index(on, first_arc + 1)
-    assert body[second_arc - 1] == "sleep(0.3)" and body[second_arc + 1].startswith("movep(")
+    assert body[second_arc - 2 : second_arc] == [
+        "sleep(0.3)",
+        "write_output_integer_register(0, 5)",
+    ]
+    assert body[second_arc + 1].startswith("movep(")
     gas = body.index("set_standard_digital_out(1, True)")
     assert body[gas - 1].startswith("movej(")  # after going to the start, before move 1
-    assert body.index("set_standard_digital_out(1, False)") > body.index(off, second_arc)
+    gas_off = body.index("set_standard_digital_out(1, False)")
+    assert gas_off > body.index(off, second_arc)
+    assert body[gas_off - 1].startswith("movel(") and body[gas_off + 1].startswith("movej(")
     assert body.count(on) == 2 and body.count(off) == 2
-    assert len(native_plan.io_events) == 6
+    assert [e.kind for e in native_plan.io_events] == [
+        "io", "job", "arc", "arc", "job", "arc", "arc", "io",
+    ]  # fmt: skip
 
 
 def test_a_move_without_native_form_becomes_servoj_with_its_reason():
