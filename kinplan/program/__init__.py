@@ -81,9 +81,9 @@ Modules, each importing only those above it:
 - :mod:`~kinplan.program.errors`: :class:`Issue`, :class:`ProgramError`, :class:`MoveError`;
 - :mod:`~kinplan.program.checker`: collects issues with key path and line, reads checked values;
 - :mod:`~kinplan.program.robots` (source resolution, cache), then one module per section:
-  :mod:`~kinplan.program.robot_keys`, :mod:`~kinplan.program.points`,
-  :mod:`~kinplan.program.process` (``arc:``, ``io:``, ``payload:``, ``color:``),
-  :mod:`~kinplan.program.moves`;
+  :mod:`~kinplan.program.robot_keys`, :mod:`~kinplan.program.process` (``arc:``, ``io:``,
+  ``weld:`` of moves and points, ``job_output:``, ``payload:``, ``color:``),
+  :mod:`~kinplan.program.points`, :mod:`~kinplan.program.moves`;
 - :mod:`~kinplan.program.validate`: :func:`load_program`, :func:`parse_program`;
 - :mod:`~kinplan.program.peaks` (exact peaks of polynomial motions),
   :mod:`~kinplan.program.ptp` (timing of ptp moves), :mod:`~kinplan.program.joint_checks` (a
