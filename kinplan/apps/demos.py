@@ -408,6 +408,7 @@ def rounded_rectangle(
 
 WELD_CELL_FILES = (
     "weld_cell.yaml",
+    "weld_native.yaml",
     "weld_collision.yaml",
     "weld_unreachable.yaml",
     "mig_torch.stl",
@@ -429,6 +430,9 @@ def weld(
     ``weld.html`` (MeshCat playback, the torch and the cell drawn), ``weld_motion.png`` (joints,
     tool speed, clearance), ``weld_tool_path.png`` (3-D), ``weld.csv`` (samples),
     ``weld.script`` (URScript) and ``weld_trajectory.json`` (a ROS JointTrajectory). Then plans
+    ``weld_native.yaml`` (the same cell welded with the controller's own moves: movej, movel,
+    movep, arc on/off with weld jobs) and writes it as native URScript ``weld_native.script``
+    beside its servoj stream ``weld_native_servo.script`` (the summary gives the ratio), and
     ``weld_collision.yaml`` (an approach through the workpiece) and ``weld_unreachable.yaml``
     (a seam across the base) to show their one-line failures. The programs and the torch mesh
     are copied to ``out_dir``, to be edited and run with ``kinplan run``.
@@ -497,6 +501,8 @@ def weld(
         files["JointTrajectory"] = export.write_joint_trajectory(out / "weld_trajectory.json", plan)
     for name in WELD_CELL_FILES:
         files[name] = out / name
+    say("planning weld_native.yaml (the same cell for the controller's own moves)")
+    lines += [""] + _native_weld(out, dt, files)
     for name, expected in (("weld_collision.yaml", "collision"), ("weld_unreachable.yaml", None)):
         say(f"planning {name} (it fails on purpose)")
         failed, text = _failing_program(out / name, out, expected)
@@ -506,6 +512,26 @@ def weld(
             result.reason = result.reason or text[0]
     result.seconds = time.perf_counter() - began
     return result
+
+
+def _native_weld(out: Path, dt: float, files: dict[str, Path]) -> list[str]:
+    """Plan ``weld_native.yaml`` and write it as native URScript (movej/movel/movep, arc and
+    weld jobs) and as the servoj stream of the same motion: the summary lines (sizes, ratio)."""
+    plan = plan_program(load_program(out / "weld_native.yaml"), dt=dt)
+    if not plan.ok:
+        return [f"weld_native.yaml: FAILED: {plan.reason}"]
+    native = export.write_urscript(out / "weld_native.script", plan, style="native")
+    servo = export.write_urscript(out / "weld_native_servo.script", plan, style="servo")
+    files["URScript (native)"], files["URScript (servoj)"] = native, servo
+    native_size, servo_size = native.stat().st_size, servo.stat().st_size
+    fallbacks = native.read_text(encoding="ascii").count("servoj(")
+    return [
+        "weld_native.yaml (the cell welded with the controller's own moves): "
+        f"{plan.duration:.2f} s, {len(plan.io_events)} I/O events",
+        f"  native URScript {native_size / 1e3:.1f} kB against {servo_size / 1e6:.2f} MB of servoj "
+        f"({servo_size / native_size:.0f}× smaller"
+        + (f", {fallbacks} servoj targets where a move has no native form)" if fallbacks else ")"),
+    ]
 
 
 def _weld_summary(plan) -> list[str]:

@@ -53,6 +53,15 @@ def test_weld_demo_from_the_command_line(tmp_path, capsys):
     assert rows[0][0] == "t" and header[-7:] == ["x", "y", "z", "qx", "qy", "qz", "qw"]
     assert rows[0][-1] == "do0"  # weld_cell.yaml switches the arc (digital output 0)
     assert len(rows) > 1000
+    # the same cell for the controller's own moves: native URScript ≥ 50× smaller than the
+    # servoj stream of the same motion (issue 30), the sizes printed as measured
+    native, servo = out / "weld_native.script", out / "weld_native_servo.script"
+    ratio = servo.stat().st_size / native.stat().st_size
+    assert ratio >= 50
+    assert f"({ratio:.0f}× smaller" in printed
+    script = native.read_text(encoding="ascii")
+    assert "servoj(" not in script and "movel(" in script and "movep(" in script
+    assert "write_output_integer_register(0, 3)" in script  # the fillet's weld job
 
 
 def test_weld_example_plans_the_weld_cell(tmp_path):
