@@ -25,7 +25,7 @@ import numpy as np
 
 import kinplan
 from kinplan import plot, trajectory
-from kinplan.lecture import (
+from kinplan.apps.lecture import (
     DURATION,
     END_XY,
     JOINTS,

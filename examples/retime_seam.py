@@ -19,7 +19,7 @@ import pinocchio as pin
 
 import cartesian
 import kinplan
-from kinplan.sampling import joint_speeds
+from kinplan.trajectory.sampling import joint_speeds
 
 START = np.array([0.63328222, -1.01665046, 1.86838938, -1.03828987, -0.49586564, 0.0])
 SEAM = np.array([-0.29989079, 0.00809425, 0.0])  # [m], from the tool's start position

@@ -21,7 +21,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from kinplan import demos
+from kinplan.apps import demos
 
 
 def main(

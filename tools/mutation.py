@@ -77,30 +77,35 @@ PANDA_TESTS = [
     "tests/ik/test_panda_ik_mutants.py",
     "tests/ik/test_panda_kernel.py",
 ]
-#: The tests of the 1-D profiles (kinplan/_profiles.py before it was split, issue 31), for each
-#: of their modules.
+#: The tests of the 1-D profiles (kinplan/_profiles.py before it was split; in
+#: kinplan/trajectory/_profiles/ since issue 31), for each of their modules.
 PROFILE_TESTS = [
     "tests/trajectory/test_trajectory*.py",
     "tests/trajectory/test_scurve.py",
     "tests/trajectory/test_time_optimal.py",
 ]
+#: The tests of the robot model (kinplan/robot.py before issue 31 split off its Jacobian
+#: quantities and its reach search).
+ROBOT_TESTS = [
+    "tests/robots/test_robot.py",
+    "tests/robots/test_robot_mutants.py",
+    "tests/ik/test_ik.py",
+    "tests/robots/test_urdf*.py",
+    "tests/test_validation.py",
+    "tests/test_errors.py",
+]
 #: The core modules and the tests that exercise each (globs, relative to the repository); a
 #: module missing from the checkout is left out.
 MODULES: dict[str, list[str]] = {
-    "kinplan/_profiles/basics.py": PROFILE_TESTS,
-    "kinplan/_profiles/polynomials.py": PROFILE_TESTS,
-    "kinplan/_profiles/piecewise.py": PROFILE_TESTS,
-    "kinplan/_profiles/lspb.py": PROFILE_TESTS,
-    "kinplan/_profiles/scurve.py": PROFILE_TESTS,
+    "kinplan/trajectory/_profiles/basics.py": PROFILE_TESTS,
+    "kinplan/trajectory/_profiles/polynomials.py": PROFILE_TESTS,
+    "kinplan/trajectory/_profiles/piecewise.py": PROFILE_TESTS,
+    "kinplan/trajectory/_profiles/lspb.py": PROFILE_TESTS,
+    "kinplan/trajectory/_profiles/scurve.py": PROFILE_TESTS,
     "kinplan/trajectory/polynomials.py": ["tests/trajectory/test_trajectory*.py"],
-    "kinplan/robot.py": [
-        "tests/robots/test_robot.py",
-        "tests/robots/test_robot_mutants.py",
-        "tests/ik/test_ik.py",
-        "tests/robots/test_urdf*.py",
-        "tests/test_validation.py",
-        "tests/test_errors.py",
-    ],
+    "kinplan/model/robot.py": ROBOT_TESTS,
+    "kinplan/model/jacobians.py": ROBOT_TESTS,
+    "kinplan/model/extent.py": ROBOT_TESTS,
     "kinplan/ik/numeric.py": [
         "tests/ik/test_ik.py",
         "tests/ik/test_numeric_ik_mutants.py",

@@ -82,7 +82,7 @@ def bundled_robots() -> dict[str, Path]:
     try:
         folder = resources.files("kinplan.robots")
     except ModuleNotFoundError:  # running from a source tree that is not installed
-        folder = Path(__file__).resolve().parent.parent / "robots"
+        folder = Path(__file__).resolve().parents[2] / "robots"  # kinplan/model/ → the tree
     found = {}
     for entry in folder.iterdir():
         if entry.name.endswith(".urdf"):
