@@ -28,7 +28,7 @@ from cartesian.tracker import Targets, Tracker
 from kinplan.cell import MotionCheck
 from kinplan.ik import URIK, Planar2RIK, frobenius_tolerance
 from kinplan.ik.screws import wrap_angle
-from kinplan.sampling import joint_speeds
+from kinplan.trajectory.sampling import joint_speeds
 
 #: Private switch for tests and benchmarks: False makes :func:`track` decline every path, so
 #: the per-sample loop plans it.

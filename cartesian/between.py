@@ -20,9 +20,9 @@ from cartesian.events import Event, Status
 from cartesian.plan import CartesianPlan
 from cartesian.timing import PathTiming
 from cartesian.tracker import Tracker
-from kinplan._profiles import round_up
-from kinplan.robot import Robot
-from kinplan.sampling import MIN_INTERVALS, hermite_between, hermite_peaks
+from kinplan.model.robot import Robot
+from kinplan.trajectory._profiles import round_up
+from kinplan.trajectory.sampling import MIN_INTERVALS, hermite_between, hermite_peaks
 
 __all__ = ["CHORD_SHARE", "ROTATION_LEVER", "check_between"]
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from kinplan.cell import MotionCheck
 from kinplan.ik import IKResult
-from kinplan.robot import Robot
+from kinplan.model.robot import Robot
 
 
 class Status(str, enum.Enum):

@@ -39,11 +39,11 @@ from cartesian.tracker import (
 )
 from cartesian.tracking import track
 from kinplan import checks
-from kinplan._profiles import PROFILES
 from kinplan.cell import WorkCell
 from kinplan.errors import InputError
-from kinplan.robot import Robot
-from kinplan.sampling import MIN_INTERVALS
+from kinplan.model.robot import Robot
+from kinplan.trajectory._profiles import PROFILES
+from kinplan.trajectory.sampling import MIN_INTERVALS
 
 
 def follow(

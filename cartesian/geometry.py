@@ -17,7 +17,7 @@ from cartesian import lean_track
 from cartesian.events import Event, OutOfReach, Status, where
 from cartesian.paths import Path
 from cartesian.tracker import SINGULAR_FRACTION, Tracker, path_targets, resolve_task
-from kinplan.robot import Robot
+from kinplan.model.robot import Robot
 
 
 @dataclass

@@ -49,7 +49,7 @@ from kinplan.ik.numeric import (
 from kinplan.ik.screws import screws_at_zero
 
 if TYPE_CHECKING:
-    from kinplan.robot import Robot
+    from kinplan.model.robot import Robot
 
 #: Private switch for tests and benchmarks: False makes :func:`kernel_for` return None (the
 #: Python loop runs every sample).

@@ -44,7 +44,7 @@ from cartesian.tracker import (
     path_targets,
     pseudo_inverses,
 )
-from kinplan.robot import manipulability_of
+from kinplan.model.robot import manipulability_of
 
 if TYPE_CHECKING:
     from cartesian.lean_kernel import Run

@@ -18,7 +18,7 @@ from cartesian.paths import Path
 from cartesian.plan import CartesianPlan
 from cartesian.timing import PathTiming
 from cartesian.tracker import Targets, Tracker, adams_bashforth_weights
-from kinplan.sampling import joint_speeds
+from kinplan.trajectory.sampling import joint_speeds
 
 
 def track(

@@ -12,9 +12,9 @@ import numpy as np
 from cartesian.events import Event, OutOfReach
 from cartesian.paths import Path
 from kinplan.cell import MotionCheck, WorkCell
-from kinplan.motion import MotionKind, MoveSpan, PlannedPath, no_waypoints
-from kinplan.robot import Robot
+from kinplan.model.robot import Robot
 from kinplan.trajectory import Waypoints
+from kinplan.trajectory.motion import MotionKind, MoveSpan, PlannedPath, no_waypoints
 
 __all__ = ["CartesianPlan"]
 

@@ -13,8 +13,8 @@ from collections.abc import Callable
 
 from cartesian.events import Status
 from cartesian.plan import CartesianPlan
-from kinplan._profiles import round_down, round_up
 from kinplan.errors import KinplanError
+from kinplan.trajectory._profiles import round_down, round_up
 
 __all__ = ["FINEST_TRIED", "LengthLaw", "finer_periods", "offer_finer_sampling", "offer_slower"]
 

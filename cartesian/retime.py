@@ -25,8 +25,7 @@ import math
 import numpy as np
 
 from cartesian.timing import PathTiming, TimeLaw, at_times
-from kinplan import phase_plane
-from kinplan.trajectory import time_grid
+from kinplan.trajectory import phase_plane, time_grid
 
 #: Share of the joint limits the solver plans with (the rest absorbs the grid's discretisation).
 LIMIT_MARGIN = 0.995

@@ -23,10 +23,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from kinplan.batch_ik import BatchKinematics
 from kinplan.ik.base import ClosedFormIK
+from kinplan.ik.batch import BatchKinematics
 from kinplan.ik.panda import PandaIK
-from kinplan.robot import Robot, manipulability_of
+from kinplan.model.robot import Robot, manipulability_of
 
 TAU = 2.0 * math.pi
 #: Self-motion slots of a panda-type arm (roll factored) for the ends of the elbow's θ7

@@ -27,7 +27,7 @@ from cartesian.seam_ladder import Blocked, Ladder, LadderPath
 from kinplan import checks
 from kinplan.cell import WorkCell
 from kinplan.errors import InputError
-from kinplan.robot import Robot
+from kinplan.model.robot import Robot
 
 __all__ = ["LAZY", "CellVerdict", "solve"]
 

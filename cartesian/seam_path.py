@@ -30,7 +30,7 @@ from scipy.interpolate import (  # type: ignore[import-untyped]
 )
 
 from cartesian.paths import Path, as_fractions
-from kinplan.batch_ik import log3
+from kinplan.ik.batch import log3
 
 __all__ = [
     "CachedPath",

@@ -69,7 +69,7 @@ from cartesian.tracker import SINGULAR_FRACTION
 from kinplan import checks
 from kinplan.cell import WorkCell
 from kinplan.errors import InputError
-from kinplan.robot import Robot
+from kinplan.model.robot import Robot
 
 __all__ = ["plan_seam"]
 

@@ -13,7 +13,7 @@ from cartesian.events import Event, Status
 from cartesian.paths import Path
 from cartesian.plan import CartesianPlan
 from cartesian.seam_ladder import Blocked, Ladder
-from kinplan.robot import Robot
+from kinplan.model.robot import Robot
 
 __all__ = ["blocked_event", "empty_stretch", "refused"]
 

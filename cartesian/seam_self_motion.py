@@ -49,10 +49,10 @@ from cartesian.plan import CartesianPlan
 from cartesian.timing import time_path
 from cartesian.tracker import SINGULAR_FRACTION, Tracker, path_targets
 from kinplan import checks
-from kinplan._profiles import PROFILES
 from kinplan.cell import WorkCell
-from kinplan.robot import Robot, manipulability_of
-from kinplan.sampling import MIN_INTERVALS
+from kinplan.model.robot import Robot, manipulability_of
+from kinplan.trajectory._profiles import PROFILES
+from kinplan.trajectory.sampling import MIN_INTERVALS
 
 __all__ = ["SUPPORTED_OPTIONS", "track", "tracks_self_motion"]
 

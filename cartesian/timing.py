@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from kinplan import trajectory
-from kinplan._profiles import PROFILES, REST_TO_REST_PEAKS
 from kinplan.errors import InputError
+from kinplan.trajectory._profiles import PROFILES, REST_TO_REST_PEAKS
 
 #: A time law: times t [s] (N,) ↦ (s, ṡ, s̈), each (N,), s ∈ [0, 1].
 TimeLaw = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]

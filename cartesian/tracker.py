@@ -18,12 +18,12 @@ import pinocchio as pin
 
 from cartesian.events import Event, Status, distinct, joint_units, out_of_reach, where
 from cartesian.paths import HeldOrientation, Path
-from kinplan._profiles import round_up
 from kinplan.cell import WorkCell
 from kinplan.errors import InputError
 from kinplan.ik import Evaluation, frobenius_tolerance
-from kinplan.robot import Robot, manipulability_of
-from kinplan.sampling import joint_speeds
+from kinplan.model.robot import Robot, manipulability_of
+from kinplan.trajectory._profiles import round_up
+from kinplan.trajectory.sampling import joint_speeds
 
 #: Default singularity threshold, as a share of the arm's median manipulability.
 SINGULAR_FRACTION = 0.05

@@ -14,7 +14,7 @@ import numpy as np
 
 from kinplan import checks
 from kinplan.errors import InputError, KinplanError
-from kinplan.motion import SampledMotion, ToolTrack, tool_track
+from kinplan.trajectory.motion import SampledMotion, ToolTrack, tool_track
 
 logger = logging.getLogger("kinplan.export")
 """The exports' logger (one name for the package: ``kinplan.export``)."""

@@ -13,8 +13,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from kinplan.motion import JointTrajectory, SampledMotion
 from kinplan.trajectory import Trajectory
+from kinplan.trajectory.motion import JointTrajectory, SampledMotion
 
 __all__ = ["continuous_motion"]
 

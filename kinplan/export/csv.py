@@ -17,7 +17,7 @@ from kinplan import checks
 from kinplan.errors import KinplanError
 from kinplan.export.common import checked_joint_names, logger, name_list, plan_tool_track
 from kinplan.export.limits import check_limits
-from kinplan.motion import SampledMotion
+from kinplan.trajectory.motion import SampledMotion
 
 __all__ = ["csv_header", "job_numbers", "output_levels", "write_csv"]
 

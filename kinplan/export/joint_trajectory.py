@@ -16,7 +16,7 @@ from kinplan import checks
 from kinplan.errors import InputError
 from kinplan.export.common import checked_joint_names, write_text
 from kinplan.export.whole_motion import whole_motion
-from kinplan.motion import SampledMotion
+from kinplan.trajectory.motion import SampledMotion
 
 __all__ = [
     "TRAJECTORY_FORMATS",

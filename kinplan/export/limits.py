@@ -18,7 +18,7 @@ from kinplan import checks
 from kinplan.errors import InputError
 from kinplan.export.common import motion_samples
 from kinplan.export.continuous import continuous_motion
-from kinplan.motion import SampledMotion
+from kinplan.trajectory.motion import SampledMotion
 
 __all__ = [
     "CHECK_SUBDIVISIONS",

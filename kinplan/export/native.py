@@ -58,7 +58,7 @@ from kinplan.export.whole_motion import whole_motion
 from kinplan.trajectory import time_grid
 
 if TYPE_CHECKING:
-    from kinplan.robot import Robot
+    from kinplan.model.robot import Robot
 
 __all__ = [
     "FALLBACKS",

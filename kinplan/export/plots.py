@@ -17,7 +17,7 @@ import numpy as np
 from kinplan import checks
 from kinplan.errors import InputError, KinplanError
 from kinplan.export.common import checked_joint_names, logger, plan_tool_track
-from kinplan.motion import MoveSpan, SampledMotion, collision_check, collision_time
+from kinplan.trajectory.motion import MoveSpan, SampledMotion, collision_check, collision_time
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

@@ -9,8 +9,8 @@ import numpy as np
 from kinplan import checks, defaults
 from kinplan.export.continuous import continuous_motion
 from kinplan.export.whole_motion import whole_motion
-from kinplan.motion import SampledMotion
 from kinplan.trajectory import time_grid
+from kinplan.trajectory.motion import SampledMotion
 
 __all__ = ["DEFAULT_SERVO_PERIOD", "servo_samples", "servo_targets"]
 

@@ -14,10 +14,10 @@ import pinocchio as pin
 from kinplan import checks
 from kinplan.errors import InputError
 from kinplan.export.whole_motion import whole_motion
-from kinplan.motion import SampledMotion
+from kinplan.trajectory.motion import SampledMotion
 
 if TYPE_CHECKING:
-    from kinplan.robot import Robot
+    from kinplan.model.robot import Robot
 
 __all__ = [
     "UR_JOINT_NAMES",

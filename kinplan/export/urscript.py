@@ -34,7 +34,7 @@ from kinplan.export.ur_arm import (
     ur_arm_problem,
     ur_robot,
 )
-from kinplan.motion import SampledMotion
+from kinplan.trajectory.motion import SampledMotion
 
 __all__ = [
     "URSCRIPT_STYLES",

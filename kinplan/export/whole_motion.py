@@ -12,7 +12,7 @@ from kinplan import checks
 from kinplan.errors import InputError
 from kinplan.export.common import motion_samples
 from kinplan.export.limits import check_limits
-from kinplan.motion import SampledMotion
+from kinplan.trajectory.motion import SampledMotion
 
 __all__ = ["plan_failure", "whole_motion"]
 

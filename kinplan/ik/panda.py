@@ -52,7 +52,6 @@ from operator import itemgetter
 
 import numpy as np
 
-from kinplan.arm import Arm
 from kinplan.errors import InputError
 from kinplan.ik.base import self_check
 from kinplan.ik.panda_batch import PandaBatch
@@ -103,6 +102,7 @@ from kinplan.ik.screws import STRUCTURE_TOL as STRUCTURE_TOL
 from kinplan.ik.screws import TAU as TAU
 from kinplan.ik.screws import joint_choice_many as joint_choice_many
 from kinplan.ik.screws import screws_at_zero as screws_at_zero
+from kinplan.model.arm import Arm
 
 logger = logging.getLogger(__name__)
 

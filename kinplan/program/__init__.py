@@ -96,7 +96,6 @@ Modules, each importing only those above it:
 
 from __future__ import annotations
 
-from kinplan._profiles import PROFILES
 from kinplan.program.build import MotionBuilder
 from kinplan.program.errors import Issue, MoveError, ProgramError
 from kinplan.program.plan import MoveReport, ProgramPlan
@@ -119,6 +118,7 @@ from kinplan.program.schema import (
 )
 from kinplan.program.segments import hermite_segments
 from kinplan.program.validate import load_program, parse_program
+from kinplan.trajectory._profiles import PROFILES
 
 __all__ = [
     "DEFAULT_DT",

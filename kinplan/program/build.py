@@ -26,6 +26,7 @@ from cartesian.events import collision_event
 from kinplan import checks
 from kinplan.cell import MotionCheck, WorkCell
 from kinplan.errors import InputError, KinplanError
+from kinplan.model.robot import Robot
 from kinplan.program.checker import describe
 from kinplan.program.joint_checks import cell_check, speed_ratio
 from kinplan.program.plan import MoveReport, ProgramPlan
@@ -70,9 +71,8 @@ from kinplan.program.seams import (
     torch_path,
     weave_path,
 )
-from kinplan.robot import Robot
-from kinplan.sampling import motion_step
 from kinplan.trajectory import Segment, Trajectory, whole_periods
+from kinplan.trajectory.sampling import motion_step
 
 __all__ = ["Goal", "MotionBuilder", "SeamPiece"]
 

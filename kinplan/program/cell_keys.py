@@ -28,9 +28,9 @@ import pinocchio as pin
 
 from kinplan.cell import Body, CellError, WorkCell
 from kinplan.errors import KinplanError
+from kinplan.model.robot import Robot
 from kinplan.program.checker import Checker, describe, is_number, to_float
 from kinplan.program.schema import MAX_COORDINATE, KeyPath
-from kinplan.robot import Robot
 
 __all__ = ["SHAPE_KEYS", "read_cell"]
 

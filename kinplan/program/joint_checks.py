@@ -13,8 +13,8 @@ import dataclasses
 import numpy as np
 
 from kinplan.cell import MotionCheck, WorkCell
+from kinplan.model.robot import Robot
 from kinplan.program.peaks import joint_peaks
-from kinplan.robot import Robot
 from kinplan.trajectory import Trajectory
 
 __all__ = ["cell_check", "speed_ratio"]

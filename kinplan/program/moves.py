@@ -7,7 +7,6 @@ import math
 import numpy as np
 
 from cartesian.weave import WEAVE_PATTERNS
-from kinplan._profiles import PROFILES, PTP_PROFILES
 from kinplan.program.checker import Checker, describe, is_number, to_float
 from kinplan.program.process import read_signals
 from kinplan.program.schema import (
@@ -23,6 +22,7 @@ from kinplan.program.schema import (
     TorchSpec,
     WeaveSpec,
 )
+from kinplan.trajectory._profiles import PROFILES, PTP_PROFILES
 
 __all__ = ["read_moves"]
 

@@ -16,12 +16,12 @@ import numpy as np
 
 import cartesian
 from kinplan.cell import MotionCheck, WorkCell
-from kinplan.motion import MotionKind, PlannedPath, pose_to_track
+from kinplan.model.robot import Robot, manipulability_of
 from kinplan.program.peaks import segment_peaks
 from kinplan.program.schema import DEFAULT_DT, IoEvent, Program
 from kinplan.program.segments import hermite_segments
-from kinplan.robot import Robot, manipulability_of
 from kinplan.trajectory import Segment, Trajectory, Waypoints
+from kinplan.trajectory.motion import MotionKind, PlannedPath, pose_to_track
 
 __all__ = ["MoveReport", "ProgramPlan", "move_span"]
 

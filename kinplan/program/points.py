@@ -13,10 +13,10 @@ import numpy as np
 import pinocchio as pin
 
 from cartesian.events import out_of_reach
+from kinplan.model.robot import Robot
 from kinplan.program.checker import Checker, describe, format_path
 from kinplan.program.process import read_signals
 from kinplan.program.schema import NAME_PATTERN, POINT_KEYS, KeyPath, Point
-from kinplan.robot import Robot
 
 __all__ = ["read_joints", "read_points", "read_start"]
 

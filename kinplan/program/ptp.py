@@ -17,8 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from kinplan import trajectory
-from kinplan._profiles import PTP_PROFILES, REST_TO_REST_PEAKS, round_up
 from kinplan.errors import InfeasibleError, KinplanError
+from kinplan.model.robot import Robot
 from kinplan.program.peaks import joint_peaks
 from kinplan.program.schema import (
     DEFAULT_PTP_SPEED,
@@ -26,9 +26,9 @@ from kinplan.program.schema import (
     PTP_JERK_TIME,
     PTP_RAMP_TIME,
 )
-from kinplan.robot import Robot
-from kinplan.sampling import joint_speeds
 from kinplan.trajectory import DEFAULT_BLEND_FRACTION, Trajectory
+from kinplan.trajectory._profiles import PTP_PROFILES, REST_TO_REST_PEAKS, round_up
+from kinplan.trajectory.sampling import joint_speeds
 
 __all__ = [
     "LIMIT_TOLERANCE",

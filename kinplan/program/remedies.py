@@ -14,9 +14,9 @@ import numpy as np
 import pinocchio as pin
 
 import cartesian
-from kinplan._profiles import round_up
 from kinplan.ik import IKResult
 from kinplan.program.schema import JOIN_TOLERANCE, MAX_SAMPLES
+from kinplan.trajectory._profiles import round_up
 
 __all__ = [
     "SMALL_GAP",

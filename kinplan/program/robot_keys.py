@@ -13,12 +13,12 @@ import numpy as np
 import pinocchio as pin
 
 from kinplan.errors import KinplanError
+from kinplan.model.robot import Robot
+from kinplan.model.sources import known_names
+from kinplan.model.urdf_model import LIMIT_KEYS
 from kinplan.program.checker import Checker, describe, is_number, to_float
 from kinplan.program.robots import load_cached_robot, resolve_robot_source
 from kinplan.program.schema import POSE_KEYS, KeyPath
-from kinplan.robot import Robot
-from kinplan.sources import known_names
-from kinplan.urdf_model import LIMIT_KEYS
 
 __all__ = ["read_robot"]
 

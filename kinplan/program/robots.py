@@ -11,8 +11,8 @@ from pathlib import Path
 import pinocchio as pin
 
 from kinplan import checks
-from kinplan.robot import Robot, load_robot
-from kinplan.sources import bundled_robots, known_names
+from kinplan.model.robot import Robot, load_robot
+from kinplan.model.sources import bundled_robots, known_names
 
 __all__ = ["load_cached_robot", "resolve_robot_source"]
 

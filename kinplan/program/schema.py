@@ -16,7 +16,7 @@ import yaml
 
 from kinplan import defaults
 from kinplan.cell import WorkCell
-from kinplan.robot import Robot
+from kinplan.model.robot import Robot
 
 __all__ = [
     "AVOID_TIME_LIMIT",

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from kinplan._profiles import quintic_coefficients
 from kinplan.trajectory import Segment
+from kinplan.trajectory._profiles import quintic_coefficients
 
 __all__ = ["hermite_segments"]
 

@@ -10,8 +10,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from kinplan import _profiles
 from kinplan.errors import InputError
+from kinplan.trajectory import _profiles
 from kinplan.trajectory.arguments import (
     describe,
     finite_array,

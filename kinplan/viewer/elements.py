@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from kinplan.urdf_read import read_urdf
+from kinplan.model.urdf_read import read_urdf
 from kinplan.viewer.meshes import DEFAULT_RGBA
 
 __all__ = ["Geometry", "LinkElement", "read_urdf_elements"]

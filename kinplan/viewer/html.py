@@ -19,7 +19,7 @@ import numpy as np
 from kinplan import checks
 from kinplan.checks import describe
 from kinplan.errors import InputError, ViewerError
-from kinplan.motion import MotionLike
+from kinplan.trajectory.motion import MotionLike
 from kinplan.viewer import commands as ms
 from kinplan.viewer.meshes import TRIANGLE_BUDGET
 from kinplan.viewer.page import static_html
@@ -28,7 +28,7 @@ from kinplan.viewer.scene import LAYERS, build_scene
 from kinplan.viewer.visuals import visuals_for
 
 if TYPE_CHECKING:
-    from kinplan.robot import Robot
+    from kinplan.model.robot import Robot
 
 __all__ = ["render_html", "save_html"]
 

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from kinplan.errors import ViewerError
-from kinplan.motion import MotionLike
+from kinplan.trajectory.motion import MotionLike
 from kinplan.viewer import commands as ms
 from kinplan.viewer.meshes import TRIANGLE_BUDGET
 from kinplan.viewer.playback import DEFAULT_FPS, Markers, marker_points, playback, positive
@@ -41,7 +41,7 @@ from kinplan.viewer.visuals import visuals_for
 if TYPE_CHECKING:
     import zmq
 
-    from kinplan.robot import Robot
+    from kinplan.model.robot import Robot
 
 __all__ = ["Viewer"]
 

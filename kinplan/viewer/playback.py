@@ -25,7 +25,8 @@ from numpy.typing import ArrayLike
 
 from kinplan.checks import describe, floats
 from kinplan.errors import InputError
-from kinplan.motion import (
+from kinplan.trajectory import time_grid
+from kinplan.trajectory.motion import (
     MotionLike,
     SampledMotion,
     ToolPath,
@@ -34,10 +35,9 @@ from kinplan.motion import (
     collision_time,
     joint_rows,
 )
-from kinplan.trajectory import time_grid
 
 if TYPE_CHECKING:
-    from kinplan.robot import Robot
+    from kinplan.model.robot import Robot
 
 __all__ = [
     "DEFAULT_FPS",

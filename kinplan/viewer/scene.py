@@ -24,14 +24,14 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from kinplan.motion import MotionLike, pose_to_track
+from kinplan.trajectory.motion import MotionLike, pose_to_track
 from kinplan.viewer import commands as ms
 from kinplan.viewer.playback import Markers, Playback, marker_points, playback
 from kinplan.viewer.visuals import RobotVisuals
 
 if TYPE_CHECKING:
     from kinplan.cell import Body
-    from kinplan.robot import Robot
+    from kinplan.model.robot import Robot
 
 __all__ = [
     "LAYERS",

@@ -27,7 +27,7 @@ import umsgpack
 
 from kinplan.checks import describe
 from kinplan.errors import InputError, ViewerError
-from kinplan.mesh_files import not_found_reason, resolve_mesh, search_folders
+from kinplan.model.mesh_files import not_found_reason, resolve_mesh, search_folders
 from kinplan.viewer import commands as ms
 from kinplan.viewer.elements import Geometry, LinkElement, read_urdf_elements
 from kinplan.viewer.meshes import (
@@ -42,7 +42,7 @@ from kinplan.viewer.meshes import (
 )
 
 if TYPE_CHECKING:
-    from kinplan.robot import Robot
+    from kinplan.model.robot import Robot
 
 __all__ = ["PLACEHOLDER_SIZE", "RobotVisuals", "VisualPart", "visuals_for"]
 
@@ -182,7 +182,7 @@ def visuals_for(robot: Robot, max_triangles: int = TRIANGLE_BUDGET) -> RobotVisu
         InputError: ``robot`` is not a :class:`kinplan.Robot`, or ``max_triangles`` is not a
             positive whole number.
     """
-    from kinplan.robot import Robot
+    from kinplan.model.robot import Robot
 
     if not isinstance(robot, Robot):
         raise InputError(
