@@ -12,7 +12,7 @@ from conftest import REPOSITORY
 
 import kinplan
 from kinplan.apps.cli import main
-from kinplan.program import load_program, parse_program, run_program
+from kinplan.program import load_program, parse_program, plan_program, run_program
 from kinplan.scale.batch import plan_many
 from kinplan.scale.placement import heat_map, place, with_base_pose
 
@@ -158,3 +158,41 @@ def test_cli_place_and_reach(tmp_path, capsys):
     assert (tmp_path / "s.png").is_file() and (tmp_path / "m.html").is_file()
     assert main(["reach", "ur5", "-o", str(out_map), "--cone-deg", "20"]) == 1
     assert "--cone-deg needs --direction" in capsys.readouterr().err
+
+
+PILLAR_CELL = """robot: ur5
+obstacles:
+  pillar: {box: [0.1, 0.1, 1.0], xyz: [0.0, 0.0, 0.5]}
+clearance: 0.01
+start: {joints_deg: [0, -90, 90, -90, -90, 0]}
+points:
+  a: {xyz: [0.45, 0.25, 0.3], rpy_deg: [180, 0, -90]}
+  b: {xyz: [0.45, 0.45, 0.3]}
+moves:
+  - {ptp: a}
+  - {lin: b, speed: 0.1}
+"""
+
+
+def test_placement_honours_the_programs_obstacles(tmp_path):
+    """Issue 28: the program's obstacles stay in the world while the base moves. A base on the
+    pillar collides at once, one beside it comes inside the 10 mm clearance on the way, and
+    the base poses that plan keep the clearance; re-planning the best one as a program gives
+    its figures back."""
+    program = tmp_path / "pillar.yaml"
+    program.write_text(PILLAR_CELL, encoding="utf-8")
+    search = place(program, x=[0.0, 0.3], y=[-0.2, 0.0], step=0.1)
+    by_xy = {p.xyz[:2]: p for p in search.placements}
+    for y in (-0.2, -0.1, 0.0):
+        on_it = by_xy[(0.0, y)]
+        assert not on_it.ok and "collides with pillar" in on_it.reason and on_it.clearance < 0
+        assert "collision at s = 0.00" in on_it.reason  # the start itself
+        near = by_xy[(0.2, y)]
+        assert not near.ok and "of pillar" in near.reason and "inside the clearance" in near.reason
+        assert 0 < near.clearance < 0.01
+    fine = [p for p in search.placements if p.ok]
+    assert fine and all(p.clearance >= 0.01 for p in fine)
+    best = search.placements[0]
+    assert best.ok and best.xyz[:2] == (0.3, -0.2)
+    again = plan_program(parse_program(with_base_pose(PILLAR_CELL, best.xyz, best.rpy_deg)))
+    assert again.ok and again.min_clearance == pytest.approx(best.clearance, abs=1e-12)
