@@ -87,10 +87,10 @@ PROFILE_TESTS = [
 #: The tests of the robot model (kinplan/robot.py before issue 31 split off its Jacobian
 #: quantities and its reach search).
 ROBOT_TESTS = [
-    "tests/robots/test_robot.py",
-    "tests/robots/test_robot_mutants.py",
+    "tests/model/test_robot.py",
+    "tests/model/test_robot_mutants.py",
     "tests/ik/test_ik.py",
-    "tests/robots/test_urdf*.py",
+    "tests/model/test_urdf*.py",
     "tests/test_validation.py",
     "tests/test_errors.py",
 ]
@@ -109,8 +109,8 @@ MODULES: dict[str, list[str]] = {
     "kinplan/ik/numeric.py": [
         "tests/ik/test_ik.py",
         "tests/ik/test_numeric_ik_mutants.py",
-        "tests/robots/test_robot.py",
-        "tests/robots/test_urdf*.py",
+        "tests/model/test_robot.py",
+        "tests/model/test_urdf*.py",
         "tests/test_validation.py",
         "tests/test_errors.py",
     ],

@@ -90,6 +90,7 @@ Modules, each importing only those above it:
   ptp move's speed share and cell check), :mod:`~kinplan.program.record` (samples and reports
   so far), :mod:`~kinplan.program.remedies` (how a failed move is worded),
   :mod:`~kinplan.program.seams` (the Cartesian paths of lin/circ moves, weaves, torches),
+  :mod:`~kinplan.program.builder_base`, :mod:`~kinplan.program.cartesian_moves` and
   :mod:`~kinplan.program.build` (:class:`MotionBuilder`);
 - :mod:`~kinplan.program.run`: :func:`plan_program`, :func:`run_program`.
 """
