@@ -282,7 +282,14 @@ def check_parts(timing: PathTiming) -> int:
     intervals = timing.moving_intervals
     if intervals <= 0:
         return 1
-    return max(1, math.ceil(MIN_INTERVALS / intervals))
+    return max(1, min(MAX_CHECK_PARTS, math.ceil(MIN_INTERVALS / intervals)))
+
+
+#: Most parts a caller interval is split into for the checks: a motion shorter than 1/64 of a
+#: period (held at rest for the rest of it) is checked at fewer than MIN_INTERVALS points
+#: inside it, but its mean speed between them (huge: it moves in microseconds) still is, and
+#: the check grid stays small (a 1 ns motion would otherwise need 1.6e8 check samples).
+MAX_CHECK_PARTS = 1024
 
 
 def _on_caller_grid(fine: CartesianPlan, parts: int) -> CartesianPlan:

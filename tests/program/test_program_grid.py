@@ -101,3 +101,19 @@ moves:
     assert not qd.any()
     assert dwell.kind == "dwell" and dwell.duration == pytest.approx(0.4)
     np.testing.assert_allclose(plan.t, np.arange(len(plan.t)) * 0.1, atol=1e-12)
+
+
+def test_a_motion_of_a_nanosecond_is_refused_without_a_huge_check_grid():
+    """The soak found it: a 1 ns motion held to a 10 ms period was checked on 1.6e8 samples
+    (23 GB). The check grid is capped; the motion is still refused for its speed."""
+    from cartesian.follow import MAX_CHECK_PARTS, check_parts
+    from cartesian.timing import time_path
+
+    held = time_path(0.066, 1e-9, None, None, "trapezoid", 0.01).on_whole_periods(0.01)
+    assert held.rest_from == pytest.approx(1e-9) and check_parts(held) == MAX_CHECK_PARTS
+    arm = cached_robot("planar_2r")
+    line = cartesian.Line([1.366, 1.366, 0], [1.366, 1.3, 0])
+    plan = cartesian.follow(
+        arm, line, duration=1e-9, dt=0.01, q_seed=np.radians([30, 30]), whole_periods=True
+    )
+    assert plan.status == "velocity_limit" and "the joint speed limits" in str(plan.events[0])

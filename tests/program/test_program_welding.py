@@ -176,8 +176,10 @@ def test_time_optimal_blend_is_faster_and_deviates_at_most_the_blend(tmp_path):
     assert exact.ok and blended.ok
     assert blended.duration < exact.duration
     low = exact.program.points["low"].joints
-    nearest = np.linalg.norm(blended.sample(np.linspace(0, blended.duration, 20001))[0] - low,
-                             axis=1).min()  # fmt: skip
+    t = np.linspace(0, blended.duration, 20001)
+    k = int(np.argmin(np.linalg.norm(blended.sample(t)[0] - low, axis=1)))
+    near = np.linspace(t[max(k - 1, 0)], t[min(k + 1, len(t) - 1)], 20001)  # refined there
+    nearest = np.linalg.norm(blended.sample(near)[0] - low, axis=1).min()
     assert 0.01 < nearest <= 0.1 + 1e-9
 
 

@@ -268,7 +268,12 @@ moves:
     velocity = 0.5 * 2 * np.pi
     acceleration = velocity / PTP_RAMP_TIME
     expected = trajectory.time_optimal([[0, 0], [1.0, -0.5]], velocity, acceleration)
-    np.testing.assert_allclose(plan.moves[0].duration, expected.duration, rtol=1e-12)
+    # the motion itself is the profile's; the move then rests until a whole period of dt
+    times = np.linspace(0.0, expected.duration, 201)[:-1]  # at its end the rest begins
+    for mine, theirs in zip(plan.sample(times), expected.sample(times), strict=True):
+        np.testing.assert_allclose(mine, theirs, rtol=0, atol=1e-12)
+    whole = trajectory.whole_periods(expected.duration, plan.dt)
+    np.testing.assert_allclose(plan.moves[0].duration, whole, rtol=1e-12)
     assert plan.moves[1].duration == 0.0  # already there
     np.testing.assert_allclose(plan.q[-1], [1.0, -0.5], atol=1e-12)
     assert np.all(np.abs(plan.qd) <= velocity)
