@@ -1,11 +1,15 @@
 """Reading a saved MeshCat page back in the tests: its commands, configuration, objects,
-transforms and animation clips (shared by the viewer, program and plot tests)."""
+transforms and animation clips (shared by the viewer, program and plot tests), and its DOM
+after its script ran in headless Chromium (:func:`page_dom`)."""
 
 from __future__ import annotations
 
 import base64
 import json
 import re
+import shutil
+import subprocess
+from pathlib import Path
 
 import numpy as np
 
@@ -54,3 +58,22 @@ def animation(commands: list[dict]) -> dict[str, dict]:
             "quaternion": ms.ext_array(tracks[".quaternion"]["values"], np.float32).reshape(-1, 4),
         }
     return clips
+
+
+#: Headless Chromium, when installed (the browser tests are skipped without it).
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+def page_dom(page: Path, fragment: str, profile: Path) -> subprocess.CompletedProcess:
+    """The DOM of a saved page after its script ran in headless Chromium at ``#fragment``
+    (e.g. ``t=3``): ``stdout`` holds it, ``stderr`` Chromium's log. ``profile`` is a fresh
+    user-data folder."""
+    assert CHROMIUM is not None, "no chromium on PATH"
+    return subprocess.run(
+        [
+            CHROMIUM, "--headless", "--no-sandbox", "--use-angle=swiftshader",
+            "--enable-unsafe-swiftshader", "--no-first-run", f"--user-data-dir={profile}",
+            "--virtual-time-budget=6000", "--dump-dom", f"{page.as_uri()}#{fragment}",
+        ],
+        capture_output=True, text=True, timeout=90,
+    )  # fmt: skip

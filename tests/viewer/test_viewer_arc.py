@@ -7,13 +7,12 @@ from __future__ import annotations
 
 import json
 import re
-import shutil
-import subprocess
 from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from pages import CHROMIUM, page_dom
 
 import kinplan
 from kinplan import viewer
@@ -96,23 +95,12 @@ def test_a_motion_without_arc_has_no_glow_and_no_label() -> None:
     assert "arc on" not in page.split("<script")[0]
 
 
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-
-
 @pytest.mark.skipif(CHROMIUM is None, reason="no chromium or chromium-browser on PATH")
 def test_browser_says_arc_on_only_while_it_is_on(tmp_path, weld_plan) -> None:
     page = viewer.save_html(weld_plan.robot, weld_plan, tmp_path / "weld.html")
     (on, off), _ = page_config(page.read_text())["arc"]
     for t, expected in ((0.5 * on, ""), (0.5 * (on + off), "● arc on")):
-        result = subprocess.run(
-            [
-                CHROMIUM, "--headless", "--no-sandbox", "--use-angle=swiftshader",
-                "--enable-unsafe-swiftshader", "--no-first-run",
-                f"--user-data-dir={tmp_path / f'profile{t:.0f}'}", "--virtual-time-budget=6000",
-                "--dump-dom", f"{page.as_uri()}#t={t:.2f}",
-            ],
-            capture_output=True, text=True, timeout=90,
-        )  # fmt: skip
+        result = page_dom(page, f"t={t:.2f}", tmp_path / f"profile{t:.0f}")
         shown = re.search(r'<span id="kp-arc">([^<]*)</span>', result.stdout)
         assert shown is not None, result.stderr[-2000:]
         assert shown.group(1) == expected, t

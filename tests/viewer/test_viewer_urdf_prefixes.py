@@ -12,7 +12,7 @@ import kinplan
 from kinplan import trajectory, viewer
 from kinplan.viewer.elements import read_urdf_elements
 
-sys.path.append(str(Path(__file__).resolve().parents[1] / "robots"))
+sys.path.append(str(Path(__file__).resolve().parents[1] / "model"))
 from test_urdf_refusals import with_drake_accelerations  # noqa: E402
 
 

@@ -7,14 +7,13 @@ from __future__ import annotations
 import json
 import math
 import re
-import shutil
-import subprocess
 import sys
 from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from pages import CHROMIUM, page_dom
 
 import cartesian
 import kinplan
@@ -105,22 +104,11 @@ def test_weld_cell_program_page_shows_its_searched_seam_roll() -> None:
     assert "torch roll" in page.split("<script")[0] and "along the seam" in page
 
 
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-
-
 @pytest.mark.skipif(CHROMIUM is None, reason="no chromium or chromium-browser on PATH")
 def test_browser_shows_the_roll_at_the_time_asked(tmp_path, ur5: kinplan.Robot, seam_plan) -> None:
     """Headless Chromium runs the page script: at #t=3 the bar shows the plan's roll there."""
     page = viewer.save_html(ur5, seam_plan, tmp_path / "seam.html")
-    result = subprocess.run(
-        [
-            CHROMIUM, "--headless", "--no-sandbox", "--use-angle=swiftshader",
-            "--enable-unsafe-swiftshader", "--no-first-run",
-            f"--user-data-dir={tmp_path / 'profile'}", "--virtual-time-budget=6000",
-            "--dump-dom", f"{page.as_uri()}#t=3",
-        ],
-        capture_output=True, text=True, timeout=90,
-    )  # fmt: skip
+    result = page_dom(page, "t=3", tmp_path / "profile")
     shown = re.search(r'<span id="kp-roll">torch roll ([−\d]+)°</span>', result.stdout)
     assert shown is not None, result.stderr[-2000:]
     expected = math.degrees(float(np.interp(3.0, seam_plan.t, seam_plan.roll)))
