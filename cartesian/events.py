@@ -95,13 +95,23 @@ class OutOfReach:
         )
 
 
+def beyond_reach(robot: Robot, position: np.ndarray) -> str | None:
+    """ "it is D m from the arm's first joint, which reaches R m" for a position [m] beyond the
+    arm's reach, else None."""
+    distance, reach = robot.shoulder_distance(position), robot.reach()
+    if distance > reach * (1 + 1e-12):
+        return f"it is {distance:.4f} m from the arm's first joint, which reaches {reach:.4f} m"
+    return None
+
+
 def out_of_reach(robot: Robot, result: IKResult, position: np.ndarray) -> str:
     """Why a target is out of reach, from an unsuccessful IK ``result``: the distance from the
     arm's first joint and its reach, or how close the best configuration came."""
+    beyond = beyond_reach(robot, position)
+    if beyond is not None:
+        return beyond
     distance, reach = robot.shoulder_distance(position), robot.reach()
     annulus = robot.planar_reach()
-    if distance > reach * (1 + 1e-12):
-        return f"it is {distance:.4f} m from the arm's first joint, which reaches {reach:.4f} m"
     if annulus is not None and distance < annulus[0]:
         return (
             f"its distance to the first joint, {distance:.4f} m, is inside the hole "

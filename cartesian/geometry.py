@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from cartesian import lean_track
-from cartesian.events import Event, OutOfReach, Status, where
+from cartesian.events import Event, OutOfReach, Status, beyond_reach, where
 from cartesian.paths import Path
 from cartesian.tracker import SINGULAR_FRACTION, Tracker, path_targets, resolve_task
 from kinplan.model.robot import Robot
@@ -309,10 +309,9 @@ def unreachable_stretch(
     if not bad.any():
         return None
     k = int(np.argmax(bad))
-    why = "no joint configuration within the limits puts the tool at this pose, on any branch"
-    distance, arm_reach = robot.shoulder_distance(positions[k]), robot.reach()
-    if distance > arm_reach * (1 + 1e-12):
-        why = f"it is {distance:.4f} m from the arm's first joint, which reaches {arm_reach:.4f} m"
+    why = beyond_reach(robot, positions[k]) or (
+        "no joint configuration within the limits puts the tool at this pose, on any branch"
+    )
     return OutOfReach(float(s[k]), _stretch_end(s, bad, k), positions[k].copy(), why)
 
 

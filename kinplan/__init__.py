@@ -11,6 +11,7 @@ import logging
 from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
+from kinplan._moved import MOVED
 from kinplan.cell import Body, CellError, MotionCheck, WorkCell
 from kinplan.errors import (
     FrameError,
@@ -56,35 +57,7 @@ __all__ = [
 _SUBMODULES = {
     **{name: f"kinplan.{name}" for name in ("trajectory", "viewer", "plot", "program", "export")},
     "planning": "kinplan.planning",
-    "cli": "kinplan.apps.cli",
-    "teach": "kinplan.apps.teach",
-    "demos": "kinplan.apps.demos",
-    "lecture": "kinplan.apps.lecture",
-    "reach": "kinplan.scale.reach",
-    "reach_view": "kinplan.scale.reach_view",
-    "batch": "kinplan.scale.batch",
-    "placement": "kinplan.scale.placement",
-    "engines": "kinplan.scale.engines",
-    "_profiles": "kinplan.trajectory._profiles",
-    "batch_ik": "kinplan.ik.batch",
-    "time_optimal": "kinplan.trajectory.totg",
-    "phase_plane": "kinplan.trajectory.phase_plane",
-    "sampling": "kinplan.trajectory.sampling",
-    "motion": "kinplan.trajectory.motion",
-    **{
-        name: f"kinplan.model.{name}"
-        for name in (
-            "robot",
-            "urdf_model",
-            "urdf_read",
-            "urdf_frames",
-            "sources",
-            "planar",
-            "mesh_files",
-            "tool",
-            "arm",
-        )
-    },  # fmt: skip
+    **MOVED,
 }
 
 

@@ -12,6 +12,26 @@ import importlib
 import pkgutil
 import sys
 
+#: Every module or package that moved in issue 31: its old name under ``kinplan`` → the module
+#: it is now (the old path is a shim). ``kinplan``'s lazy attributes and
+#: ``tools/import_graph.py`` read it.
+MOVED: dict[str, str] = {
+    **{name: f"kinplan.model.{name}" for name in (
+        "robot", "urdf_model", "urdf_read", "urdf_frames", "sources", "planar", "mesh_files",
+        "tool", "arm",
+    )},
+    "_profiles": "kinplan.trajectory._profiles",
+    "time_optimal": "kinplan.trajectory.totg",
+    "phase_plane": "kinplan.trajectory.phase_plane",
+    "sampling": "kinplan.trajectory.sampling",
+    "motion": "kinplan.trajectory.motion",
+    **{name: f"kinplan.scale.{name}" for name in (
+        "reach", "reach_view", "placement", "batch", "engines",
+    )},
+    "batch_ik": "kinplan.ik.batch",
+    **{name: f"kinplan.apps.{name}" for name in ("cli", "teach", "demos", "lecture")},
+}  # fmt: skip
+
 
 def alias_package(old: str, new: str) -> None:
     """Make the package ``old`` and each of its modules ``old.X`` names of ``new`` and ``new.X``

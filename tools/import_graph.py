@@ -18,33 +18,12 @@ import ast
 import sys
 from pathlib import Path
 
+from kinplan._moved import MOVED as MOVED_MODULES
+
 ROOT = Path(__file__).resolve().parents[1]
 
-#: Old flat module → where it lives now (the old path is a shim).
-MOVED = {
-    **{
-        name: f"model.{name}"
-        for name in (
-            "robot",
-            "urdf_model",
-            "urdf_read",
-            "urdf_frames",
-            "sources",
-            "planar",
-            "mesh_files",
-            "tool",
-            "arm",
-        )
-    },  # fmt: skip
-    "_profiles": "trajectory._profiles",
-    "time_optimal": "trajectory.totg",
-    "phase_plane": "trajectory.phase_plane",
-    "sampling": "trajectory.sampling",
-    "motion": "trajectory.motion",
-    **{name: f"scale.{name}" for name in ("reach", "reach_view", "placement", "batch", "engines")},
-    "batch_ik": "ik.batch",
-    **{name: f"apps.{name}" for name in ("cli", "teach", "demos", "lecture")},
-}
+#: Old flat module → where it lives now, relative to ``kinplan`` (the old path is a shim).
+MOVED = {old: new.removeprefix("kinplan.") for old, new in MOVED_MODULES.items()}
 SHIMS = {f"kinplan.{old}" for old in MOVED} | {"kinplan._moved"}
 
 
