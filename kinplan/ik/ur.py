@@ -6,7 +6,8 @@ before it: :mod:`~kinplan.ik.ur_geometry` (:class:`URGeometry` and :func:`ur_geo
 read from the model) → :mod:`~kinplan.ik.ur_single` (one pose in plain floats) →
 :mod:`~kinplan.ik.ur_many` (the same formulas over many poses) → ``ur``. Every name this module
 had before that split is still importable from it, the helpers under their former private names
-(bound below), which are also the names :class:`URIK` calls them by.
+(bound below), which are also the names :class:`URIK` calls them by. The fast path also runs
+compiled (numba): :mod:`~kinplan.ik.ur_kernel`.
 """
 
 from __future__ import annotations
@@ -93,7 +94,10 @@ class URIK(ClosedFormIK):
     (:meth:`_fast_raw`, :meth:`_nearest_fast`), with the answer of the vectorised path
     (:meth:`_nearest_batch_path`) to 1e-9 rad; near singularities, for a geometry whose axes
     are not orthonormal to ``_FAST_DEFECT`` and for negative weights they use the vectorised
-    path itself. Limits and weights are read once, at construction.
+    path itself. Limits and weights are read once, at construction. With numba (and not
+    ``KINPLAN_JIT=0``) :meth:`nearest`, :meth:`nearest_many` and :meth:`branch_many` run the
+    same formulas compiled (:mod:`~kinplan.ik.ur_kernel`: the same answers to ~1e-15 rad, the
+    same branches and left poses); the plain-float and numpy code is then the fallback.
 
     Args:
         geometry: The arm at q = 0 (world frame).
@@ -118,6 +122,14 @@ class URIK(ClosedFormIK):
         self._weight_floats = tuple(self.weights.tolist())
         if min(self._weight_floats) < 0.0:  # the fast path's pruning needs a growing distance
             self._fast = None
+        from kinplan.ik import ur_kernel  # numba loads with the first solver
+
+        self._kernel = ur_kernel
+        #: The fast path runs compiled (:mod:`~kinplan.ik.ur_kernel`), with its packed constants.
+        self._compiled = self._fast is not None and ur_kernel.available()
+        if self._fast is not None:
+            self._constants = ur_kernel.constants(self._fast)
+        self._limit_rows = np.ascontiguousarray(np.vstack([self.lower, self.upper, self.weights]))
 
     # ------------------------------------------------------------ single pose, plain floats
     def solutions(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
@@ -135,6 +147,19 @@ class URIK(ClosedFormIK):
     def nearest(
         self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray
     ) -> np.ndarray | None:
+        if self._compiled and self._fast is not None and rotation is not None:
+            position = np.asarray(position, dtype=float)
+            rotation = np.asarray(rotation, dtype=float)
+            q_ref = np.asarray(q_ref, dtype=float)
+            if position.shape == (3,) and rotation.shape == (3, 3) and q_ref.shape == (6,):
+                out = np.empty(6)
+                terms = self._fast.matrix.dot(rotation.reshape(9))  # as _fast_pose takes them
+                branch = self._kernel.nearest(
+                    self._constants, self._limit_rows, terms, position, q_ref, out
+                )
+                if branch >= -1:  # else near a singularity or not finite: the batch path
+                    return None if branch < 0 else out
+                return self._nearest_batch_path(position, rotation, q_ref)
         if self._fast is not None:
             try:
                 return self._nearest_fast(position, rotation, q_ref)
@@ -166,6 +191,17 @@ class URIK(ClosedFormIK):
         if self._fast is None:
             left = np.ones(count, dtype=bool)
             return np.zeros((count, 6)), np.full(count, -1), np.zeros(count, np.uint16), left
+        if self._compiled:
+            q = np.empty((count, 6))
+            branch = np.empty(count, dtype=np.int64)
+            mask = np.empty(count, dtype=np.uint16)
+            left = np.empty(count, dtype=bool)
+            terms, along = self._terms(positions, rotations)
+            refs = np.ascontiguousarray(q_ref, dtype=float)
+            self._kernel.nearest_many(
+                self._constants, self._limit_rows, terms, along, refs, q, branch, mask, left
+            )
+            return q, branch, mask, left
         joints = tuple(zip(*self._limits, self._weight_floats))
         refs = np.ascontiguousarray(np.asarray(q_ref, dtype=float).T)
         with np.errstate(invalid="ignore", divide="ignore"):  # NaN lanes: no solution
@@ -207,8 +243,27 @@ class URIK(ClosedFormIK):
         if self._fast is None or rotations is None:
             count = len(positions)
             return np.full((count, 6), np.nan), np.ones(count, dtype=bool)
+        if self._compiled:
+            count = len(positions)
+            q, edge = np.empty((count, 6)), np.empty(count, dtype=bool)
+            terms, along = self._terms(positions, rotations)
+            branches = np.ascontiguousarray(np.broadcast_to(np.asarray(branch, np.int64), count))
+            self._kernel.branch_many(self._constants, terms, along, branches, q, edge)
+            return q, edge
         with np.errstate(invalid="ignore", divide="ignore"):  # NaN lanes: no solution
             return _fast_branch_many(self._fast, positions, rotations, branch)
+
+    def _terms(self, positions: np.ndarray, rotations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The products the compiled kernel reads, taken in numpy as the array path's
+        :func:`~kinplan.ik.ur_many.shoulder_terms` takes them (so the same roundings):
+        ``URFast.matrix @ R.ravel()`` per pose (12, N) and the shoulder axes' coordinates of
+        the positions (3, N) [m]."""
+        k = self._fast
+        assert k is not None  # only with the fast path
+        n = len(positions)
+        terms = k.matrix @ rotations.reshape(n, 9).T
+        along = np.reshape(k.shoulder_axes, (3, 3)) @ positions.T
+        return terms, along
 
     def _nearest_batch_path(
         self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray

@@ -1,0 +1,495 @@
+"""The UR closed form for one pose, compiled (numba): the solution nearest a reference, for
+:meth:`URIK.nearest <kinplan.ik.ur.URIK.nearest>` and its batch form ``nearest_many``, and
+one given branch of many poses for ``URIK.branch_many``.
+
+A twin of the fast path of :mod:`~kinplan.ik.ur_single` and :mod:`~kinplan.ik.ur_many` (the
+same steps: θ1, θ5, θ6, the planar target, θ2–θ4, in the frames of
+:class:`~kinplan.ik.ur_single.URFast`, with the roundings of the plain-float path for a single
+pose and those of the array path, which takes the cosines and sines of θ1, θ5, θ6 from their
+atan2 / arccos arguments, for many), followed by its nearest-branch choice (per joint the
+2π-equivalent within the limits nearest the reference, then the branch of least weighted
+distance, ties to the lower branch index). The rotation and position products
+(``URFast.matrix @ R.ravel()``, the shoulder axes' coordinates of P) come from the caller, taken
+in numpy as those paths take them, so the answers are theirs to the last bit or so.
+Poses near a singularity (``FAST_EDGE``, ``FAST_WRIST`` of :mod:`~kinplan.ik.ur_single`) are
+left to the vectorised all-branch path exactly as the plain-float and numpy paths leave them:
+the single pose (:func:`nearest`) only when a branch its branch-and-bound visits is near the
+elbow edge, as ``URIK._nearest_fast``; the batch (:func:`nearest_many`) when any branch is, as
+``fast_nearest_many``. Tested against those paths in ``tests/ik/test_ur_kernel.py``. Without
+numba (or with ``KINPLAN_JIT=0``) :func:`available` is False and the plain-float / numpy paths
+run. The constants come packed by :func:`constants`.
+
+All angles in radians, lengths in metres, poses in the world frame.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from kinplan.compiled import jit, numba
+from kinplan.ik.screws import CLAMP, HALF_TURN_SAFE, LIMIT_TOL, TAU, TINY
+from kinplan.ik.ur_single import FAST_EDGE, FAST_WRIST, URFast
+
+#: What :func:`nearest` returns for an input with a NaN or inf (the caller reports it).
+NOT_FINITE = -2
+#: What :func:`nearest` returns for a pose near a singularity (the all-branch path decides).
+LEFT = -3
+
+#: Private switch for tests and benchmarks: False makes :func:`available` False.
+ENABLED = os.environ.get("KINPLAN_JIT", "1") != "0"
+
+# Indices into the packed scalars of :func:`constants`.
+_AXES = 0  # u1, a, b1 in world coordinates (9)
+_P1 = 9  # shoulder coordinates of p1 (3)
+_OFFSET = 12  # shoulder offset [m]
+_DELTA5, _COS_D, _SIN_D = 13, 14, 15  # δ and its cosine and sine
+_A_WRIST, _D_WRIST, _E_WRIST = 16, 19, 22  # wrist coordinates of a, p4 − c, e (3 each)
+_EU, _EB, _FU, _FB = 25, 26, 27, 28  # (u1, b1) coordinates of e and f
+_PLANE = 29  # (p1 − p2)·e, (p1 − p2)·f [m]
+_R1X, _R1Y = 31, 32  # r23 [m]
+_L23, _L34 = 33, 34  # link lengths [m]
+_ELBOW_OFFSET, _AX, _AY = 35, 36, 37  # offset [rad] and Rot(offset) r34 [m]
+_SIGNS = 38  # directions of axes 2, 3, 4 (3)
+_R2X, _R2Y = 41, 42  # r34 [m]
+_SIZE = 43
+
+# _pose's and _elbow's outcomes.
+_OK, _NONE, _EDGE = 0, 1, 2
+
+
+def available() -> bool:
+    """Whether the compiled solve can be used (numba installed and not switched off)."""
+    return ENABLED and numba is not None
+
+
+def constants(k: URFast) -> np.ndarray:
+    """The scalars of the single-pose constants packed for the kernel, (43,) at the indices
+    ``_AXES`` … ``_R2X`` of this module (``k.matrix`` is applied by the callers, in numpy, as
+    the plain-float and array paths apply it). The cosines and sines of the fixed angles are
+    taken here, in Python, as :func:`~kinplan.ik.ur_many.fast_nearest_many` takes them."""
+    scalars = np.empty(_SIZE)
+    scalars[_AXES : _AXES + 9] = k.shoulder_axes
+    scalars[_P1 : _P1 + 3] = k.p1_along
+    scalars[_OFFSET] = k.shoulder_offset
+    scalars[_DELTA5] = k.delta5
+    scalars[_COS_D], scalars[_SIN_D] = math.cos(k.delta5), math.sin(k.delta5)
+    scalars[_A_WRIST : _A_WRIST + 3] = k.a_wrist
+    scalars[_D_WRIST : _D_WRIST + 3] = k.d_wrist
+    scalars[_E_WRIST : _E_WRIST + 3] = k.e_wrist
+    (scalars[_EU], scalars[_EB]), (scalars[_FU], scalars[_FB]) = k.e_shoulder, k.f_shoulder
+    scalars[_PLANE : _PLANE + 2] = k.plane_offset
+    scalars[_R1X], scalars[_R1Y] = k.r23
+    scalars[_L23], scalars[_L34] = k.l23, k.l34
+    co, so = math.cos(k.elbow_offset), math.sin(k.elbow_offset)
+    (r2x, r2y) = k.r34
+    scalars[_ELBOW_OFFSET] = k.elbow_offset
+    scalars[_AX], scalars[_AY] = co * r2x - so * r2y, so * r2x + co * r2y
+    scalars[_SIGNS : _SIGNS + 3] = k.signs
+    scalars[_R2X], scalars[_R2Y] = r2x, r2y
+    return scalars
+
+
+@jit
+def _square(x):
+    """x² exactly, as hi + lo (Veltkamp–Dekker splitting)."""
+    hi = x * x
+    t = x * 134217729.0  # 2**27 + 1
+    xh = t - (t - x)
+    xl = x - xh
+    return hi, ((xh * xh - hi) + 2.0 * xh * xl) + xl * xl
+
+
+@jit
+def _hypot(x, y):
+    """√(x² + y²) with the roundings of CPython's ``math.hypot`` (its ``vector_norm``: lossless
+    scaled squares and sums, then one differential correction), which the plain-float path
+    uses. libm's hypot differs from it in the last bit for about one pair in a thousand, which
+    near the wrist singularity (θ6 from components of size |sin(θ5 − δ)|) or the shoulder one
+    (θ1 from arccos(d4 / radius)) becomes ~1e-12 rad."""
+    x, y = abs(x), abs(y)
+    big = max(x, y)
+    if big == np.inf:
+        return big
+    if x != x or y != y:
+        return np.nan
+    if big == 0.0:
+        return big
+    _, exponent = math.frexp(big)
+    if exponent < -1023:  # subnormal: not met by the fast path's lengths
+        return math.hypot(x, y)
+    scale = math.ldexp(1.0, -exponent)
+    total, frac1, frac2 = 1.0, 0.0, 0.0
+    for v in (x * scale, y * scale):
+        hi, lo = _square(v)
+        added = total + hi
+        frac2 += (total - added) + hi
+        total = added
+        frac1 += lo
+    h = math.sqrt(total - 1.0 + (frac1 + frac2))
+    hi, lo = _square(h)
+    added = total - hi
+    frac2 += (total - added) - hi
+    total = added
+    frac1 -= lo
+    h += (total - 1.0 + (frac1 + frac2)) / (2.0 * h)
+    return h / scale
+
+
+@jit
+def _pose(c, values, shoulder, wrist, plain):
+    """θ1 of both shoulder branches and θ5, θ6 of the four (shoulder, wrist) pairs.
+
+    ``plain``: the roundings of the plain-float path (:func:`~kinplan.ik.ur_single.fast_shoulder`,
+    ``fast_wrist``: cos θ from θ, CPython's hypot), else those of the array path
+    (:func:`~kinplan.ik.ur_many.fast_nearest_many`: cos θ from the arguments of θ's atan2 or
+    arccos, no trigonometric call).
+
+    Reads ``values`` (15,): ``URFast.matrix @ R.ravel()`` (0–11), then the shoulder
+    coordinates of c − p1 (12–14: along u1, x along a, y along b1) [m] (:func:`_fill`).
+    Writes ``shoulder`` (2, 4): per shoulder
+    branch (θ1, cos θ1, sin θ1, |sin(θ5 − δ)|); ``wrist`` (4, 6): per pair ``2·shoulder +
+    wrist`` (θ5, θ6, cos θ5, sin θ5, cos θ6, sin θ6). Angles are any 2π representative.
+
+    Returns:
+        ``_NONE`` when no θ1 keeps the shoulder offset (nothing else written), ``_EDGE`` when
+        the ratio is within ``FAST_EDGE`` of ±1 (computed with the ratio clipped), else ``_OK``.
+    """
+    x, y = values[13], values[14]
+    radius = max(_hypot(x, y) if plain else math.sqrt(x * x + y * y), TINY)
+    ratio = c[_OFFSET] / radius
+    size = abs(ratio)
+    if size > 1.0 + CLAMP + FAST_EDGE or ratio != ratio:
+        return _NONE
+    status = _EDGE if size > 1.0 - FAST_EDGE else _OK
+    ratio = min(max(ratio, -1.0), 1.0)
+    # θ1 = base ± half: base = atan2(y, x), cos(half) = ratio
+    base, half = math.atan2(y, x), math.acos(ratio)
+    cos_base, sin_base = x / radius, y / radius
+    sin_half = math.sqrt(max(1.0 - ratio * ratio, 0.0))
+    cos_d, sin_d = c[_COS_D], c[_SIN_D]
+    a5, a6, a7 = c[_A_WRIST], c[_A_WRIST + 1], c[_A_WRIST + 2]
+    for s in range(2):
+        sign = 1.0 if s == 0 else -1.0
+        t1 = base + sign * half
+        if plain:
+            c1, s1 = math.cos(t1), math.sin(t1)
+        else:
+            p, m = cos_base * ratio, sin_base * sin_half
+            c1 = p - sign * m
+            p, m = sin_base * ratio, cos_base * sin_half
+            s1 = p + sign * m
+        shoulder[s, 0], shoulder[s, 1], shoulder[s, 2] = t1, c1, s1
+        # the wrist: θ5 = δ ± half5, cos/sin of half5 from its atan2 arguments
+        b5 = c1 * values[3] + s1 * values[6]
+        b6 = c1 * values[4] + s1 * values[7]
+        b7 = c1 * values[5] + s1 * values[8]
+        sine = _hypot(b5, b7) if plain else math.sqrt(b5 * b5 + b7 * b7)
+        shoulder[s, 3] = sine
+        half5 = math.atan2(sine, b6)
+        norm = max(math.sqrt(sine * sine + b6 * b6), TINY)
+        cos_half5, sin_half5 = b6 / norm, sine / norm
+        for w in range(2):
+            sign5 = 1.0 if w == 0 else -1.0
+            t5 = c[_DELTA5] + sign5 * half5
+            if plain:
+                c5, s5 = math.cos(t5), math.sin(t5)
+            else:
+                p, m = cos_d * cos_half5, sin_d * sin_half5
+                c5 = p - sign5 * m
+                p, m = sin_d * cos_half5, cos_d * sin_half5
+                s5 = p + sign5 * m
+            g5, g7 = c5 * a5, c5 * a7 - s5 * a6
+            sin6, cos6 = b7 * g5 - b5 * g7, b5 * g5 + b7 * g7
+            t6 = math.atan2(sin6, cos6)
+            row = 2 * s + w
+            wrist[row, 0], wrist[row, 1], wrist[row, 2], wrist[row, 3] = t5, t6, c5, s5
+            if plain:
+                wrist[row, 4], wrist[row, 5] = math.cos(t6), math.sin(t6)
+            else:
+                norm6 = max(math.sqrt(sin6 * sin6 + cos6 * cos6), TINY)
+                wrist[row, 4], wrist[row, 5] = cos6 / norm6, sin6 / norm6
+    return status
+
+
+@jit
+def _elbow(c, values, shoulder, wrist, pair, angles, plain):
+    """θ2, θ3, θ4 of both elbow branches of one (shoulder, wrist) ``pair``: the planar target
+    (:func:`~kinplan.ik.ur_single.fast_plane_axes`, ``fast_planar_target``) and the elbow
+    (``fast_elbow``), written into ``angles`` (6,) as (θ2, θ3, θ4) of elbow +1, then −1;
+    ``plain`` as :func:`_pose` (``fast_elbow``'s two atan2 for ψ2, else one).
+
+    Returns:
+        ``_NONE`` when the elbow cannot reach (``angles`` NaN), ``_EDGE`` when |cos ψ3| is
+        within ``FAST_EDGE`` of 1 (computed with the cosine clipped), else ``_OK``.
+    """
+    s = pair >> 1
+    c1, s1 = shoulder[s, 1], shoulder[s, 2]
+    c5, s5, c6, s6 = wrist[pair, 2], wrist[pair, 3], wrist[pair, 4], wrist[pair, 5]
+    m5 = c1 * values[6] - s1 * values[3]
+    m6 = c1 * values[7] - s1 * values[4]
+    m7 = c1 * values[8] - s1 * values[5]
+    eu, eb, fu, fb = c[_EU], c[_EB], c[_FU], c[_FB]
+    ge5, ge6, ge7 = eu * values[0] + eb * m5, eu * values[1] + eb * m6, eu * values[2] + eb * m7
+    gf5, gf6, gf7 = fu * values[0] + fb * m5, fu * values[1] + fb * m6, fu * values[2] + fb * m7
+    turned = c1 * values[14] - s1 * values[13]
+    offset_e = (c[_PLANE] + eu * values[12]) + eb * turned
+    offset_f = (c[_PLANE + 1] + fu * values[12]) + fb * turned
+    d5, d6, d7 = c[_D_WRIST], c[_D_WRIST + 1], c[_D_WRIST + 2]
+    x6, x7 = c5 * d6 + s5 * d7, c5 * d7 - s5 * d6
+    z5, z7 = c6 * d5 - s6 * x7, s6 * d5 + c6 * x7
+    e5, e6, e7 = c[_E_WRIST], c[_E_WRIST + 1], c[_E_WRIST + 2]
+    y6, y7 = c5 * e6 + s5 * e7, c5 * e7 - s5 * e6
+    v5, v7 = c6 * e5 - s6 * y7, s6 * e5 + c6 * y7
+    tx = offset_e + z5 * ge5 + x6 * ge6 + z7 * ge7
+    ty = offset_f + z5 * gf5 + x6 * gf6 + z7 * gf7
+    phi = math.atan2(v5 * gf5 + y6 * gf6 + v7 * gf7, v5 * ge5 + y6 * ge6 + v7 * ge7)
+    # ψ3 = offset ± bend; ψ2 = atan2(v × target, v · target), v = r23 + Rot(ψ3) r34
+    l23, l34 = c[_L23], c[_L34]
+    if plain:
+        cosine = (tx * tx + ty * ty - l23 * l23 - l34 * l34) / (2.0 * l23 * l34)
+    else:
+        cosine = (tx * tx + ty * ty - (l23 * l23 + l34 * l34)) / (2.0 * l23 * l34)
+    size = abs(cosine)
+    if size > 1.0 + CLAMP + FAST_EDGE or cosine != cosine:
+        for j in range(6):
+            angles[j] = np.nan
+        return _NONE
+    status = _EDGE if size > 1.0 - FAST_EDGE else _OK
+    cosine = min(max(cosine, -1.0), 1.0)
+    bend = math.acos(cosine)
+    sin_bend = math.sqrt(max(1.0 - cosine * cosine, 0.0))
+    ax, ay = c[_AX], c[_AY]
+    vx, vy = c[_R1X] + ax * cosine, c[_R1Y] + ay * cosine
+    dx, dy = ay * sin_bend, ax * sin_bend
+    cross0, cross1 = vx * ty - vy * tx, dx * ty + dy * tx
+    dot0, dot1 = vx * tx + vy * ty, dy * ty - dx * tx
+    offset = c[_ELBOW_OFFSET]
+    direction = math.atan2(ty, tx) if plain else 0.0
+    for e in range(2):
+        sign = 1.0 if e == 0 else -1.0
+        psi3 = offset + sign * bend
+        if plain:  # ψ2 = atan2(target) − atan2(v)
+            cb, sb = math.cos(psi3), math.sin(psi3)
+            r2x, r2y = c[_R2X], c[_R2Y]
+            psi2 = direction - math.atan2(
+                c[_R1Y] + sb * r2x + cb * r2y, c[_R1X] + cb * r2x - sb * r2y
+            )
+        else:
+            psi2 = math.atan2(cross0 - sign * cross1, dot0 + sign * dot1)
+        angles[3 * e] = c[_SIGNS] * psi2
+        angles[3 * e + 1] = c[_SIGNS + 1] * psi3
+        angles[3 * e + 2] = c[_SIGNS + 2] * (phi - psi2 - psi3)
+    return status
+
+
+@jit
+def _choice(value, ref, clipped, lower, upper, weight):
+    """One joint's value for the nearest solution and its share of the distance, as
+    :func:`~kinplan.ik.screws.joint_choice`: (q, w·(q − ref)²), cost inf (q NaN) when no
+    2π-equivalent is within the limits. ``clipped`` is ``ref`` clipped into them."""
+    turns = np.round((clipped - value) / TAU)
+    q = value + TAU * turns
+    if not (lower <= q <= upper and -HALF_TURN_SAFE < q - clipped < HALF_TURN_SAFE):
+        # near a limit or half a turn away: kinplan.ik.screws.near_angle
+        if not (lower - LIMIT_TOL <= q <= upper + LIMIT_TOL and abs(q - clipped) < HALF_TURN_SAFE):
+            best_distance = np.inf
+            for shift in (-1.0, 0.0, 1.0):  # ties go to the first, as near_angle
+                candidate = value + TAU * (turns + shift)
+                if lower - LIMIT_TOL <= candidate <= upper + LIMIT_TOL:
+                    distance = abs(candidate - clipped)
+                    if distance < best_distance:
+                        q, best_distance = candidate, distance
+            if best_distance == np.inf:
+                return np.nan, np.inf
+        q = min(max(q, lower), upper)
+    return q, weight * (q - ref) ** 2
+
+
+@jit
+def _nearest(c, limits, values, ref, out, single, work, order):
+    """The branch nearest ``ref`` (6,) of one pose, its solution written into ``out`` (6,).
+
+    Args:
+        c: The packed constants (:func:`constants`).
+        limits: Rows lower, upper [rad] and weights, shape (3, 6).
+        values: The pose's terms (15,), see :func:`_pose`.
+        ref: Reference configuration [rad] (6,).
+        out: Written with the solution (NaN when none).
+        single: True: as ``URIK._nearest_fast``, its roundings (``plain`` of :func:`_pose`)
+            and its branch and bound (the (shoulder, wrist) pairs in increasing order of their
+            θ1, θ5, θ6 distance, the planar step only while they can beat the best; mask not
+            computed; left only for a visited pair near the elbow edge). False: every branch
+            as ``fast_nearest_many`` (mask of all branches; left when any pair is near the
+            elbow edge).
+        work, order: Scratch, shapes (12, 12) float and (4,) int.
+
+    Returns:
+        (branch (−1: none within the limits, :data:`LEFT`: near a singularity), mask).
+    """
+    shoulder, wrist, angles = work[0:2, :4], work[2:6, :6], work[6, :6]
+    picks, heads, clipped = work[7:11, :3], work[11, :4], work[11, 6:12]
+    for j in range(6):
+        out[j] = np.nan
+        clipped[j] = min(max(ref[j], limits[0, j]), limits[1, j])
+    status = _pose(c, values, shoulder, wrist, single)
+    if status == _NONE:
+        return -1, 0
+    if status == _EDGE or shoulder[0, 3] < FAST_WRIST or shoulder[1, 3] < FAST_WRIST:
+        return LEFT, 0
+    # the θ1, θ5, θ6 parts of the distance, per pair
+    for pair in range(4):
+        q1, cost1 = _choice(
+            shoulder[pair >> 1, 0], ref[0], clipped[0], limits[0, 0], limits[1, 0], limits[2, 0]
+        )
+        q5, cost5 = _choice(
+            wrist[pair, 0], ref[4], clipped[4], limits[0, 4], limits[1, 4], limits[2, 4]
+        )
+        q6, cost6 = _choice(
+            wrist[pair, 1], ref[5], clipped[5], limits[0, 5], limits[1, 5], limits[2, 5]
+        )
+        heads[pair] = (cost1 + cost5) + cost6
+        picks[pair, 0], picks[pair, 1], picks[pair, 2] = q1, q5, q6
+        order[pair] = pair
+    if single:  # by head, then pair index (an insertion sort of four)
+        for i in range(1, 4):
+            j = i
+            while j > 0 and heads[order[j]] < heads[order[j - 1]]:
+                order[j], order[j - 1] = order[j - 1], order[j]
+                j -= 1
+    best, best_cost, mask = -1, np.inf, 0
+    for i in range(4):
+        pair = order[i]
+        head = heads[pair]
+        if single and (head == np.inf or head > best_cost):
+            break
+        status = _elbow(c, values, shoulder, wrist, pair, angles, single)
+        if status == _EDGE:
+            return LEFT, 0
+        if status == _NONE or head == np.inf:
+            continue
+        for e in range(2):
+            q2, cost2 = _choice(
+                angles[3 * e], ref[1], clipped[1], limits[0, 1], limits[1, 1], limits[2, 1]
+            )
+            if cost2 == np.inf or (single and head + cost2 > best_cost):
+                continue
+            q3, cost3 = _choice(
+                angles[3 * e + 1], ref[2], clipped[2], limits[0, 2], limits[1, 2], limits[2, 2]
+            )
+            q4, cost4 = _choice(
+                angles[3 * e + 2], ref[3], clipped[3], limits[0, 3], limits[1, 3], limits[2, 3]
+            )
+            cost = ((head + cost2) + cost3) + cost4
+            if cost == np.inf:
+                continue
+            index = 2 * pair + e
+            mask |= 1 << index
+            if cost < best_cost or (cost == best_cost and index < best):
+                best, best_cost = index, cost
+                out[0], out[1], out[2] = picks[pair, 0], q2, q3
+                out[3], out[4], out[5] = q4, picks[pair, 1], picks[pair, 2]
+    return best, mask
+
+
+@jit
+def _finite(values, ref):
+    """Whether the pose's terms and the reference are all finite (a NaN or inf anywhere in
+    the pose reaches some term: ``URFast.matrix`` has no zero column)."""
+    total = 0.0
+    for r in range(15):
+        total += values[r]
+    for j in range(6):
+        total += ref[j]
+    return math.isfinite(total)
+
+
+@jit
+def _fill(c, terms, along, i, values):
+    """``values`` (15,) of pose ``i`` from the array path's products: ``terms`` (12, N) =
+    ``URFast.matrix @ R.ravel()`` and ``along`` (3, N) = shoulder axes @ P, per pose (the
+    products of :func:`~kinplan.ik.ur_many.shoulder_terms`)."""
+    for r in range(12):
+        values[r] = terms[r, i]
+    for r in range(3):
+        values[12 + r] = terms[9 + r, i] + along[r, i] - c[_P1 + r]
+
+
+@jit
+def nearest(c, limits, terms, position, ref, out):
+    """The solution nearest ``ref`` [rad] (6,) written into ``out`` (6,), as
+    ``URIK._nearest_fast``; returns its branch, −1 when no branch has a solution within the
+    limits, :data:`NOT_FINITE` for an input with a NaN or inf, :data:`LEFT` for a pose near a
+    singularity (the all-branch path decides).
+
+    Args:
+        c, limits: As :func:`_nearest`.
+        terms: ``URFast.matrix @ R.ravel()`` (12,) of the tool rotation R (numpy's product, as
+            the plain-float path takes it).
+        position: Tool position [m] (3,).
+        ref, out: As :func:`_nearest`.
+    """
+    values = np.empty(15)
+    px, py, pz = position[0], position[1], position[2]
+    for r in range(12):
+        values[r] = terms[r]
+    for r in range(3):  # in the order of fast_shoulder's sums
+        a = 3 * r
+        values[12 + r] = terms[9 + r] + c[a] * px + c[a + 1] * py + c[a + 2] * pz - c[_P1 + r]
+    if not _finite(values, ref):
+        return NOT_FINITE
+    work, order = np.empty((12, 12)), np.empty(4, dtype=np.int64)
+    branch, _ = _nearest(c, limits, values, ref, out, True, work, order)
+    return branch
+
+
+@jit
+def nearest_many(c, limits, terms, along, refs, q, branch, mask, left):
+    """:func:`nearest` of N poses, each with its own reference (N, 6), as
+    :func:`~kinplan.ik.ur_many.fast_nearest_many`: ``q`` (N, 6) [rad] (NaN rows: none),
+    ``branch`` (N,) (−1: none within the limits or a NaN / inf input), ``mask`` (N,) (bit b:
+    branch b within the limits) and ``left`` (N,) (near a singularity: the all-branch path
+    decides; the other outputs are then meaningless) written. ``terms``, ``along``: see
+    :func:`_fill`."""
+    values = np.empty(15)
+    work, order = np.empty((12, 12)), np.empty(4, dtype=np.int64)
+    for i in range(refs.shape[0]):
+        _fill(c, terms, along, i, values)
+        if _finite(values, refs[i]):
+            best, bits = _nearest(c, limits, values, refs[i], q[i], False, work, order)
+        else:
+            best, bits = -1, 0
+            q[i, :] = np.nan
+        left[i] = best == LEFT
+        branch[i] = -1 if best == LEFT else best
+        mask[i] = bits
+
+
+@jit
+def branch_many(c, terms, along, branches, q, edge):
+    """One branch ``branches[i]`` (``4·shoulder + 2·wrist + elbow``) of each of N poses, as
+    :func:`~kinplan.ik.ur_many.fast_branch_many`: ``q`` (N, 6) [rad] (any 2π representative;
+    NaN where the branch has no solution) and ``edge`` (N,) (near a singularity of the branch,
+    q ill-conditioned, or the elbow out of reach) written. ``terms``, ``along``: see
+    :func:`_fill`."""
+    values = np.empty(15)
+    work = np.empty((12, 12))
+    shoulder, wrist, angles = work[0:2, :4], work[2:6, :6], work[6, :6]
+    for i in range(branches.shape[0]):
+        b = branches[i]
+        pair, s = b >> 1, b >> 2
+        _fill(c, terms, along, i, values)
+        status = _pose(c, values, shoulder, wrist, False)
+        if status == _NONE:
+            q[i, :] = np.nan
+            edge[i] = False
+            continue
+        elbow = _elbow(c, values, shoulder, wrist, pair, angles, False)
+        # as fast_branch_many: an elbow out of reach counts as an edge too (q NaN there)
+        near = status == _EDGE or shoulder[s, 3] < FAST_WRIST or elbow != _OK
+        e = 3 * (b & 1)
+        q[i, 0], q[i, 1], q[i, 2] = shoulder[s, 0], angles[e], angles[e + 1]
+        q[i, 3], q[i, 4], q[i, 5] = angles[e + 2], wrist[pair, 0], wrist[pair, 1]
+        edge[i] = near
