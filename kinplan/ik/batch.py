@@ -212,7 +212,7 @@ class BatchSolver:
                     positions[part], rot, seeds[part], tolerances
                 )
             elif method == "levenberg-marquardt":
-                q[part], success[part] = self._numerical(
+                q[part], success[part], polished = self._numerical(
                     positions[part], rot, seeds[part], tolerances, max_iterations, max_restarts
                 )
                 left = np.flatnonzero(~success[part])
@@ -220,8 +220,9 @@ class BatchSolver:
                     index = left + start
                     rot = None if rotations is None else rotations[index]
                     q[index], success[index] = self._rescue(
-                        positions[index], rot, q[index], seeds[index], tolerances, max_iterations
-                    )
+                        positions[index], rot, q[index], seeds[index], tolerances,
+                        max_iterations, polish=not polished,
+                    )  # fmt: skip
             else:
                 q[part], success[part] = self._loop(
                     positions[part], rot, seeds[part], tolerances, max_iterations, max_restarts
@@ -307,11 +308,28 @@ class BatchSolver:
         """The seeded attempt, then the Halton restarts of :meth:`kinplan.ik.IKSolver.solve`
         for the targets still unsolved.
 
-        Several restarts run side by side when few targets are left (up to
+        Serial revolute arms run :meth:`kinplan.ik.IKSolver.compiled_solve_many`: the compiled
+        solve of :meth:`kinplan.Robot.ik` target by target (attempts, restarts and the polish
+        of the best attempt). Other arms (or without numba) run the steps on all targets at
+        once with numpy: several restarts side by side when few targets are left (up to
         :data:`RESTARTS_AT_ONCE`, about :data:`SIDE_BY_SIDE_ROWS` rows), each target keeping
         its first converged restart in restart order (else its best one, earliest on ties):
         the answers of trying them one after the other, in fewer numpy passes.
+
+        Returns:
+            (q, success, polished): ``polished`` when the failures' best attempts were
+            polished already (the compiled solve).
         """
+        compiled = self.robot.ik_solver.compiled_solve_many(
+            positions, rotations, seeds, tolerances[0], tolerances[1], max_iterations, max_restarts
+        )
+        if compiled is not None:  # serial revolute arms: the compiled solve of ik, per target
+            q, converged = compiled
+            assert self.kinematics is not None  # the numerical method needs it (method())
+            position2, frobenius2 = self.kinematics.errors(q, positions, rotations)
+            success = converged & (position2 <= tolerances[0] ** 2)
+            success &= frobenius2 <= frobenius_tolerance(tolerances[1])
+            return q, success, max_restarts > 0  # the failures' best attempt polished
         q, success, score = self._descend(positions, rotations, seeds, tolerances, max_iterations)
         attempt = 1
         while attempt <= max_restarts:
@@ -338,17 +356,20 @@ class BatchSolver:
             q[left[solved]] = q_new[solved, first[solved]]
             success[left] = solved
             attempt += width
-        return q, success
+        return q, success, False
 
-    def _rescue(self, positions, rotations, q_best, seeds, tolerances, max_iterations):
+    def _rescue(self, positions, rotations, q_best, seeds, tolerances, max_iterations, *, polish):
         """What :meth:`kinplan.ik.IKSolver.solve` tries when every attempt failed, on all such
-        targets at once: polish the best attempt with Gauss–Newton-like steps; then solve from
-        the seed ignoring the limits and turn the revolute joints by whole turns into them."""
+        targets at once: polish the best attempt with Gauss–Newton-like steps (unless ``polish``
+        is False: the compiled solve polished it); then solve from the seed ignoring the limits
+        and turn the revolute joints by whole turns into them."""
         floor, patience = POLISH_DAMPING_FLOOR, POLISH_STALL_ITERATIONS
         long = POLISH_ITERATIONS * max_iterations
-        q, success, _ = self._descend(
-            positions, rotations, q_best, tolerances, long, floor=floor, patience=patience
-        )
+        q, success = np.array(q_best, dtype=float), np.zeros(len(positions), dtype=bool)
+        if polish:
+            q, success, _ = self._descend(
+                positions, rotations, q_best, tolerances, long, floor=floor, patience=patience
+            )
         left = np.flatnonzero(~success)
         if left.size == 0:
             return q, success

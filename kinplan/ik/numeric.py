@@ -543,28 +543,16 @@ class IKSolver:
         converged (its errors measured by Pinocchio), else None (the Python loop then runs the
         whole solve, with the solve without limits). None also without numba, for other arms
         and for a target with a NaN."""
-        if self._kernel is None:
-            from kinplan.ik import numeric_kernel  # numba loads on first use
-
-            found = numeric_kernel.screw_constants(self.model, self.frame_id)
-            self._kernel = (numeric_kernel, *found) if found is not None else False
-        if not isinstance(self._kernel, tuple):
+        inputs = self._kernel_inputs(
+            position_tolerance, rotation_tolerance, max_iterations, max_restarts
+        )
+        if inputs is None:
             return None
-        kernel, screws, tool = self._kernel
+        kernel, screws, tool, settings, polish, restarts = inputs
         target = np.eye(4)
         target[:3, 3] = position
         if rotation is not None:
             target[:3, :3] = rotation
-        settings = np.array(
-            [position_tolerance**2, frobenius_tolerance(rotation_tolerance), max_iterations,
-             DAMPING_GAIN, DAMPING_FLOOR, STALL_ITERATIONS, MAX_STEP]
-        )  # fmt: skip
-        polish = settings.copy()
-        polish[2] = POLISH_ITERATIONS * max_iterations if max_restarts > 0 else 0
-        polish[4], polish[5] = POLISH_DAMPING_FLOOR, POLISH_STALL_ITERATIONS
-        if max_restarts > 0:
-            self.restart_configuration(max_restarts)  # the Halton starts, made once
-        restarts = self._restarts[:max_restarts]
         q = np.empty(self.nq)
         limits = self._limits
         ok, attempts, its, _, _ = kernel.solve(
@@ -577,6 +565,82 @@ class IKSolver:
         if perr > position_tolerance or rerr > rotation_tolerance:
             return None
         return IKResult(q, True, perr, rerr, its, attempts)
+
+    def _kernel_inputs(
+        self,
+        position_tolerance: float,
+        rotation_tolerance: float,
+        max_iterations: int,
+        max_restarts: int,
+    ) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+        """(kernel module, screws, tool pose at q = 0, settings, polish settings, restart
+        configurations) of the compiled solve (:mod:`kinplan.ik.numeric_kernel`), or None
+        without numba and for arms other than serial chains of revolute joints."""
+        if self._kernel is None:
+            from kinplan.ik import numeric_kernel  # numba loads on first use
+
+            found = numeric_kernel.screw_constants(self.model, self.frame_id)
+            self._kernel = (numeric_kernel, *found) if found is not None else False
+        if not isinstance(self._kernel, tuple):
+            return None
+        kernel, screws, tool = self._kernel
+        settings = np.array(
+            [position_tolerance**2, frobenius_tolerance(rotation_tolerance), max_iterations,
+             DAMPING_GAIN, DAMPING_FLOOR, STALL_ITERATIONS, MAX_STEP]
+        )  # fmt: skip
+        polish = settings.copy()
+        polish[2] = POLISH_ITERATIONS * max_iterations if max_restarts > 0 else 0
+        polish[4], polish[5] = POLISH_DAMPING_FLOOR, POLISH_STALL_ITERATIONS
+        if max_restarts > 0:
+            self.restart_configuration(max_restarts)  # the Halton starts, made once
+        return kernel, screws, tool, settings, polish, self._restarts[:max_restarts]
+
+    def compiled_solve_many(
+        self,
+        positions: np.ndarray,
+        rotations: np.ndarray | None,
+        seeds: np.ndarray,
+        position_tolerance: float,
+        rotation_tolerance: float,
+        max_iterations: int,
+        max_restarts: int,
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """The compiled solve of :meth:`_compiled_solve` for many targets (inputs checked and
+        finite): the seeded attempt, the restarts and the polish of each, as :meth:`solve`
+        runs them for one target. What ``Robot.ik_batch`` runs for arms without a closed form.
+
+        Args:
+            positions: Tool positions in the base frame [m], shape (N, 3).
+            rotations: Tool rotations, shape (N, 3, 3), or None (position only).
+            seeds: Start configurations [rad], shape (N, nq).
+            position_tolerance, rotation_tolerance: Convergence thresholds [m], [rad].
+            max_iterations, max_restarts: As :meth:`solve`.
+
+        Returns:
+            (q (N, nq) [rad]: the converged configuration, else the polished best attempt;
+            converged (N,) bool, by the kernel's kinematics, which agree with Pinocchio to
+            1e-12), or None when the compiled solve is not available.
+        """
+        inputs = self._kernel_inputs(
+            position_tolerance, rotation_tolerance, max_iterations, max_restarts
+        )
+        if inputs is None:
+            return None
+        kernel, screws, tool, settings, polish, restarts = inputs
+        count = len(positions)
+        targets = np.zeros((count, 4, 4))
+        targets[:, 3, 3] = 1.0
+        targets[:, :3, 3] = positions
+        if rotations is not None:
+            targets[:, :3, :3] = rotations
+        q = np.empty((count, self.nq))
+        converged = np.zeros(count, dtype=bool)
+        kernel.solve_many(
+            np.ascontiguousarray(seeds, dtype=float), targets, rotations is not None,
+            self._limits, screws, tool, settings, polish, np.ascontiguousarray(restarts), q,
+            converged,
+        )  # fmt: skip
+        return q, converged
 
     def _rescue(
         self,

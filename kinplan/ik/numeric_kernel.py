@@ -249,6 +249,20 @@ def solve(q_seed, target, with_rotation, limits, screws, tool, settings, polish,
     return ok, restarts.shape[0] + 2, total + its, perr2, frob2
 
 
+@jit
+def solve_many(
+    q_seeds, targets, with_rotation, limits, screws, tool, settings, polish, restarts, q, ok
+):
+    """:func:`solve` of many targets, one after the other (``Robot.ik_batch`` of arms without a
+    closed form): row k of ``q`` (N, nq) and ``ok`` (N,) bool are the answer of target
+    ``targets[k]`` (4, 4) from seed ``q_seeds[k]``; the other arguments as :func:`solve`."""
+    for k in range(q_seeds.shape[0]):
+        ok[k] = solve(
+            q_seeds[k], targets[k], with_rotation, limits, screws, tool, settings, polish,
+            restarts, q[k],
+        )[0]  # fmt: skip
+
+
 def screw_constants(model, frame_id: int) -> tuple[np.ndarray, np.ndarray] | None:
     """(screws (2·nq, 3): unit axes then points [m]; tool pose at q = 0 (4, 4)) of a serial
     chain of revolute joints, when :func:`kinematics` with them matches Pinocchio's tool pose

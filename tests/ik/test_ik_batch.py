@@ -94,6 +94,34 @@ def test_numerical_arms_reach_what_ik_reaches(urdf):
     assert np.all((q >= robot.lower - 1e-12) & (q <= robot.upper + 1e-12))
 
 
+def test_numerical_revolute_arm_batch_is_ik_target_by_target(monkeypatch):
+    """Serial revolute arms run ik's compiled solve per target: the same success and, where
+    the compiled attempts converge, the same q to the last bits; unreachable targets fail and
+    the numpy path (numba switched off) reaches the same targets."""
+    from kinplan.ik import numeric_kernel
+
+    robot = kinplan.load_robot(URDF / "skewed_axes.urdf")
+    rng = np.random.default_rng(11)
+    targets = _targets(robot, rng, 300, 30)
+    seeds = np.array([robot.random_configuration(rng) for _ in targets])
+    q, success = robot.ik_batch(targets, q_seed=seeds)
+    results = [robot.ik(t, q_seed=s) for t, s in zip(targets, seeds)]
+    np.testing.assert_array_equal(success, [r.success for r in results])
+    assert success[:300].sum() >= 295  # 297: ik's own count on this awkward arm
+    compiled = [k for k, r in enumerate(results) if r.success and r.attempts <= 41]  # no rescue
+    np.testing.assert_allclose(q[compiled], [results[k].q for k in compiled], rtol=0, atol=1e-12)
+    errors = _tool_errors(robot, q[success], [t for t, ok in zip(targets, success) if ok])
+    assert errors[:, 0].max() <= 1e-6 and errors[:, 1].max() <= 1e-6
+    assert np.all((q >= robot.lower - 1e-12) & (q <= robot.upper + 1e-12))
+    monkeypatch.setattr(numeric_kernel, "ENABLED", False)
+    plain = kinplan.load_robot(URDF / "skewed_axes.urdf")
+    assert plain.ik_solver.compiled_solve_many(
+        np.zeros((1, 3)), None, np.zeros((1, plain.nq)), 1e-6, 1e-6, 40, 40
+    ) is None
+    _, plain_success = plain.ik_batch(targets, q_seed=seeds)
+    assert abs(int(plain_success.sum()) - int(success.sum())) <= 1
+
+
 def test_numerical_position_only_and_unreachable():
     robot = kinplan.load_robot(URDF / "skewed_axes.urdf")
     rng = np.random.default_rng(8)
@@ -262,17 +290,23 @@ def test_seeds_beyond_the_limits_as_ik(name):
     _assert_same_as_ik(robot, targets, seeds)
 
 
-def test_panda_near_free_angles_left_to_nearest():
+@pytest.mark.parametrize("compiled", [False, True])
+def test_panda_near_free_angles_left_to_nearest(compiled, monkeypatch):
     """θ2 = 0 puts axis 3 on axis 1 (θ1 and θ3 then share one free angle): seeded with the
-    configuration itself, the θ7 search meets it, leaves those targets to nearest() and still
-    gives ik's answers; seeded elsewhere, the same targets go through the vectorised path."""
+    configuration itself, the vectorised θ7 search (numba switched off) meets it, leaves those
+    targets to nearest() and still gives ik's answers; seeded elsewhere, the same targets go
+    through the vectorised path. The compiled search (the default) leaves none."""
+    from kinplan.ik import panda_kernel
+
+    monkeypatch.setattr(panda_kernel, "ENABLED", compiled)
     robot = kinplan.load_robot("panda")
     rng = np.random.default_rng(3)
     q_true = np.array([robot.random_configuration(rng) for _ in range(40)])
     q_true[:, 1] = 0.0
     targets = [robot.fk(q) for q in q_true]
     positions, rotations = robot.batch_solver.kinematics.fk(q_true)
-    assert robot.closed_form_ik.nearest_many(positions, rotations, q_true)[2].all()
+    left = robot.closed_form_ik.nearest_many(positions, rotations, q_true)[2]
+    assert not left.any() if compiled else left.all()
     _assert_same_as_ik(robot, targets, q_true)
     _assert_same_as_ik(robot, targets, q_true + 0.05)
 
