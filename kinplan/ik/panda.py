@@ -38,7 +38,7 @@ those before it: :mod:`~kinplan.ik.panda_geometry` (the arm read from the model,
 arithmetic) → :mod:`~kinplan.ik.panda_subproblems` (subproblems 1 and 2) →
 :mod:`~kinplan.ik.panda_intervals` (the θ7 search's intervals) → :mod:`~kinplan.ik.panda_batch`
 (the search over many poses, a base class of :class:`PandaIK`) → ``panda`` (the per-θ7 closed
-form, the θ7 search, :func:`panda_solver_for`). The compiled per-θ7 solve is
+form, the θ7 search, :func:`panda_solver_for`). The compiled per-θ7 solve and θ7 search are
 :mod:`~kinplan.ik.panda_kernel`. Every name this module had before that split is still
 importable from it, the helpers under their former private names (bound below), which are also
 the names :class:`PandaIK` calls them by.
@@ -49,6 +49,7 @@ from __future__ import annotations
 import logging
 import math
 from operator import itemgetter
+from typing import Any
 
 import numpy as np
 
@@ -161,6 +162,7 @@ class PandaIK(PandaBatch):
         self._limits = tuple(zip(self._lo, self._hi, self._w))
         self._mid_joints = self._joints(0.5 * (self.lower + self.upper))
         self._constants: tuple[np.ndarray, ...] | None = None  # of the compiled solve
+        self._kernel: tuple[Any, tuple[np.ndarray, ...] | None] | None = None  # of the search
         g = geometry
         self._wrist_pair = _AxisPair.of(g.axes[4], g.axes[5])  # Ra = axis 5, Rb = axis 6
         self._shoulder_pair = _AxisPair.of(g.axes[1], g.axes[0])  # Ra = axis 2, Rb = axis 1
@@ -334,7 +336,9 @@ class PandaIK(PandaBatch):
         ad, ac = _dot(a, d), _dot(a, c)
         cos_part, sin_part = _dot(c, d) - ac * ad, _dot(c, _cross(a, d))
         mean = _dot(d, d) + _dot(c, c) + 2.0 * ac * ad
-        amplitude = 2.0 * math.hypot(cos_part, sin_part)
+        # sqrt of the sum of squares (not math.hypot, whose last bit is CPython's own): the
+        # compiled search (panda_kernel.search) and nearest_many compute it bit for bit alike
+        amplitude = 2.0 * math.sqrt(cos_part * cos_part + sin_part * sin_part)
         low, high = self._elbow_distance2
         lo7, hi7 = self._lo[6], self._hi[6]
         if amplitude < FREE_TOL:  # θ7 does not change the distance
@@ -406,6 +410,47 @@ class PandaIK(PandaBatch):
         limits = [self.lower, self.upper, self.weights]
         return tuple(np.array(x, dtype=float) for x in (g.axes, vectors, elbow, pairs, limits))
 
+    def search_constants(self) -> tuple[np.ndarray, ...]:
+        """What the compiled θ7 search (:func:`kinplan.ik.panda_kernel.search`) reads besides
+        :meth:`kernel_constants`: the frame rows (10, 3) (shoulder centre s [m]; the tool's
+        zero-pose rotation M_R, row by row; its translation M_t [m]; M_Rᵀ row by row; p7 − w
+        [m]; the range of |y − w|² [m²] where θ4 fits and the edge margin [rad]), the stages'
+        θ7 values (the ±steps [rad], then every grid's values [rad]) and their sizes (the
+        number of steps, then each grid's, int64)."""
+        g = self.geometry
+        m, t = g.tool_rotation, self._tool_rotation_t
+        frame = [
+            g.shoulder,
+            m[0:3],
+            m[3:6],
+            m[6:9],
+            g.tool_translation,
+            t[0:3],
+            t[3:6],
+            t[6:9],
+            self._p7_from_wrist,
+            (*self._elbow_distance2, _Q7_EDGE_MARGIN),
+        ]
+        stages = [*_Q7_STEPS, *(x for grid in self._q7_grids for x in grid)]
+        sizes = [len(_Q7_STEPS), *(len(grid) for grid in self._q7_grids)]
+        return (
+            np.array(frame, dtype=float),
+            np.array(stages, dtype=float),
+            np.array(sizes, dtype=np.int64),
+        )
+
+    def _search_inputs(self) -> tuple[np.ndarray, ...] | None:
+        """:meth:`kernel_constants` + :meth:`search_constants` when the compiled search can
+        run (numba available and switched on, the limits finite), else None."""
+        if self._kernel is None:  # first call: numba loads now
+            from kinplan.ik import panda_kernel
+
+            finite = bool(np.isfinite(self.lower).all() and np.isfinite(self.upper).all())
+            constants = self.kernel_constants() + self.search_constants() if finite else None
+            self._kernel = (panda_kernel, constants)
+        kernel, constants = self._kernel
+        return constants if kernel.available() else None
+
     def _compiled_inputs(
         self, prepared: tuple[Vec, Mat], q_ref: np.ndarray
     ) -> tuple[tuple[np.ndarray, ...], np.ndarray, np.ndarray, np.ndarray] | None:
@@ -426,26 +471,11 @@ class PandaIK(PandaBatch):
         )
 
     def _best(
-        self,
-        prepared: tuple[Vec, Mat],
-        q7_values: list[float],
-        joints: list[_Joint],
-        compiled: tuple | None = None,
+        self, prepared: tuple[Vec, Mat], q7_values: list[float], joints: list[_Joint]
     ) -> list[float] | None:
-        """The solution nearest the reference over the given θ7 values [rad], or None.
-        ``compiled``: :meth:`_compiled_inputs` of the pose, for the compiled solve (the same
-        arithmetic; the Python one without)."""
+        """The solution nearest the reference over the given θ7 values [rad] (the first on
+        ties), or None."""
         best, best_cost = None, math.inf
-        if compiled is not None:
-            from kinplan.ik import panda_kernel
-
-            out = np.empty(7)
-            constants, seen, rotation_tm, q_ref = compiled
-            for q7 in q7_values:
-                cost = panda_kernel.nearest_for_q7(constants, seen, rotation_tm, q7, q_ref, out)
-                if cost < best_cost:
-                    best, best_cost = out.tolist(), cost
-            return best
         for q7 in q7_values:
             found = self._solve(prepared, q7, joints, prune=True)
             if found and found[-1][1] < best_cost:
@@ -482,6 +512,10 @@ class PandaIK(PandaBatch):
         pairs of targets and references, the middle of the interval has a solution twice as
         often as its edge.)
 
+        The whole search runs compiled (:func:`kinplan.ik.panda_kernel.search`: the same θ7
+        values in the same order, the same answer) when numba is available; without it (or
+        with ``KINPLAN_JIT=0``) in Python, as written here.
+
         Args:
             position: Tool position in the base (world) frame [m], shape (3,).
             rotation: Tool rotation (3×3) in the world frame, or None (then None: a redundant
@@ -493,6 +527,9 @@ class PandaIK(PandaBatch):
         """
         if rotation is None:
             return None
+        constants = self._search_inputs()
+        if constants is not None:
+            return self._nearest_compiled(constants, position, rotation, q_ref)
         joints = self._joints(q_ref)
         prepared = self._prepare(*self._pose(position, rotation))
         intervals = self._elbow_q7_intervals(prepared)
@@ -504,17 +541,75 @@ class PandaIK(PandaBatch):
             first = q7_ref
         else:
             first = start + 0.25 * (end - start) if q7_ref < start else end - 0.25 * (end - start)
-        compiled = self._compiled_inputs(prepared, q_ref)
-        best = self._best(prepared, [first], joints, compiled)
+        best = self._best(prepared, [first], joints)
         middle = 0.5 * (start + end)
         if best is None and middle != first:
-            best = self._best(prepared, [middle], joints, compiled)
+            best = self._best(prepared, [middle], joints)
         if best is None:
             for stage in self._q7_stages(q7_ref, intervals, {first, middle}):
-                best = self._best(prepared, stage, joints, compiled)
+                best = self._best(prepared, stage, joints)
                 if best is not None:
                     break
         return None if best is None else np.array(best)
+
+    def _nearest_compiled(
+        self, constants: tuple[np.ndarray, ...], position, rotation, q_ref
+    ) -> np.ndarray | None:
+        """:meth:`nearest` by the compiled search; malformed input raises as in Python."""
+        assert self._kernel is not None  # set by _search_inputs
+        kernel = self._kernel[0]
+        p = np.ascontiguousarray(position, dtype=float)
+        r = np.ascontiguousarray(rotation, dtype=float)
+        q = np.ascontiguousarray(q_ref, dtype=float)
+        out = np.empty(7)
+        if p.shape != (3,) or r.shape != (3, 3) or q.shape != (7,):
+            status = kernel.NOT_FINITE  # wrong shapes: the checks below raise
+        else:
+            status = kernel.search(*constants, p, r, q, out)
+        if status == kernel.NOT_FINITE:  # the Python path's checks, in its order, raise
+            self._joints(q_ref)
+            self._pose(position, rotation)
+            raise InputError("the pose and q_ref must be finite")  # pragma: no cover
+        return out if status == kernel.FOUND else None
+
+    def nearest_many(
+        self, positions: np.ndarray, rotations: np.ndarray, q_ref: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`nearest` of many poses, each with its own reference (inputs unchecked).
+
+        Compiled (:func:`kinplan.ik.panda_kernel.search_many`: :meth:`nearest`'s search pose
+        by pose, the same answers, nothing left over) when numba is available, else the
+        vectorised search of :meth:`PandaBatch.nearest_many
+        <kinplan.ik.panda_batch.PandaBatch.nearest_many>`.
+
+        Args:
+            positions: Tool positions in the world frame [m], shape (N, 3).
+            rotations: Tool rotations in the world frame, shape (N, 3, 3).
+            q_ref: References [rad], shape (N, 7).
+
+        Returns:
+            (q (N, 7) [rad], found (N,), left (N,)): ``left`` marks poses the caller should
+            solve with :meth:`nearest` (none on the compiled path); the other outputs of such
+            poses, and ``q`` where nothing is found, are meaningless.
+        """
+        constants = self._search_inputs()
+        if constants is None:
+            return super().nearest_many(positions, rotations, q_ref)
+        from kinplan.ik.panda_kernel import search_many
+
+        count = len(positions)
+        q = np.zeros((count, 7))
+        found = np.zeros(count, dtype=bool)
+        if count:
+            search_many(
+                *constants,
+                np.ascontiguousarray(positions, dtype=float).reshape(count, 3),
+                np.ascontiguousarray(rotations, dtype=float).reshape(count, 3, 3),
+                np.ascontiguousarray(q_ref, dtype=float).reshape(count, 7),
+                q,
+                found,
+            )
+        return q, found, np.zeros(count, dtype=bool)
 
     # ------------------------------------------------------------ along a path
     def nearest_batch(

@@ -179,9 +179,10 @@ class PandaBatch:
         ad, ac = dot_many(a, d), dot_many(a, c)
         cos_part, sin_part = dot_many(c, d) - ac * ad, dot_many(c, cross_many(a, d))
         mean = dot_many(d, d) + dot_many(c, c) + 2.0 * ac * ad
-        # the transcendental functions of the math module, as _elbow_q7_intervals: the
-        # intervals' ends must agree to the last bit (pieces that touch at ±π merge or not by it)
-        amplitude = 2.0 * map_floats(math.hypot, cos_part, sin_part)
+        # as _elbow_q7_intervals (a correctly rounded sqrt, the math module's transcendental
+        # functions): the intervals' ends must agree to the last bit (pieces that touch at ±π
+        # merge or not by it)
+        amplitude = 2.0 * np.sqrt(cos_part * cos_part + sin_part * sin_part)
         low, high = self._elbow_distance2
         lo7, hi7 = self._lo[6], self._hi[6]
         with np.errstate(divide="ignore", invalid="ignore"):

@@ -1,20 +1,29 @@
-"""The panda closed form for one θ7, compiled (numba): the nearest solution of a single pose.
+"""The panda closed form and its θ7 search, compiled (numba): the nearest solution of a pose.
 
 :meth:`kinplan.ik.panda.PandaIK.nearest` tries one θ7 after another and, for each, solves the
 six other joints in closed form, keeping the solution nearest the reference (branch and bound
-over the θ4, wrist and shoulder branches). In plain Python floats one θ7 costs about 20 µs,
-most of a single IK call; :func:`nearest_for_q7` is the same arithmetic compiled (about 1 µs),
-so the θ7 search, the input checks and the final check by Pinocchio's forward kinematics stay
-in Python while the per-θ7 solve does not.
+over the θ4, wrist and shoulder branches). In plain Python floats one θ7 costs about 20 µs and
+the search around it some more per pose; here both are compiled:
 
-It is a twin of :meth:`PandaIK._solve <kinplan.ik.panda.PandaIK>` with ``prune=True``, step
-for step (the same subproblems, angle choices, tolerances and tie-breaking order), tested
-against it on thousands of random poses, θ7 values and references, and on crafted geometries,
-free angles and limit edges (``tests/ik/test_panda_kernel.py``). The two agree to the last
-bit but one: Python squares a distance with ``pow`` and numba with a product, so two branches
-whose distances tie to the last bit may be chosen differently (they then differ by ~1e-15
-rad). Without numba (or with ``KINPLAN_JIT=0``)
-:func:`available` is False and the Python solve runs. Compiled code is cached on disk.
+* :func:`nearest_for_q7` (``_solve``): one θ7, a twin of :meth:`PandaIK._solve
+  <kinplan.ik.panda.PandaIK>` with ``prune=True``, step for step (the same subproblems, angle
+  choices, tolerances and tie-breaking order), tested against it on thousands of random poses,
+  θ7 values and references, and on crafted geometries, free angles and limit edges
+  (``tests/ik/test_panda_kernel.py``);
+* :func:`search` (behind ``PandaIK.nearest``) and :func:`search_many` (behind
+  ``PandaIK.nearest_many``, pose after pose): the whole θ7 search, a twin of the Python one —
+  the pose's θ7-independent part (:func:`_prepare`), the θ7 intervals where the elbow reaches
+  (:func:`_intervals`, bit for bit), the first value, the middle, the ±steps and the grids
+  moved into the intervals with the "already tried" rule (:func:`stage_values`: a linear scan
+  of the values tried for Python's set of floats), the same θ7 values in the same order
+  (``tests/ik/test_panda_search_kernel.py``). Only the input checks' error messages and the
+  final check by Pinocchio's forward kinematics stay in Python.
+
+The two agree to the last bit but one: Python squares a distance with ``pow`` and numba with a
+product, so two branches whose distances tie to the last bit may be chosen differently (they
+then differ by ~1e-15 rad; on 3,200 random cases of the stock panda every answer was the same
+to the bit). Without numba (or with ``KINPLAN_JIT=0``) :func:`available` is False and the
+Python search runs. Compiled code is cached on disk.
 """
 
 from __future__ import annotations
@@ -162,16 +171,59 @@ def _matvec(m, v):
 
 
 @jit
+def _turn(v, axis, c, s, out):
+    """:func:`_rotate_cs` into ``out`` (3,) (which may be ``v``): the same arithmetic."""
+    ax, ay, az = axis[0], axis[1], axis[2]
+    x, y, z = v[0], v[1], v[2]
+    k = (ax * x + ay * y + az * z) * (1.0 - c)
+    out[0] = x * c + (ay * z - az * y) * s + ax * k
+    out[1] = y * c + (az * x - ax * z) * s + ay * k
+    out[2] = z * c + (ax * y - ay * x) * s + az * k
+
+
+@jit
+def _matvec_into(m, v, out):
+    """``out`` = m v for (3, 3) ``m`` and (3,) ``v``, ``out`` not ``v`` (:func:`_matvec`)."""
+    for i in range(3):
+        out[i] = m[i, 0] * v[0] + m[i, 1] * v[1] + m[i, 2] * v[2]
+
+
+@jit
+def _scratch():
+    """The work arrays of :func:`_solve`: (vectors (8, 3), wrist rows (4, 6) and subproblem
+    angles (2, 2), matrices (2, 3, 3))."""
+    return np.empty((8, 3)), np.empty((6, 6)), np.empty((2, 3, 3))
+
+
+@jit
 def _nearest(axes, vectors, elbow, pairs, limits, seen, rotation_tm, q7, q_ref, out):
     """:func:`nearest_for_q7` (compiled)."""
+    clipped = np.minimum(np.maximum(q_ref, limits[0]), limits[1])
+    vec, rows, mats = _scratch()
+    return _solve(axes, vectors, elbow, pairs, limits, seen, rotation_tm, q7, q_ref, clipped,
+                  out, vec, rows, mats)  # fmt: skip
+
+
+@jit
+def _solve(
+    axes, vectors, elbow, pairs, limits, seen, rotation_tm, q7, q_ref, clipped, out, vec, rows,
+    mats,
+):  # fmt: skip
+    """:func:`_nearest` with the reference clipped into the limits (``clipped``) and its work
+    arrays (:func:`_scratch`) given."""
     lower, upper, weights = limits[0], limits[1], limits[2]
-    clipped = np.minimum(np.maximum(q_ref, lower), upper)
     a4, a5, a6, a7 = axes[3], axes[4], axes[5], axes[6]
     p7, wrist, s4, w4, e3 = vectors[0], vectors[1], vectors[2], vectors[3], vectors[4]
+    y, v, u, g3, ge, h = vec[0], vec[1], vec[2], vec[3], vec[4], vec[5]
+    wrists, angles = rows[:4], rows[4:]
+    turn, rotation_p = mats[0], mats[1]
     # y = exp(S7 θ7) M T⁻¹ s, v = y − w
     c7, s7 = math.cos(q7), math.sin(q7)
-    y = _rotate_cs(seen - p7, a7, c7, s7)
-    v = y + p7 - wrist
+    for i in range(3):
+        y[i] = seen[i] - p7[i]
+    _turn(y, a7, c7, s7, y)
+    for i in range(3):
+        v[i] = (y[i] + p7[i]) - wrist[i]
     base = weights[6] * (q7 - q_ref[6]) ** 2
     # θ4 (up to two): |exp(−S4 θ4) s − w|² = |v|²
     lengths, const, amplitude, phase = elbow[0], elbow[1], elbow[2], elbow[3]
@@ -180,21 +232,22 @@ def _nearest(axes, vectors, elbow, pairs, limits, seen, rotation_tm, q7, q_ref, 
     if abs(ratio) > 1.0 + CLAMP:
         return np.inf
     spread = math.acos(min(max(ratio, -1.0), 1.0))
-    raws = np.array([-(phase + spread), -(phase - spread)])
     raw_count = 1 if spread == 0.0 else 2
-    if raw_count == 1:
-        raws[0] = -phase
     # the wrist part of every branch: distance so far, θ4, θ5, θ6, cos and sin of −θ4
-    wrists = np.empty((4, 6))
     count = 0
-    angles = np.empty((2, 2))
     for i in range(raw_count):
-        ok4, q4, cost4 = _choice(raws[i], q_ref[3], clipped[3], lower[3], upper[3], weights[3])
+        if raw_count == 1:
+            raw4 = -phase
+        else:
+            raw4 = -(phase + spread) if i == 0 else -(phase - spread)
+        ok4, q4, cost4 = _choice(raw4, q_ref[3], clipped[3], lower[3], upper[3], weights[3])
         if not ok4:
             continue
         cost4 += base
         cos4, sin4 = math.cos(q4), -math.sin(q4)
-        u = _rotate_cs(s4, a4, cos4, sin4) - w4
+        _turn(s4, a4, cos4, sin4, u)
+        for k in range(3):
+            u[k] -= w4[k]
         found = _pair(pairs[0], u, v, -clipped[4], -clipped[5], angles)
         for j in range(found):
             ok5, q5, cost5 = _choice(
@@ -215,36 +268,35 @@ def _nearest(axes, vectors, elbow, pairs, limits, seen, rotation_tm, q7, q_ref, 
                 count += 1
     # nearest first (a stable insertion sort, as Python's sort)
     for i in range(1, count):
-        row = wrists[i].copy()
+        r0, r1, r2 = wrists[i, 0], wrists[i, 1], wrists[i, 2]
+        r3, r4, r5 = wrists[i, 3], wrists[i, 4], wrists[i, 5]
         j = i - 1
-        while j >= 0 and wrists[j, 0] > row[0]:
-            wrists[j + 1] = wrists[j]
+        while j >= 0 and wrists[j, 0] > r0:
+            for k in range(6):
+                wrists[j + 1, k] = wrists[j, k]
             j -= 1
-        wrists[j + 1] = row
+        wrists[j + 1, 0], wrists[j + 1, 1], wrists[j + 1, 2] = r0, r1, r2
+        wrists[j + 1, 3], wrists[j + 1, 4], wrists[j + 1, 5] = r3, r4, r5
     bound = np.inf
-    rotation_p = np.empty((3, 3))
     have_p = False
     for i in range(count):
-        cost6, q4, q5, q6, cos4, sin4 = (
-            wrists[i, 0],
-            wrists[i, 1],
-            wrists[i, 2],
-            wrists[i, 3],
-            wrists[i, 4],
-            wrists[i, 5],
-        )
+        cost6, q4, q5, q6 = wrists[i, 0], wrists[i, 1], wrists[i, 2], wrists[i, 3]
+        cos4, sin4 = wrists[i, 4], wrists[i, 5]
         if cost6 >= bound:
             break
         if not have_p:  # R_P = R_T M_Rᵀ Rot(ω7, −θ7)
-            turn = np.empty((3, 3))
             rotation_about(a7, c7, -s7, turn)
             product_into(rotation_tm, turn, rotation_p)
             have_p = True
         cos5, sin5, cos6, sin6 = math.cos(q5), -math.sin(q5), math.cos(q6), -math.sin(q6)
-        g3 = _rotate_cs(_rotate_cs(axes[2], a4, cos4, sin4), a5, cos5, sin5)
-        ge = _rotate_cs(_rotate_cs(e3, a4, cos4, sin4), a5, cos5, sin5)
-        g3 = _matvec(rotation_p, _rotate_cs(g3, a6, cos6, sin6))
-        ge = _matvec(rotation_p, _rotate_cs(ge, a6, cos6, sin6))
+        _turn(axes[2], a4, cos4, sin4, h)
+        _turn(h, a5, cos5, sin5, h)
+        _turn(h, a6, cos6, sin6, h)
+        _matvec_into(rotation_p, h, g3)
+        _turn(e3, a4, cos4, sin4, h)
+        _turn(h, a5, cos5, sin5, h)
+        _turn(h, a6, cos6, sin6, h)
+        _matvec_into(rotation_p, h, ge)
         found = _pair(pairs[1], axes[2], g3, clipped[1], clipped[0], angles)
         for j in range(found):
             t2, t1 = angles[j, 0], angles[j, 1]
@@ -255,8 +307,8 @@ def _nearest(axes, vectors, elbow, pairs, limits, seen, rotation_tm, q7, q_ref, 
             total = cost6 + cost1 + cost2
             if total >= bound:
                 continue
-            h = _rotate_cs(ge, axes[0], math.cos(-t1), math.sin(-t1))
-            h = _rotate_cs(h, axes[1], math.cos(-t2), math.sin(-t2))
+            _turn(ge, axes[0], math.cos(-t1), math.sin(-t1), h)
+            _turn(h, axes[1], math.cos(-t2), math.sin(-t2), h)
             t3 = _angle_about(axes[2], e3, h, clipped[2])
             ok3, q3, cost3 = _choice(t3, q_ref[2], clipped[2], lower[2], upper[2], weights[2])
             if not ok3:
@@ -268,3 +320,295 @@ def _nearest(axes, vectors, elbow, pairs, limits, seen, rotation_tm, q7, q_ref, 
             out[4], out[5], out[6] = q5, q6, q7
             bound = total
     return bound
+
+
+# ---------------------------------------------------------------------------- the θ7 search
+#: What :func:`search` returns: a solution written, none found, an input with a NaN or inf.
+FOUND, NONE, NOT_FINITE = 1, 0, -2
+
+
+@jit
+def _prepare(frame, position, rotation, seen, rotation_tm):
+    """``M T⁻¹ s`` [m] into ``seen`` (3,) and ``R_T M_Rᵀ`` into ``rotation_tm`` (3, 3): the
+    θ7-independent part of a pose (``PandaIK._prepare``, the same operations in the same
+    order)."""
+    d0 = frame[0, 0] - position[0]
+    d1 = frame[0, 1] - position[1]
+    d2 = frame[0, 2] - position[2]
+    x = rotation[0, 0] * d0 + rotation[1, 0] * d1 + rotation[2, 0] * d2  # R_Tᵀ (s − p_T)
+    y = rotation[0, 1] * d0 + rotation[1, 1] * d1 + rotation[2, 1] * d2
+    z = rotation[0, 2] * d0 + rotation[1, 2] * d1 + rotation[2, 2] * d2
+    for i in range(3):
+        m = frame[1 + i]  # row i of M_R
+        seen[i] = (m[0] * x + m[1] * y + m[2] * z) + frame[4, i]
+        for j in range(3):  # (R_T M_Rᵀ)[i, j], M_Rᵀ in rows 5–7
+            rotation_tm[i, j] = (
+                rotation[i, 0] * frame[5, j] + rotation[i, 1] * frame[6, j]
+            ) + rotation[i, 2] * frame[7, j]
+
+
+@jit
+def _intervals(axes, vectors, frame, lo7, hi7, seen, starts, ends):
+    """The θ7 intervals [rad] within [lo7, hi7] where the elbow reaches, sorted and disjoint,
+    into ``starts``/``ends``; returns how many (``PandaIK._elbow_q7_intervals`` and
+    ``intervals_within``, the same operations in the same order)."""
+    a, c, p7 = axes[6], frame[8], vectors[0]
+    d0, d1, d2 = seen[0] - p7[0], seen[1] - p7[1], seen[2] - p7[2]
+    ad = a[0] * d0 + a[1] * d1 + a[2] * d2
+    ac = a[0] * c[0] + a[1] * c[1] + a[2] * c[2]
+    cos_part = (c[0] * d0 + c[1] * d1 + c[2] * d2) - ac * ad
+    x, y, z = a[1] * d2 - a[2] * d1, a[2] * d0 - a[0] * d2, a[0] * d1 - a[1] * d0  # a × d
+    sin_part = c[0] * x + c[1] * y + c[2] * z
+    mean = ((d0 * d0 + d1 * d1 + d2 * d2) + (c[0] * c[0] + c[1] * c[1] + c[2] * c[2])) + (
+        2.0 * ac
+    ) * ad
+    amplitude = 2.0 * math.sqrt(cos_part * cos_part + sin_part * sin_part)
+    low, high = frame[9, 0], frame[9, 1]
+    if amplitude < FREE_TOL:  # θ7 does not change the distance
+        if low <= mean <= high:
+            starts[0], ends[0] = lo7, hi7
+            return 1
+        return 0
+    c_low, c_high = (low - mean) / amplitude, (high - mean) / amplitude
+    if c_low > 1.0 or c_high < -1.0:
+        return 0
+    near = math.acos(1.0 if 1.0 < c_high else c_high)
+    far = math.acos(-1.0 if -1.0 > c_low else c_low)
+    phi = math.atan2(sin_part, cos_part)
+    count = 0
+    for piece in range(2):
+        start = phi + near if piece == 0 else phi - far
+        end = phi + far if piece == 0 else phi - near
+        for k in range(math.ceil((lo7 - end) / TAU), math.floor((hi7 - start) / TAU) + 1):
+            a_k, b_k = start + k * TAU, end + k * TAU
+            a_k = lo7 if lo7 > a_k else a_k
+            b_k = hi7 if hi7 < b_k else b_k
+            if a_k <= b_k:  # sorted by (start, end) as it goes in
+                i = count
+                while i > 0 and (
+                    starts[i - 1] > a_k or (starts[i - 1] == a_k and ends[i - 1] > b_k)
+                ):
+                    starts[i], ends[i] = starts[i - 1], ends[i - 1]
+                    i -= 1
+                starts[i], ends[i] = a_k, b_k
+                count += 1
+    merged = 0
+    for i in range(count):
+        if merged > 0 and starts[i] <= ends[merged - 1]:
+            if ends[i] > ends[merged - 1]:
+                ends[merged - 1] = ends[i]
+        else:
+            starts[merged], ends[merged] = starts[i], ends[i]
+            merged += 1
+    return merged
+
+
+@jit
+def _project(value, starts, ends, count, margin):
+    """``panda_intervals.project``: ``value`` if one of the ``count`` intervals holds it, else
+    the nearest edge moved ``margin`` inside (the middle of a narrower interval)."""
+    best, best_distance = value, np.inf
+    for i in range(count):
+        a, b = starts[i], ends[i]
+        if a <= value <= b:
+            return value
+        half = 0.5 * (b - a)
+        m = half if half < margin else margin
+        edge = a + m if value < a else b - m
+        distance = abs(edge - value)
+        if distance < best_distance:
+            best, best_distance = edge, distance
+    return best
+
+
+@jit
+def stage_values(stage, bounds, stages, sizes, starts, ends, count, tried, n_tried, values):
+    """The θ7 values [rad] of one stage after the first value and the middle
+    (``PandaIK._q7_stages``): each clipped into the limits and moved into the intervals, those
+    equal to a value tried before (``tried[:n_tried]``, this stage's own included) skipped.
+
+    Args:
+        stage: 0, 1, …: q7_ref ± each step in turn, then each grid.
+        bounds: (q7_ref (clipped into the limits), lower, upper limit, edge margin) [rad].
+        stages, sizes: As :func:`search`.
+        starts, ends, count: The intervals (:func:`_intervals`).
+        tried: The values tried so far, ``n_tried`` of them: the fresh ones are appended.
+        values: Written with the fresh values.
+
+    Returns:
+        (how many fresh values, ``n_tried`` after them).
+    """
+    q7_ref, lo7, hi7, margin = bounds[0], bounds[1], bounds[2], bounds[3]
+    steps = sizes[0]
+    if stage < steps:
+        width, offset = 2, 0
+    else:
+        width, offset = sizes[stage - steps + 1], steps
+        for grid in range(1, stage - steps + 1):
+            offset += sizes[grid]
+    fresh = 0
+    for i in range(width):
+        if stage < steps:
+            raw = q7_ref + stages[stage] if i == 0 else q7_ref - stages[stage]
+        else:
+            raw = stages[offset + i]
+        raw = lo7 if lo7 > raw else raw  # min(max(raw, lo7), hi7), as Python's
+        raw = hi7 if hi7 < raw else raw
+        value = _project(raw, starts, ends, count, margin)
+        old = False
+        for j in range(n_tried):  # Python's "value in tried" of a set of floats
+            if tried[j] == value:
+                old = True
+                break
+        if not old:
+            tried[n_tried] = value
+            n_tried += 1
+            values[fresh] = value
+            fresh += 1
+    return fresh, n_tried
+
+
+@jit
+def _try(constants, seen, rotation_tm, values, count, q_ref, out, space):
+    """The nearest solution over the first ``count`` θ7 ``values`` (the first on ties), into
+    ``out``; returns whether there is one (``PandaIK._best``)."""
+    axes, vectors, elbow, pairs, limits = constants
+    clipped, work, vec, rows, mats = space[5], space[6], space[7], space[8], space[9]
+    best = np.inf
+    for i in range(count):
+        cost = _solve(axes, vectors, elbow, pairs, limits, seen, rotation_tm, values[i], q_ref,
+                      clipped, work, vec, rows, mats)  # fmt: skip
+        if cost < best:
+            best = cost
+            out[:] = work
+    return best < np.inf
+
+
+@jit
+def _workspace(limits, stages, sizes):
+    """The work arrays of :func:`_search`: (seen (3,), R_T M_Rᵀ (3, 3), interval starts and
+    ends, a stage's values, the values tried, the clipped reference (7,), a solution (7,), and
+    :func:`_scratch`'s three)."""
+    lo7, hi7 = limits[0, 6], limits[1, 6]
+    room = 2 * (int((hi7 - lo7 + math.pi) / TAU) + 3)  # pieces of ≤ π, each shifted by turns
+    widest = 2
+    for stage in range(1, sizes.size):
+        widest = max(widest, sizes[stage])
+    vec, rows, mats = _scratch()
+    return (
+        np.empty(3), np.empty((3, 3)), np.empty((2, room)), np.empty(widest),
+        np.empty(2 + sizes[0] + stages.size), np.empty(7), np.empty(7), vec, rows, mats,
+    )  # fmt: skip
+
+
+@jit
+def search(
+    axes, vectors, elbow, pairs, limits, frame, stages, sizes, position, rotation, q_ref, out
+):
+    """``PandaIK.nearest`` of one pose, compiled: the θ7 search with its per-θ7 solve.
+
+    The same θ7 values in the same order as the Python search, the same "already tried" rule
+    (a value equal to one tried before is skipped), the same tie-breaking.
+
+    Args:
+        axes, vectors, elbow, pairs, limits: ``PandaIK.kernel_constants`` (see
+            :func:`nearest_for_q7`).
+        frame: ``PandaIK.search_constants``' first array (10, 3): rows s; M_R (3 rows); M_t;
+            M_Rᵀ (3 rows); p7 − w; (low, high) of |y − w|² [m²] and the edge margin [rad].
+        stages: The ±steps [rad] then the grids' θ7 values [rad], one after the other (1-D).
+        sizes: How many of ``stages`` each stage takes: the steps, then each grid (int64).
+        position: Tool position in the world frame [m] (3,).
+        rotation: Tool rotation in the world frame (3, 3).
+        q_ref: Reference configuration [rad] (7,).
+        out: Written with the solution when one is found (7,).
+
+    Returns:
+        :data:`FOUND`, :data:`NONE` or :data:`NOT_FINITE`.
+    """
+    total = 0.0
+    for i in range(3):
+        total += position[i] + rotation[i, 0] + rotation[i, 1] + rotation[i, 2]
+    for j in range(7):
+        total += q_ref[j]
+    if not math.isfinite(total):
+        return NOT_FINITE
+    return _search(
+        (axes, vectors, elbow, pairs, limits), frame, stages, sizes, position, rotation, q_ref,
+        out, _workspace(limits, stages, sizes),
+    )  # fmt: skip
+
+
+@jit
+def _search(constants, frame, stages, sizes, position, rotation, q_ref, out, space):
+    """:func:`search` of finite input, its work arrays given (:func:`_workspace`)."""
+    axes, vectors, limits = constants[0], constants[1], constants[4]
+    seen, rotation_tm, bounds, values, tried, clipped = (
+        space[0], space[1], space[2], space[3], space[4], space[5]
+    )  # fmt: skip
+    starts, ends = bounds[0], bounds[1]
+    lo7, hi7 = limits[0, 6], limits[1, 6]
+    _prepare(frame, position, rotation, seen, rotation_tm)
+    count = _intervals(axes, vectors, frame, lo7, hi7, seen, starts, ends)
+    if count == 0:
+        return NONE
+    ref7 = q_ref[6]
+    q7_ref = lo7 if lo7 > ref7 else ref7  # min(max(ref, lo), hi), as Python's
+    q7_ref = hi7 if hi7 < q7_ref else q7_ref
+    nearest, key = 0, np.inf
+    for i in range(count):
+        a, b = starts[i] - q7_ref, q7_ref - ends[i]
+        distance = b if b > a else a
+        if distance < key:
+            nearest, key = i, distance
+    start, end = starts[nearest], ends[nearest]
+    if start <= q7_ref <= end:
+        first = q7_ref
+    elif q7_ref < start:
+        first = start + 0.25 * (end - start)
+    else:
+        first = end - 0.25 * (end - start)
+    middle = 0.5 * (start + end)
+    for j in range(7):  # as np.minimum(np.maximum(q_ref, lower), upper)
+        clipped[j] = np.minimum(np.maximum(q_ref[j], limits[0, j]), limits[1, j])
+    values[0] = first
+    if _try(constants, seen, rotation_tm, values, 1, q_ref, out, space):
+        return FOUND
+    values[0] = middle
+    if middle != first and _try(constants, seen, rotation_tm, values, 1, q_ref, out, space):
+        return FOUND
+    # then q7_ref ± each step, then each grid: the values not tried before, moved into the set
+    tried[0], tried[1] = first, middle  # then every fresh value
+    n_tried = 2
+    settings = np.array([q7_ref, lo7, hi7, frame[9, 2]])
+    for stage in range(sizes[0] + sizes.size - 1):
+        fresh, n_tried = stage_values(
+            stage, settings, stages, sizes, starts, ends, count, tried, n_tried, values
+        )
+        if fresh and _try(constants, seen, rotation_tm, values, fresh, q_ref, out, space):
+            return FOUND
+    return NONE
+
+
+@jit
+def search_many(
+    axes, vectors, elbow, pairs, limits, frame, stages, sizes, positions, rotations, refs, q, found
+):
+    """:func:`search` of many poses, each with its own reference: ``q`` (N, 7) [rad] and
+    ``found`` (N,) written (rows of ``q`` without a solution are left as they are)."""
+    out = np.empty(7)
+    space = _workspace(limits, stages, sizes)
+    constants = (axes, vectors, elbow, pairs, limits)
+    for n in range(positions.shape[0]):
+        position, rotation, ref = positions[n], rotations[n], refs[n]
+        total = 0.0
+        for i in range(3):
+            total += position[i] + rotation[i, 0] + rotation[i, 1] + rotation[i, 2]
+        for j in range(7):
+            total += ref[j]
+        if not math.isfinite(total):
+            found[n] = False
+            continue
+        status = _search(constants, frame, stages, sizes, position, rotation, ref, out, space)
+        found[n] = status == FOUND
+        if status == FOUND:
+            q[n] = out

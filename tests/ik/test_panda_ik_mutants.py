@@ -2,7 +2,9 @@
 each against an independent answer: the single-pose search pose by pose (the same q to 1e-10
 rad, the same success), the scalar interval helpers row by row, and brute force over all the
 branches of solutions_q7 and all the 2π equivalents within the limits (weighted distance),
-with FK of every answer equal to the target."""
+with FK of every answer equal to the target. The compiled search, which nearest and
+nearest_many use when numba is available, is switched off here (its own tests:
+test_panda_search_kernel.py)."""
 
 from __future__ import annotations
 
@@ -13,6 +15,7 @@ import pinocchio as pin
 import pytest
 from conftest import cached_robot
 
+from kinplan.ik import panda_kernel
 from kinplan.ik.panda import (
     _Q7_EDGE_MARGIN,
     PandaIK,
@@ -25,6 +28,12 @@ from kinplan.ik.panda import (
 from kinplan.ik.screws import TAU
 
 WEIGHTS = np.array([3.0, 0.5, 2.0, 1.0, 0.25, 4.0, 1.5])
+
+
+@pytest.fixture(autouse=True)
+def _python_search(monkeypatch):
+    """The vectorised and the Python searches: the compiled one switched off."""
+    monkeypatch.setattr(panda_kernel, "ENABLED", False)
 
 
 @pytest.fixture(scope="module")

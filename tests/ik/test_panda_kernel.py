@@ -1,10 +1,10 @@
 """The compiled panda closed form (:mod:`kinplan.ik.panda_kernel`) against the Python one.
 
-``PandaIK.nearest`` searches θ7 in Python and solves the other six joints per θ7 either in
-compiled code or in plain Python floats (``panda_kernel.ENABLED``); both must give the same
-solution (the same branch, the same 2π representatives) on random poses, special poses
-(joints on their limits, at zero, singular wrists) and references inside, on and beyond the
-limits.
+``PandaIK.nearest`` searches θ7 and solves the other six joints per θ7 either in compiled code
+or in plain Python floats (``panda_kernel.ENABLED``; the compiled search itself is tested in
+test_panda_search_kernel.py); both must give the same solution (the same branch, the same 2π
+representatives) on random poses, special poses (joints on their limits, at zero, singular
+wrists) and references inside, on and beyond the limits.
 """
 
 from __future__ import annotations
