@@ -13,8 +13,9 @@ distance, ties to the lower branch index). The rotation and position products
 in numpy as those paths take them, so the answers are theirs to the last bit or so.
 Poses near a singularity (``FAST_EDGE``, ``FAST_WRIST`` of :mod:`~kinplan.ik.ur_single`) are
 left to the vectorised all-branch path exactly as the plain-float and numpy paths leave them:
-the single pose (:func:`nearest`) only when a branch its branch-and-bound visits is near the
-elbow edge, as ``URIK._nearest_fast``; the batch (:func:`nearest_many`) when any branch is, as
+near the shoulder or wrist singularity always; near a straight or folded elbow, a single pose
+(:func:`nearest`) when a (shoulder, wrist) pair its branch and bound visits is there, as
+``URIK._nearest_fast``, a pose of a batch (:func:`nearest_many`) when any pair is, as
 ``fast_nearest_many``. Tested against those paths in ``tests/ik/test_ur_kernel.py``. Without
 numba (or with ``KINPLAN_JIT=0``) :func:`available` is False and the plain-float / numpy paths
 run. The constants come packed by :func:`constants`.
@@ -340,10 +341,10 @@ def _nearest(c, limits, values, ref, out, single, work, order):
     if status == _EDGE or shoulder[0, 3] < FAST_WRIST or shoulder[1, 3] < FAST_WRIST:
         return LEFT, 0
     # the θ1, θ5, θ6 parts of the distance, per pair
+    first = _choice(shoulder[0, 0], ref[0], clipped[0], limits[0, 0], limits[1, 0], limits[2, 0])
+    second = _choice(shoulder[1, 0], ref[0], clipped[0], limits[0, 0], limits[1, 0], limits[2, 0])
     for pair in range(4):
-        q1, cost1 = _choice(
-            shoulder[pair >> 1, 0], ref[0], clipped[0], limits[0, 0], limits[1, 0], limits[2, 0]
-        )
+        q1, cost1 = first if pair < 2 else second
         q5, cost5 = _choice(
             wrist[pair, 0], ref[4], clipped[4], limits[0, 4], limits[1, 4], limits[2, 4]
         )
