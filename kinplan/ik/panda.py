@@ -127,6 +127,18 @@ _SAME_TOL = 1e-9
 _Joint = tuple[float, float, float, float, float]
 
 
+_KERNEL: list[Any] = []  # kinplan.ik.panda_kernel once imported (numba loads on first use)
+
+
+def _panda_kernel() -> Any:
+    """The module :mod:`kinplan.ik.panda_kernel`, imported on the first call."""
+    if not _KERNEL:
+        from kinplan.ik import panda_kernel
+
+        _KERNEL.append(panda_kernel)
+    return _KERNEL[0]
+
+
 # ---------------------------------------------------------------------------- solver
 class PandaIK(PandaBatch):
     """Closed-form IK of a panda-type arm for a fixed θ7, with a θ7 search for :meth:`nearest`.
@@ -162,7 +174,7 @@ class PandaIK(PandaBatch):
         self._limits = tuple(zip(self._lo, self._hi, self._w))
         self._mid_joints = self._joints(0.5 * (self.lower + self.upper))
         self._constants: tuple[np.ndarray, ...] | None = None  # of the compiled solve
-        self._kernel: tuple[Any, tuple[np.ndarray, ...] | None] | None = None  # of the search
+        self._search: tuple[np.ndarray, ...] | None = None  # of the compiled search, on first use
         g = geometry
         self._wrist_pair = _AxisPair.of(g.axes[4], g.axes[5])  # Ra = axis 5, Rb = axis 6
         self._shoulder_pair = _AxisPair.of(g.axes[1], g.axes[0])  # Ra = axis 2, Rb = axis 1
@@ -442,14 +454,12 @@ class PandaIK(PandaBatch):
     def _search_inputs(self) -> tuple[np.ndarray, ...] | None:
         """:meth:`kernel_constants` + :meth:`search_constants` when the compiled search can
         run (numba available and switched on, the limits finite), else None."""
-        if self._kernel is None:  # first call: numba loads now
-            from kinplan.ik import panda_kernel
-
+        if not _panda_kernel().available():
+            return None
+        if self._search is None:  # () for limits the search cannot take (not finite)
             finite = bool(np.isfinite(self.lower).all() and np.isfinite(self.upper).all())
-            constants = self.kernel_constants() + self.search_constants() if finite else None
-            self._kernel = (panda_kernel, constants)
-        kernel, constants = self._kernel
-        return constants if kernel.available() else None
+            self._search = self.kernel_constants() + self.search_constants() if finite else ()
+        return self._search or None
 
     def _compiled_inputs(
         self, prepared: tuple[Vec, Mat], q_ref: np.ndarray
@@ -556,8 +566,7 @@ class PandaIK(PandaBatch):
         self, constants: tuple[np.ndarray, ...], position, rotation, q_ref
     ) -> np.ndarray | None:
         """:meth:`nearest` by the compiled search; malformed input raises as in Python."""
-        assert self._kernel is not None  # set by _search_inputs
-        kernel = self._kernel[0]
+        kernel = _panda_kernel()
         p = np.ascontiguousarray(position, dtype=float)
         r = np.ascontiguousarray(rotation, dtype=float)
         q = np.ascontiguousarray(q_ref, dtype=float)
@@ -595,13 +604,11 @@ class PandaIK(PandaBatch):
         constants = self._search_inputs()
         if constants is None:
             return super().nearest_many(positions, rotations, q_ref)
-        from kinplan.ik.panda_kernel import search_many
-
         count = len(positions)
         q = np.zeros((count, 7))
         found = np.zeros(count, dtype=bool)
         if count:
-            search_many(
+            _panda_kernel().search_many(
                 *constants,
                 np.ascontiguousarray(positions, dtype=float).reshape(count, 3),
                 np.ascontiguousarray(rotations, dtype=float).reshape(count, 3, 3),

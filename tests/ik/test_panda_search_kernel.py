@@ -401,3 +401,15 @@ def test_the_frame_constants_are_the_solver_s(panda):
     np.testing.assert_array_equal(frame[5:8], frame[1:4].T)
     assert list(sizes) == [8, 16, 64, 256, 1024] and stages.size == 8 + 1360
     assert math.isclose(frame[9, 2], 1e-7)
+
+
+def test_a_solver_that_has_searched_still_pickles(panda):
+    """The compiled search's constants are arrays on the solver (the kernel module is not):
+    a solver pickled after a search answers as before."""
+    import pickle
+
+    solver = panda.closed_form_ik
+    pose = panda.fk(np.full(7, 0.3))
+    q = solver.nearest(pose.translation, pose.rotation, np.zeros(7))
+    copy = pickle.loads(pickle.dumps(solver))
+    np.testing.assert_array_equal(copy.nearest(pose.translation, pose.rotation, np.zeros(7)), q)
