@@ -540,6 +540,10 @@ class PandaIK(PandaBatch):
         constants = self._search_inputs()
         if constants is not None:
             return self._nearest_compiled(constants, position, rotation, q_ref)
+        return self._nearest_python(position, rotation, q_ref)
+
+    def _nearest_python(self, position, rotation, q_ref) -> np.ndarray | None:
+        """:meth:`nearest` in Python (``rotation`` given): the fallback and the reference."""
         joints = self._joints(q_ref)
         prepared = self._prepare(*self._pose(position, rotation))
         intervals = self._elbow_q7_intervals(prepared)
@@ -575,10 +579,8 @@ class PandaIK(PandaBatch):
             status = kernel.NOT_FINITE  # wrong shapes: the checks below raise
         else:
             status = kernel.search(*constants, p, r, q, out)
-        if status == kernel.NOT_FINITE:  # the Python path's checks, in its order, raise
-            self._joints(q_ref)
-            self._pose(position, rotation)
-            raise InputError("the pose and q_ref must be finite")  # pragma: no cover
+        if status == kernel.NOT_FINITE:  # the Python path's checks raise (or it answers)
+            return self._nearest_python(position, rotation, q_ref)
         return out if status == kernel.FOUND else None
 
     def nearest_many(

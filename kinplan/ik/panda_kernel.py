@@ -502,6 +502,23 @@ def _workspace(limits, stages, sizes):
 
 
 @jit
+def _finite(position, rotation, q_ref):
+    """Whether the pose and the reference pass the Python path's checks: the sums of the
+    position, then the rotation (row-major), then the reference are finite, added as there."""
+    p = 0.0
+    for i in range(3):
+        p += position[i]
+    r = 0.0
+    for i in range(3):
+        for j in range(3):
+            r += rotation[i, j]
+    q = 0.0
+    for j in range(7):
+        q += q_ref[j]
+    return math.isfinite(q) and math.isfinite(p + r)
+
+
+@jit
 def search(
     axes, vectors, elbow, pairs, limits, frame, stages, sizes, position, rotation, q_ref, out
 ):
@@ -525,12 +542,7 @@ def search(
     Returns:
         :data:`FOUND`, :data:`NONE` or :data:`NOT_FINITE`.
     """
-    total = 0.0
-    for i in range(3):
-        total += position[i] + rotation[i, 0] + rotation[i, 1] + rotation[i, 2]
-    for j in range(7):
-        total += q_ref[j]
-    if not math.isfinite(total):
+    if not _finite(position, rotation, q_ref):
         return NOT_FINITE
     return _search(
         (axes, vectors, elbow, pairs, limits), frame, stages, sizes, position, rotation, q_ref,
@@ -600,12 +612,7 @@ def search_many(
     constants = (axes, vectors, elbow, pairs, limits)
     for n in range(positions.shape[0]):
         position, rotation, ref = positions[n], rotations[n], refs[n]
-        total = 0.0
-        for i in range(3):
-            total += position[i] + rotation[i, 0] + rotation[i, 1] + rotation[i, 2]
-        for j in range(7):
-            total += ref[j]
-        if not math.isfinite(total):
+        if not _finite(position, rotation, ref):
             found[n] = False
             continue
         status = _search(constants, frame, stages, sizes, position, rotation, ref, out, space)

@@ -292,6 +292,8 @@ def test_malformed_input_raises_as_in_python(panda):
         (p, np.full((3, 3), np.inf), q),
         (p[:2], r, q),
         (p, r[:2], q),
+        (np.array([1e308, 1e308, 0.0]), r, q),  # finite values whose sum is not
+        (p, r, np.array([1e308, 1e308, 0.0, 0.0, 0.0, 0.0, 0.0])),
     ]
     for args in bad:
         with pytest.raises(InputError) as compiled:
