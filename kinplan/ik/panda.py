@@ -143,8 +143,9 @@ def _panda_kernel() -> Any:
 class PandaIK(PandaBatch):
     """Closed-form IK of a panda-type arm for a fixed θ7, with a θ7 search for :meth:`nearest`.
 
-    The same search over many poses at once, vectorised (:meth:`nearest_many`), comes from the
-    base class :class:`~kinplan.ik.panda_batch.PandaBatch`.
+    The same search over many poses at once (:meth:`nearest_many`) runs compiled pose by pose,
+    or without numba vectorised over the poses (the base class
+    :class:`~kinplan.ik.panda_batch.PandaBatch`).
 
     Args:
         geometry: The arm at q = 0 (:func:`panda_geometry`).

@@ -1,6 +1,7 @@
-"""The panda's θ7 search over many poses at once (:class:`PandaBatch`, the base class that gives
-:class:`~kinplan.ik.panda.PandaIK` its ``nearest_many``): each stage of ``PandaIK.nearest``'s
-search solves the closed form on arrays, for every (pose, θ7 value) pair still open.
+"""The panda's θ7 search over many poses at once in numpy (:class:`PandaBatch`, the base class
+whose ``nearest_many`` :class:`~kinplan.ik.panda.PandaIK` runs when the compiled search is not
+available: without numba or with ``KINPLAN_JIT=0``): each stage of ``PandaIK.nearest``'s search
+solves the closed form on arrays, for every (pose, θ7 value) pair still open.
 
 Fourth of the panda modules, which import only those before them:
 :mod:`~kinplan.ik.panda_geometry` → :mod:`~kinplan.ik.panda_subproblems` →
