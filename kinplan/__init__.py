@@ -12,7 +12,7 @@ from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 from kinplan._moved import MOVED
-from kinplan.cell import Body, CellError, MotionCheck, WorkCell
+from kinplan.cell import Body, CellError
 from kinplan.errors import (
     FrameError,
     InfeasibleError,
@@ -26,6 +26,7 @@ from kinplan.ik import IKResult
 from kinplan.model.robot import Robot, load_robot, planar_arm
 
 if TYPE_CHECKING:  # imported on first use (see __getattr__): the planners load the timing
+    from kinplan.cell import MotionCheck, WorkCell
     from kinplan.planning import MotionPlan, free_motion
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())
@@ -67,6 +68,10 @@ def __getattr__(name: str) -> ModuleType | Any:
         from kinplan import planning
 
         return getattr(planning, name)
+    if name in ("MotionCheck", "WorkCell"):  # the work cell's modules load on first use
+        from kinplan import cell
+
+        return getattr(cell, name)
     # Submodules imported on first use: `kinplan.trajectory`, `kinplan.viewer`, `kinplan.plot`, ...
     # and the old names of the modules that moved into sub-packages (issue 31): `kinplan.reach`
     # is `kinplan.scale.reach` (its old path is a shim that aliases the new module).

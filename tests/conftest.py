@@ -3,11 +3,17 @@
 from __future__ import annotations
 
 import functools
+import os
+import tempfile
 from pathlib import Path
 
 import pytest
 
 import kinplan
+
+# Results kinplan keeps on disk (the reach search's) come from the code under test: each test
+# process starts with an empty cache of its own, never the user's.
+os.environ["KINPLAN_CACHE_DIR"] = tempfile.mkdtemp(prefix="kinplan-test-cache-")
 
 #: The tests' folder (fixtures such as ``urdf/``) and the repository (``examples/``, ...).
 TESTS = Path(__file__).resolve().parent

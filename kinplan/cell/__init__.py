@@ -10,10 +10,34 @@
 
 from __future__ import annotations
 
+import importlib
+import importlib.util
+from typing import TYPE_CHECKING, Any
+
 from kinplan.cell.body import Body, CellError, xyz_rpy
-from kinplan.cell.motion import TOLERANCE, MotionCheck
-from kinplan.cell.robot_geometry import ExcludedPair
-from kinplan.cell.work_cell import PairDistance, WorkCell
+
+if TYPE_CHECKING:  # loaded on first use (see __getattr__)
+    from kinplan.cell.motion import TOLERANCE, MotionCheck
+    from kinplan.cell.robot_geometry import ExcludedPair
+    from kinplan.cell.work_cell import PairDistance, WorkCell
+
+#: Names loaded on first use, by module: a robot with a tool body needs only :mod:`.body`.
+_LAZY = {
+    "TOLERANCE": "motion",
+    "MotionCheck": "motion",
+    "ExcludedPair": "robot_geometry",
+    "PairDistance": "work_cell",
+    "WorkCell": "work_cell",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        return getattr(importlib.import_module(f"kinplan.cell.{_LAZY[name]}"), name)
+    if importlib.util.find_spec(f"kinplan.cell.{name}") is not None:  # a submodule not yet loaded
+        return importlib.import_module(f"kinplan.cell.{name}")
+    raise AttributeError(f"module 'kinplan.cell' has no attribute {name!r}")
+
 
 __all__ = [
     "TOLERANCE",

@@ -28,12 +28,18 @@ Modules, each importing only those before it:
   solver) → :mod:`~kinplan.ik.spherical_wrist` (the solver, vectorised over poses);
 * :mod:`~kinplan.ik.closed_form` — :func:`analytic_solver_for`: which closed form a robot has
   (:func:`closed_form_report`: and why none fits).
+
+The closed forms and :mod:`~kinplan.ik.closed_form` load on first use (``from kinplan.ik import
+URIK`` works as before): commands that need none start faster.
 """
 
 from __future__ import annotations
 
+import importlib
+import importlib.util
+from typing import TYPE_CHECKING, Any
+
 from kinplan.ik.base import AnalyticIK, ClosedFormIK, self_check
-from kinplan.ik.closed_form import analytic_solver_for, closed_form_report
 from kinplan.ik.numeric import (
     Evaluation,
     IKResult,
@@ -42,11 +48,35 @@ from kinplan.ik.numeric import (
     frobenius_tolerance,
     halton,
 )
-from kinplan.ik.panda import PandaIK, panda_solver_for
-from kinplan.ik.planar import Planar2RIK
 from kinplan.ik.screws import wrap_angle
-from kinplan.ik.spherical_wrist import SphericalWristIK
-from kinplan.ik.ur import URIK
+
+if TYPE_CHECKING:  # the closed forms load on first use (see __getattr__)
+    from kinplan.ik.closed_form import analytic_solver_for, closed_form_report
+    from kinplan.ik.panda import PandaIK, panda_solver_for
+    from kinplan.ik.planar import Planar2RIK
+    from kinplan.ik.spherical_wrist import SphericalWristIK
+    from kinplan.ik.ur import URIK
+
+#: Names loaded on first use, by module: a robot that needs no closed form (``kinplan info``,
+#: numerical arms) does not import them.
+_LAZY = {
+    "analytic_solver_for": "closed_form",
+    "closed_form_report": "closed_form",
+    "PandaIK": "panda",
+    "panda_solver_for": "panda",
+    "Planar2RIK": "planar",
+    "SphericalWristIK": "spherical_wrist",
+    "URIK": "ur",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        return getattr(importlib.import_module(f"kinplan.ik.{_LAZY[name]}"), name)
+    if importlib.util.find_spec(f"kinplan.ik.{name}") is not None:  # a submodule not yet loaded
+        return importlib.import_module(f"kinplan.ik.{name}")
+    raise AttributeError(f"module 'kinplan.ik' has no attribute {name!r}")
+
 
 __all__ = [
     "Evaluation",

@@ -7,11 +7,23 @@ they need only what the lower layers know of an arm (:class:`kinplan.model.arm.A
 
 from __future__ import annotations
 
+import hashlib
+import logging
+import os
+import tempfile
+from pathlib import Path
+
 import numpy as np
 import pinocchio as pin
 
 from kinplan.ik import IKSolver
 from kinplan.model.arm import Arm
+
+logger = logging.getLogger(__name__)
+
+#: Version of :func:`search_reach`'s algorithm, part of the key of its stored results: a change
+#: of the search must change it, so that no result of the old search is read back.
+REACH_SEARCH_VERSION = 1
 
 
 def planar_link_lengths(model: pin.Model, tip_id: int) -> list[float] | None:
@@ -98,3 +110,60 @@ def search_reach(arm: Arm) -> float:
                 step *= 0.5
         best = max(best, distance)
     return float(best)
+
+
+def cache_dir() -> Path:
+    """Where kinplan keeps results worth computing once per machine: ``$KINPLAN_CACHE_DIR``,
+    else ``$XDG_CACHE_HOME/kinplan``, else ``~/.cache/kinplan``."""
+    if os.environ.get("KINPLAN_CACHE_DIR"):
+        return Path(os.environ["KINPLAN_CACHE_DIR"])
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "kinplan"
+
+
+def reach_key(arm: Arm) -> str:
+    """A fingerprint of everything :func:`search_reach` depends on: the search's version, the
+    joint types, placements and limits, the tool frame's placement and joint, and the tool
+    pose at three fixed configurations (which pin down the joint axes)."""
+    model = arm.model
+    digest = hashlib.sha256(f"reach v{REACH_SEARCH_VERSION} nq {model.nq}".encode())
+    for j in range(1, model.njoints):
+        digest.update(model.joints[j].shortname().encode())
+        digest.update(np.ascontiguousarray(model.jointPlacements[j].homogeneous).tobytes())
+    frame = model.frames[arm.tip_id]
+    digest.update(np.ascontiguousarray(frame.placement.homogeneous).tobytes())
+    digest.update(str(int(frame.parentJoint)).encode())
+    digest.update(np.ascontiguousarray(arm.lower, dtype=float).tobytes())
+    digest.update(np.ascontiguousarray(arm.upper, dtype=float).tobytes())
+    neutral = arm.neutral()
+    for scale in (0.3, -0.7, 1.1):
+        q = np.clip(neutral + scale * np.linspace(0.5, 1.5, arm.nq), arm.lower, arm.upper)
+        digest.update(np.ascontiguousarray(arm.fk(q).homogeneous).tobytes())
+    return digest.hexdigest()
+
+
+def stored_reach(arm: Arm) -> float:
+    """:func:`search_reach`, computed once per machine: the result is kept in
+    :func:`cache_dir` under :func:`reach_key` (a file per arm, written atomically) and read
+    back by later processes, bit for bit. A missing, unreadable or unwritable cache only means
+    the search runs (it takes ~50 ms for a 6-joint arm, most of ``kinplan info``'s own time)."""
+    try:
+        path = cache_dir() / "reach" / f"{reach_key(arm)}.txt"
+    except (RuntimeError, ValueError) as exc:  # no home folder, or an arm with no fingerprint
+        logger.debug("reach not cached: %s", exc)
+        return search_reach(arm)
+    try:
+        value = float(path.read_text())
+        if np.isfinite(value) and value >= 0.0:
+            return value
+    except (OSError, ValueError):
+        pass
+    value = search_reach(arm)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile("w", dir=path.parent, delete=False) as handle:
+            handle.write(repr(value))
+        os.replace(handle.name, path)
+    except OSError as exc:
+        logger.debug("reach not cached in %s: %s", path.parent, exc)
+    return value

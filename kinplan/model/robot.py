@@ -22,17 +22,8 @@ import pinocchio as pin
 from kinplan import checks
 from kinplan.checks import parse_target
 from kinplan.errors import InputError, RobotNotFoundError
-from kinplan.ik import (
-    AnalyticIK,
-    IKResult,
-    IKSolver,
-    closed_form_report,
-    finite_bounds,
-    halton,
-)
-from kinplan.ik.batch import BatchSolver
-from kinplan.ik.batch_kinematics import batch_seeds, parse_targets
-from kinplan.model.extent import planar_link_lengths, prismatic_joints, search_reach
+from kinplan.ik import AnalyticIK, IKResult, IKSolver, finite_bounds, halton
+from kinplan.model.extent import planar_link_lengths, prismatic_joints, stored_reach
 from kinplan.model.jacobians import (
     jacobian_time_variation,
     manipulability_of,
@@ -46,6 +37,7 @@ from kinplan.model.urdf_model import build_chain
 
 if TYPE_CHECKING:
     from kinplan.cell import Body
+    from kinplan.ik.batch import BatchSolver
 
 logger = logging.getLogger(__name__)
 
@@ -269,7 +261,8 @@ class Robot:
         sphere), the tool is pushed outward along its own direction, a step δ at a time (the
         limits respected; δ halved whenever the step cannot be taken), until δ < 1e-7 m: a
         local maximum of the distance, which the spread of starts makes the global one in
-        practice (never more than the true reach).
+        practice (never more than the true reach). The search's result is kept on disk
+        (:func:`kinplan.model.extent.stored_reach`) and read back by later processes.
         """
         cached = self.__dict__.get("_reach")
         if cached is not None:
@@ -278,7 +271,7 @@ class Robot:
         if annulus is not None:
             self._reach = annulus[1]
             return self._reach
-        self._reach = search_reach(self)
+        self._reach = stored_reach(self)
         return self._reach
 
     def shoulder_distance(self, position: Sequence[float] | np.ndarray) -> float:
@@ -432,6 +425,8 @@ class Robot:
             InputError: targets of another shape, not finite, rotations that are not
                 rotations, seeds of the wrong size; tolerances and counts as :meth:`ik`.
         """
+        from kinplan.ik.batch_kinematics import batch_seeds, parse_targets  # on first use
+
         positions, rotations = parse_targets(targets)
         if checks.flag(position_only, "position_only"):
             rotations = None
@@ -458,6 +453,8 @@ class Robot:
         """The solver behind :meth:`ik_batch` (:class:`kinplan.ik.batch.BatchSolver`), built
         on first use."""
         if "_batch_solver" not in self.__dict__:
+            from kinplan.ik.batch import BatchSolver  # the batch solvers load on first use
+
             self._batch_solver = BatchSolver(self)
         return self._batch_solver
 
@@ -518,6 +515,8 @@ class Robot:
         (:func:`kinplan.ik.analytic_solver_for`).
         """
         if not hasattr(self, "_closed_form"):
+            from kinplan.ik.closed_form import closed_form_report  # the closed forms load here
+
             self._closed_form, self._ik.description = closed_form_report(self)
         return self._closed_form
 
