@@ -150,7 +150,7 @@ class BatchSolver:
         """
         return self.solve_with_branches(
             positions, rotations, seeds, position_tolerance, rotation_tolerance,
-            max_iterations, max_restarts, rescue,
+            max_iterations, max_restarts, rescue, masks=False,
         )[:2]  # fmt: skip
 
     def solve_with_branches(
@@ -163,10 +163,14 @@ class BatchSolver:
         max_iterations: int,
         max_restarts: int,
         rescue: bool = True,
+        *,
+        masks: bool = True,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`solve`, and for closed forms that list branches (UR family, planar 2R) the
         branch of each solution and a bit mask of every branch that reaches the target within
-        the limits (bit b for branch b); −1 and 0 for other solvers.
+        the limits (bit b for branch b); −1 and 0 for other solvers. ``masks=False``: masks
+        not wanted (the UR kernel then skips the branches that cannot be nearest; they may
+        come out 0).
 
         Returns:
             (q (N, nq), success (N,), branch (N,) int8, mask (N,) uint16).
@@ -179,7 +183,7 @@ class BatchSolver:
         with one_blas_thread():
             return self._solve_with_branches(
                 positions, rotations, seeds, position_tolerance, rotation_tolerance,
-                max_iterations, max_restarts, rescue,
+                max_iterations, max_restarts, rescue, masks,
             )  # fmt: skip
 
     def _solve_with_branches(
@@ -192,6 +196,7 @@ class BatchSolver:
         max_iterations: int,
         max_restarts: int,
         rescue: bool,
+        want_masks: bool = True,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         count = len(positions)
         method = self.method(rotations is None)
@@ -205,7 +210,7 @@ class BatchSolver:
             rot = None if rotations is None else rotations[part]
             if method == "closed-form":
                 q[part], success[part], branches[part], masks[part] = self._closed_form(
-                    positions[part], rot, seeds[part], tolerances
+                    positions[part], rot, seeds[part], tolerances, want_masks
                 )
             elif method == "closed-form-loop":
                 q[part], success[part] = self._closed_form_loop(
@@ -230,13 +235,14 @@ class BatchSolver:
         return q, success, branches, masks
 
     # ------------------------------------------------------------ closed forms
-    def _closed_form(self, positions, rotations, seeds, tolerances):
+    def _closed_form(self, positions, rotations, seeds, tolerances, masks=True):
         solver = self.closed_form
         assert isinstance(solver, ClosedFormIK)  # vectorised: it lists every branch at once
         if rotations is not None and isinstance(solver, (URIK, SphericalWristIK)):
             # the single-pose formulas on arrays; near singularities, all branches (as ik)
+            extra = {"masks": masks} if isinstance(solver, URIK) else {}
             parts = [
-                solver.nearest_many(positions[part], rotations[part], seeds[part])
+                solver.nearest_many(positions[part], rotations[part], seeds[part], **extra)
                 for part in (slice(k, k + UR_CHUNK) for k in range(0, len(positions), UR_CHUNK))
             ]
             q, branch, mask, left = (np.concatenate(x) for x in zip(*parts))

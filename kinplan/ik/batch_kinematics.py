@@ -122,6 +122,15 @@ class BatchKinematics:
         self._tool_rotation = tool.rotation.copy()
         self._tool_translation = tool.translation.copy()
         self._rows = self._row_operators()
+        #: The chain packed for the compiled FK check (:meth:`errors`): placements (J, 3, 3),
+        #: offsets (J, 3) [m], axes (J, 3), columns (J,) and the tool frame (4, 4).
+        self._packed = (
+            np.array([joint[0] for joint in self._joints]),
+            np.array([joint[1] for joint in self._joints]),
+            np.array([joint[3] for joint in self._joints]),
+            np.array([joint[5] for joint in self._joints], dtype=np.int64),
+            pin.SE3(self._tool_rotation, self._tool_translation).homogeneous,
+        )
         #: Per revolute joint, its rotation maps, lever and axis stacked (33, 9) (one product);
         #: a prismatic joint's entry is unused.
         self._stacked: list[np.ndarray] = [
@@ -244,7 +253,22 @@ class BatchKinematics:
         self, q: np.ndarray, positions: np.ndarray, rotations: np.ndarray | None
     ) -> tuple[np.ndarray, np.ndarray]:
         """Squared tool position errors [m²] and ‖R* − R‖_F² (0 for position only) of joint rows
-        ``q`` (N, nq) at targets ``positions`` (N, 3), ``rotations`` (N, 3, 3) or None."""
+        ``q`` (N, nq) at targets ``positions`` (N, 3), ``rotations`` (N, 3, 3) or None.
+
+        Revolute arms with numba take the compiled loop of
+        :mod:`~kinplan.ik.batch_kinematics_kernel` (the same errors to rounding)."""
+        if self._all_revolute and len(q) > 0:
+            from kinplan.ik import batch_kinematics_kernel as kernel  # numba: on first use
+
+            if kernel.available():
+                out = np.empty((2, len(q)))
+                targets = np.zeros((0, 3, 3)) if rotations is None else rotations
+                kernel.errors_many(
+                    np.ascontiguousarray(q, dtype=float), *self._packed,
+                    np.ascontiguousarray(positions, dtype=float),
+                    np.ascontiguousarray(targets, dtype=float), out,
+                )  # fmt: skip
+                return out[0], out[1]
         reached, reached_rotations = self.fk_rows(q)
         difference = positions.T - reached
         position2 = np.einsum("in,in->n", difference, difference)

@@ -170,15 +170,21 @@ class URIK(ClosedFormIK):
     nearest.__doc__ = ClosedFormIK.nearest.__doc__
 
     def nearest_many(
-        self, positions: np.ndarray, rotations: np.ndarray, q_ref: np.ndarray
+        self,
+        positions: np.ndarray,
+        rotations: np.ndarray,
+        q_ref: np.ndarray,
+        masks: bool = True,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`nearest` of many poses, each with its own reference, in one vectorised pass
-        (the single-pose formulas on arrays; inputs unchecked).
+        (the single-pose formulas on arrays, or compiled; inputs unchecked).
 
         Args:
             positions: Tool positions in the world frame [m], shape (N, 3).
             rotations: Tool rotations in the world frame, shape (N, 3, 3).
             q_ref: References [rad], shape (N, 6).
+            masks: False: the masks are not wanted; compiled, they are then 0 and the
+                branches that cannot be nearest are not solved (the same q, branch, left).
 
         Returns:
             (q (N, 6) [rad], branch (N,) int (−1: no solution within the limits), mask (N,)
@@ -199,7 +205,7 @@ class URIK(ClosedFormIK):
             terms, along = self._terms(positions, rotations)
             refs = np.ascontiguousarray(q_ref, dtype=float)
             self._kernel.nearest_many(
-                self._constants, self._limit_rows, terms, along, refs, q, branch, mask, left
+                self._constants, self._limit_rows, terms, along, refs, q, branch, mask, left, masks
             )
             return q, branch, mask, left
         joints = tuple(zip(*self._limits, self._weight_floats))

@@ -59,6 +59,8 @@ _SIZE = 43
 
 # _pose's and _elbow's outcomes.
 _OK, _NONE, _EDGE = 0, 1, 2
+# _nearest's modes: a single pose; a batch with the masks; a batch without them.
+SINGLE, MASKS, BOUND = 0, 1, 2
 
 
 def available() -> bool:
@@ -216,11 +218,12 @@ def _pose(c, values, shoulder, wrist, plain):
 
 
 @jit
-def _elbow(c, values, shoulder, wrist, pair, angles, plain):
+def _elbow(c, values, shoulder, wrist, pair, angles, plain, full):
     """θ2, θ3, θ4 of both elbow branches of one (shoulder, wrist) ``pair``: the planar target
     (:func:`~kinplan.ik.ur_single.fast_plane_axes`, ``fast_planar_target``) and the elbow
     (``fast_elbow``), written into ``angles`` (6,) as (θ2, θ3, θ4) of elbow +1, then −1;
-    ``plain`` as :func:`_pose` (``fast_elbow``'s two atan2 for ψ2, else one).
+    ``plain`` as :func:`_pose` (``fast_elbow``'s two atan2 for ψ2, else one). ``full`` False:
+    only the outcome (``angles`` untouched), for a pair whose edge flag alone is needed.
 
     Returns:
         ``_NONE`` when the elbow cannot reach (``angles`` NaN), ``_EDGE`` when |cos ψ3| is
@@ -246,7 +249,6 @@ def _elbow(c, values, shoulder, wrist, pair, angles, plain):
     v5, v7 = c6 * e5 - s6 * y7, s6 * e5 + c6 * y7
     tx = offset_e + z5 * ge5 + x6 * ge6 + z7 * ge7
     ty = offset_f + z5 * gf5 + x6 * gf6 + z7 * gf7
-    phi = math.atan2(v5 * gf5 + y6 * gf6 + v7 * gf7, v5 * ge5 + y6 * ge6 + v7 * ge7)
     # ψ3 = offset ± bend; ψ2 = atan2(v × target, v · target), v = r23 + Rot(ψ3) r34
     l23, l34 = c[_L23], c[_L34]
     if plain:
@@ -255,10 +257,14 @@ def _elbow(c, values, shoulder, wrist, pair, angles, plain):
         cosine = (tx * tx + ty * ty - (l23 * l23 + l34 * l34)) / (2.0 * l23 * l34)
     size = abs(cosine)
     if size > 1.0 + CLAMP + FAST_EDGE or cosine != cosine:
-        for j in range(6):
-            angles[j] = np.nan
+        if full:
+            for j in range(6):
+                angles[j] = np.nan
         return _NONE
     status = _EDGE if size > 1.0 - FAST_EDGE else _OK
+    if not full:
+        return status
+    phi = math.atan2(v5 * gf5 + y6 * gf6 + v7 * gf7, v5 * ge5 + y6 * ge6 + v7 * ge7)
     cosine = min(max(cosine, -1.0), 1.0)
     bend = math.acos(cosine)
     sin_bend = math.sqrt(max(1.0 - cosine * cosine, 0.0))
@@ -310,7 +316,7 @@ def _choice(value, ref, clipped, lower, upper, weight):
 
 
 @jit
-def _nearest(c, limits, values, ref, out, single, work, order):
+def _nearest(c, limits, values, ref, out, mode, work, order):
     """The branch nearest ``ref`` (6,) of one pose, its solution written into ``out`` (6,).
 
     Args:
@@ -319,12 +325,14 @@ def _nearest(c, limits, values, ref, out, single, work, order):
         values: The pose's terms (15,), see :func:`_pose`.
         ref: Reference configuration [rad] (6,).
         out: Written with the solution (NaN when none).
-        single: True: as ``URIK._nearest_fast``, its roundings (``plain`` of :func:`_pose`)
-            and its branch and bound (the (shoulder, wrist) pairs in increasing order of their
-            θ1, θ5, θ6 distance, the planar step only while they can beat the best; mask not
-            computed; left only for a visited pair near the elbow edge). False: every branch
-            as ``fast_nearest_many`` (mask of all branches; left when any pair is near the
-            elbow edge).
+        mode: :data:`SINGLE`: as ``URIK._nearest_fast``, its roundings (``plain`` of
+            :func:`_pose`) and its branch and bound (the (shoulder, wrist) pairs in increasing
+            order of their θ1, θ5, θ6 distance, the planar step only while they can beat the
+            best; left only for a visited pair near the elbow edge; mask not computed).
+            :data:`MASKS`: as ``fast_nearest_many``, every branch (the mask of all; left when
+            any pair is near the elbow edge). :data:`BOUND`: the roundings and left flags of
+            ``fast_nearest_many``, the branch and bound of ``_nearest_fast`` (the same branch
+            and q; mask partial: not for the caller).
         work, order: Scratch, shapes (12, 12) float and (4,) int.
 
     Returns:
@@ -335,6 +343,7 @@ def _nearest(c, limits, values, ref, out, single, work, order):
     for j in range(6):
         out[j] = np.nan
         clipped[j] = min(max(ref[j], limits[0, j]), limits[1, j])
+    single, bound = mode == SINGLE, mode != MASKS
     status = _pose(c, values, shoulder, wrist, single)
     if status == _NONE:
         return -1, 0
@@ -354,7 +363,7 @@ def _nearest(c, limits, values, ref, out, single, work, order):
         heads[pair] = (cost1 + cost5) + cost6
         picks[pair, 0], picks[pair, 1], picks[pair, 2] = q1, q5, q6
         order[pair] = pair
-    if single:  # by head, then pair index (an insertion sort of four)
+    if bound:  # by head, then pair index (an insertion sort of four)
         for i in range(1, 4):
             j = i
             while j > 0 and heads[order[j]] < heads[order[j - 1]]:
@@ -364,18 +373,20 @@ def _nearest(c, limits, values, ref, out, single, work, order):
     for i in range(4):
         pair = order[i]
         head = heads[pair]
-        if single and (head == np.inf or head > best_cost):
+        # once a head cannot beat the best, neither can the later ones (sorted, best fixed)
+        beaten = bound and (head == np.inf or head > best_cost)
+        if beaten and single:
             break
-        status = _elbow(c, values, shoulder, wrist, pair, angles, single)
+        status = _elbow(c, values, shoulder, wrist, pair, angles, single, not beaten)
         if status == _EDGE:
             return LEFT, 0
-        if status == _NONE or head == np.inf:
+        if beaten or status == _NONE or head == np.inf:
             continue
         for e in range(2):
             q2, cost2 = _choice(
                 angles[3 * e], ref[1], clipped[1], limits[0, 1], limits[1, 1], limits[2, 1]
             )
-            if cost2 == np.inf or (single and head + cost2 > best_cost):
+            if cost2 == np.inf or (bound and head + cost2 > best_cost):
                 continue
             q3, cost3 = _choice(
                 angles[3 * e + 1], ref[2], clipped[2], limits[0, 2], limits[1, 2], limits[2, 2]
@@ -442,30 +453,32 @@ def nearest(c, limits, terms, position, ref, out):
     if not _finite(values, ref):
         return NOT_FINITE
     work, order = np.empty((12, 12)), np.empty(4, dtype=np.int64)
-    branch, _ = _nearest(c, limits, values, ref, out, True, work, order)
+    branch, _ = _nearest(c, limits, values, ref, out, SINGLE, work, order)
     return branch
 
 
 @jit
-def nearest_many(c, limits, terms, along, refs, q, branch, mask, left):
+def nearest_many(c, limits, terms, along, refs, q, branch, mask, left, masks):
     """:func:`nearest` of N poses, each with its own reference (N, 6), as
     :func:`~kinplan.ik.ur_many.fast_nearest_many`: ``q`` (N, 6) [rad] (NaN rows: none),
     ``branch`` (N,) (−1: none within the limits or a NaN / inf input), ``mask`` (N,) (bit b:
     branch b within the limits) and ``left`` (N,) (near a singularity: the all-branch path
     decides; the other outputs are then meaningless) written. ``terms``, ``along``: see
-    :func:`_fill`."""
+    :func:`_fill`. ``masks`` False: ``mask`` is 0 and the pairs that cannot beat the best are
+    not solved (the same q, branch and left)."""
+    mode = MASKS if masks else BOUND
     values = np.empty(15)
     work, order = np.empty((12, 12)), np.empty(4, dtype=np.int64)
     for i in range(refs.shape[0]):
         _fill(c, terms, along, i, values)
         if _finite(values, refs[i]):
-            best, bits = _nearest(c, limits, values, refs[i], q[i], False, work, order)
+            best, bits = _nearest(c, limits, values, refs[i], q[i], mode, work, order)
         else:
             best, bits = -1, 0
             q[i, :] = np.nan
         left[i] = best == LEFT
         branch[i] = -1 if best == LEFT else best
-        mask[i] = bits
+        mask[i] = bits if masks else 0
 
 
 @jit
@@ -487,7 +500,7 @@ def branch_many(c, terms, along, branches, q, edge):
             q[i, :] = np.nan
             edge[i] = False
             continue
-        elbow = _elbow(c, values, shoulder, wrist, pair, angles, False)
+        elbow = _elbow(c, values, shoulder, wrist, pair, angles, False, True)
         # as fast_branch_many: an elbow out of reach counts as an edge too (q NaN there)
         near = status == _EDGE or shoulder[s, 3] < FAST_WRIST or elbow != _OK
         e = 3 * (b & 1)

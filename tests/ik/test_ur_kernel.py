@@ -12,10 +12,12 @@ of FAST_EDGE = 1e-8), with the wrist centre near the shoulder cylinder (radius/|
 solution (the tie rule of ``near_angle``). Checked:
 
 * same branch, same ``left`` flags, same masks, q to 1e-12 rad (batch, compiled vs numpy);
+  without masks (branch and bound, as ``ik_batch`` asks) the same branch, left and q;
 * same None / left decision (the compiled kernel returns LEFT exactly when ``_nearest_fast``
   raises NeedsBatch), q to 1e-12 rad (single pose, compiled vs plain floats);
 * every solution reaches its target by Pinocchio's FK to 1e-9 m and 1e-9 rad;
-* ``branch_many``: the same edge flags and NaN rows, q equal modulo 2π to 1e-12 rad.
+* ``branch_many``: the same edge flags and NaN rows, q equal modulo 2π to 1e-12 rad;
+* the compiled FK check of ``ik_batch`` (``BatchKinematics.errors``): the numpy pass's errors.
 """
 
 from __future__ import annotations
@@ -200,6 +202,14 @@ def test_compiled_batch_equals_numpy_batch(name, setting):
     found = kept & (branch >= 0)
     np.testing.assert_allclose(q[found], q_ref[found], rtol=0.0, atol=TOL)
     assert np.isnan(q[kept & (branch < 0)]).all()
+    # without masks (what ik_batch asks): branch and bound, the same answers
+    q_bound, branch_bound, mask_bound, left_bound = solver.nearest_many(
+        positions, rotations, seeds, masks=False
+    )
+    np.testing.assert_array_equal(left_bound, left)
+    np.testing.assert_array_equal(branch_bound[kept], branch[kept])
+    np.testing.assert_array_equal(q_bound[found], q[found])
+    assert not mask_bound.any()
     # every kind is exercised: left poses, solutions, poses without one
     assert left.any() and found.sum() > len(targets) // 3 and (kept & (branch < 0)).any()
     if solver._fast_exact:  # the configuration itself is a solution
@@ -301,3 +311,39 @@ def test_kinplan_jit_0_switches_the_kernel_off():
     run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     assert run.stdout.strip() == "off"
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda", "ur5_welding_tool"])
+def test_compiled_fk_check_equals_numpy_pass(name):
+    """``BatchKinematics.errors`` (the FK check of ``ik_batch``) compiled: the numpy pass's
+    errors to 1e-12 relative (of errors ~1e-2..1), 1e-24 absolute where the targets are FK."""
+    from kinplan.ik import batch_kinematics_kernel
+
+    if not batch_kinematics_kernel.available():
+        pytest.skip("numba switched off (KINPLAN_JIT=0): only the numpy pass runs")
+    arm = robot(name) if name != "panda" else kinplan.load_robot("panda")
+    kinematics = arm.batch_solver.kinematics
+    assert kinematics is not None and kinematics._all_revolute
+    rng = np.random.default_rng(3)
+    qs = np.array([arm.random_configuration(rng) for _ in range(2000)])
+    positions, rotations = kinematics.fk(qs)
+    moved = qs + rng.normal(0.0, 0.1, qs.shape)
+    for targets in (rotations, None):
+        for q, tolerance in ((moved, 0.0), (qs, 1e-24)):
+            position2, frobenius2 = kinematics.errors(q, positions, targets)
+            reached, reached_rotations = kinematics.fk_rows(q)  # the numpy pass
+            expected_p = np.sum((positions.T - reached) ** 2, axis=0)
+            np.testing.assert_allclose(position2, expected_p, rtol=1e-12, atol=tolerance)
+            if targets is None:
+                assert not frobenius2.any()
+            else:
+                expected_f = np.sum((targets.reshape(-1, 9).T - reached_rotations) ** 2, axis=0)
+                np.testing.assert_allclose(frobenius2, expected_f, rtol=1e-12, atol=tolerance)
+    # and against Pinocchio's FK
+    for k in range(0, 2000, 97):
+        pose = arm.fk(moved[k])
+        position2, frobenius2 = kinematics.errors(
+            moved[k : k + 1], positions[k : k + 1], rotations[k : k + 1]
+        )
+        assert abs(position2[0] - np.sum((positions[k] - pose.translation) ** 2)) < 1e-14
+        assert abs(frobenius2[0] - np.sum((rotations[k] - pose.rotation) ** 2)) < 1e-14
