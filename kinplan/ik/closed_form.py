@@ -53,6 +53,8 @@ from kinplan.ik.screws import screws_at_zero
 from kinplan.ik.spherical_wrist import SphericalWristIK
 from kinplan.ik.spherical_wrist_geometry import wrist_geometry
 from kinplan.ik.ur import URIK, ur_geometry
+from kinplan.ik.wrist_offset import OffsetWristIK
+from kinplan.ik.wrist_offset_geometry import offset_wrist_geometry
 from kinplan.model.arm import Arm
 
 logger = logging.getLogger(__name__)
@@ -63,7 +65,9 @@ def analytic_solver_for(robot: Arm, weights: np.ndarray | None = None) -> Analyt
 
     Planar 2R arms (two parallel revolute axes), UR-type arms (see :func:`ur_geometry`),
     spherical-wrist 6R arms (axes 4, 5, 6 meeting, axes 2 ∥ 3; see
-    :func:`~kinplan.ik.spherical_wrist_geometry.wrist_geometry`) and panda-type 7-joint arms
+    :func:`~kinplan.ik.spherical_wrist_geometry.wrist_geometry`), 6R arms with axes 4 and 5
+    meeting and axis 6 offset (a 1-D search over θ6; see
+    :func:`~kinplan.ik.wrist_offset_geometry.offset_wrist_geometry`) and panda-type 7-joint arms
     (closed form for a given θ7, θ7 searched; :mod:`kinplan.ik.panda`) are recognised from the
     Pinocchio model's joint placements and tool frame; the solver is then checked against
     Pinocchio's forward kinematics on a few random configurations. Any other arm gives None,
@@ -108,16 +112,24 @@ def closed_form_report(
             reason = ""
         else:
             wrist, reason = wrist_geometry(screws)
-            reason += "; not the UR structure"
             solver = None
             if wrist is not None:
                 solver = SphericalWristIK(wrist, robot.lower, robot.upper, weights)
                 description = SphericalWristIK.description
+            else:  # axes 4, 5 meeting, axis 6 anywhere: the 1-D search (IK-Geo)
+                offset, why = offset_wrist_geometry(screws)
+                if offset is not None:
+                    solver = OffsetWristIK(offset, robot.lower, robot.upper, weights)
+                    description = solver.description
+                else:
+                    reason += f"; no 1-D search form: {why}"
+            reason += "; not the UR structure"
     if solver is None:
         return None, _NUMERICAL + reason + ")"
     if not self_check(robot, lambda pose, q: solver.solutions(pose.translation, pose.rotation)):
         logger.debug("closed-form IK of %s disagrees with its forward kinematics", robot.name)
-        return None, _NUMERICAL + f"the {description[13:]} disagrees with the model's FK)"
+        form = description.removeprefix("closed form: ")
+        return None, _NUMERICAL + f"the {form} disagrees with the model's FK)"
     return solver, description
 
 

@@ -1,5 +1,6 @@
 """Synthetic spherical-wrist 6R arms written as URDF strings (random offsets, axis signs, base
-and tool frames), for the closed-form tests: every machine has them, no download needed."""
+and tool frames), and their variants with axis 6 offset (the 1-D search family), for the
+closed-form tests: every machine has them, no download needed."""
 
 from __future__ import annotations
 
@@ -15,7 +16,13 @@ def _xyz(values) -> str:
 
 
 def wrist_arm_urdf(
-    seed: int, *, skew_wrist: bool = False, lateral: bool = True, tilt: float = 0.0
+    seed: int,
+    *,
+    skew_wrist: bool = False,
+    lateral: bool = True,
+    tilt: float = 0.0,
+    wrist_offset: float = 0.0,
+    skew3: float = 0.0,
 ) -> str:
     """An industrial-style arm: axis 1 vertical, 2 ∥ 3 horizontal, a spherical wrist.
 
@@ -24,6 +31,12 @@ def wrist_arm_urdf(
     tool pose; with ``skew_wrist`` the wrist axes are not perpendicular (still meeting); ``tilt``
     [rad] turns axes 2 and 3 (together) out of the plane normal to axis 1.
     Limits: ±(π/2 … 2π) per joint.
+
+    The 1-D search family (:mod:`kinplan.ik.wrist_offset`): ``wrist_offset`` [m] moves axis 6
+    off the meeting point of axes 4 and 5 by that distance (a random direction across axis 6);
+    ``skew3`` [rad] turns axis 3 by that angle away from axis 2 (about axis 1's direction at
+    q = 0) and puts axes 1 and 2 through one point (no shoulder or lateral offset), as Kinova's
+    Gen3. Both draw from their own generator: the other numbers of a seed do not change.
     """
     rng = np.random.default_rng(seed)
     sign = lambda: rng.choice([-1.0, 1.0])  # noqa: E731
@@ -40,6 +53,8 @@ def wrist_arm_urdf(
         axis5 = np.array([rng.uniform(-0.5, 0.5), 1.0, rng.uniform(-0.5, 0.5)])
         axis6 = np.array([1.0, rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5)])
     axis5, axis6 = sign() * axis5 / np.linalg.norm(axis5), sign() * axis6 / np.linalg.norm(axis6)
+    if skew3:
+        a1 = lat = 0.0
     joints = [
         ("j1", "base", "l1", [0, 0, d1], "0 0 0", [0, 0, sign()]),
         ("j2", "l1", "l2", [a1, lat, 0], f"{tilt:.17g} 0 0", [0, sign(), 0]),
@@ -48,6 +63,14 @@ def wrist_arm_urdf(
         ("j5", "l4", "l5", [d4, 0, 0], "0 0 0", list(axis5)),
         ("j6", "l5", "l6", [0, 0, 0], "0 0 0", list(axis6)),
     ]
+    if skew3:  # axis 3 turned about z (axis 1 at q = 0) away from axis 2
+        name, parent, child, xyz, rpy, axis = joints[2]
+        axis = [axis[1] * np.sin(skew3), axis[1] * np.cos(skew3), 0.0]
+        joints[2] = (name, parent, child, xyz, rpy, axis)
+    if wrist_offset:  # axis 6 moved across itself, off the meeting point of axes 4 and 5
+        across = np.cross(axis6, np.random.default_rng([seed, 6]).normal(size=3))
+        joints[5] = ("j6", "l5", "l6", list(wrist_offset * across / np.linalg.norm(across)),
+                     "0 0 0", list(axis6))  # fmt: skip
     limits = rng.uniform(0.5 * np.pi, 2.0 * np.pi, 6)
     links = ["world", "base", "l1", "l2", "l3", "l4", "l5", "l6", "tool0"]
     parts = ['<?xml version="1.0"?>', f'<robot name="wrist_arm_{seed}">']

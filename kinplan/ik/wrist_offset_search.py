@@ -1,0 +1,477 @@
+"""The 1-D search over θ6, compiled (numba): every root of the four branch residuals
+``f_b(θ6)`` of :mod:`~kinplan.ik.wrist_offset_branches` over a full turn, for one pose.
+
+1. **Samples.** ``f_b`` at :data:`SAMPLES` values of θ6 (all four branches at once). Where
+   θ1, θ2 or θ3 of a branch turns by more than :data:`MAX_TURN` between two samples (the
+   meeting point of axes 4 and 5 passing near axis 1, or an elbow near straight: ``f_b`` then
+   changes fast between samples), the turn is sampled again :data:`DENSER` times as densely
+   (up to :data:`MAX_SAMPLES`).
+2. **Sign changes** between samples are refined by Brent's method to machine precision.
+3. **Dips.** At a local minimum of ``|f_b|`` over the samples whose parabola dips towards 0,
+   a golden-section search finds the minimum: below 0, two roots (each refined by Brent's
+   method); within :data:`TANGENT_TOL` of 0, a tangent root.
+4. **Ends of reach.** Where a branch stops reaching (a subproblem's discriminant crosses 0) it
+   meets another branch (the other sign of that subproblem): the end is found by bisection,
+   and the two branches are searched as one smooth curve in ``s`` with
+   ``θ6 = θ_end ∓ s²`` (``s > 0`` one branch, ``s < 0`` the other), on which ``f`` has no
+   square-root corner: the roots close to the end, where the curve turns back, are sampled
+   and refined there. A window of reach narrower than the samples (a local maximum of the
+   failing stage's margin rising towards 0) is found by golden-section ascent of the margin,
+   and both its ends searched so.
+
+Roots are listed once per branch (within 1e-10 rad), at most ``len(roots)``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from kinplan.ik.screws import TAU
+from kinplan.ik.wrist_offset_branches import branch, inline, jit, sample, wrap
+
+#: Samples of θ6 over a full turn before the roots are refined.
+SAMPLES = 32
+#: Denser sampling where the branch angles turn fast: this many times, up to MAX_SAMPLES.
+DENSER = 8
+MAX_SAMPLES = 2048
+#: Largest turn of θ1, θ2 or θ3 between two samples [rad] before sampling more densely.
+MAX_TURN = 0.35
+COS_TURN = math.cos(MAX_TURN)
+#: A minimum of |f| at most this large (after the golden-section search) is a root.
+TANGENT_TOL = 1e-11
+#: Bisection steps locating the end of a branch's reach; steps of a minimum's search.
+EDGE_STEPS = 60
+GOLDEN_STEPS = 60
+MIN_STEPS = 80
+#: A local minimum g1 > 0 of |f| over the samples is searched when the parabola through it
+#: and its neighbours dips below DIP·g1.
+DIP = 0.8
+#: Where |f| stays below this at both ends of an interval without a sign change, the interval
+#: is searched for a hidden pair of roots (f is a difference of cosines: 0 … 2).
+FLAT = 0.02
+#: A local maximum of a failing stage's margin above −WINDOW (or whose parabola rises towards
+#: 0) is searched for a window of reach between the samples.
+WINDOW = 0.03
+#: Samples of the curve in s around the end of a branch's reach (even: s = 0 is one).
+LOOP_POINTS = 16
+
+
+# ---------------------------------------------------------------------------- curves
+# A curve is (kind, b, partner, θ_end, direction): kind 0 is branch b over θ6 = x; kind 1 the
+# branches b (x ≥ 0) and partner (x < 0) joined at the end of their reach, θ6 = θ_end − d·x².
+@inline
+def _place(curve, x):
+    """(θ6 [rad], branch) of the curve's parameter ``x``."""
+    kind, b, partner, end, direction = curve
+    if kind == 0:
+        return x, b
+    return end - direction * x * x, (b if x >= 0.0 else partner)
+
+
+@inline
+def _at(k, pre, fill, curve, x):
+    """(f, reached) at the curve's parameter ``x``."""
+    theta, row = _place(curve, x)
+    out = branch(k, pre, math.cos(theta), math.sin(theta), row, fill)
+    return out[0], out[1]
+
+
+@jit
+def _add(roots, branch_of, count, curve, x):
+    """Append the root at ``x`` of the curve unless already listed; the new count."""
+    if x != x or count >= roots.shape[0]:
+        return count
+    theta, row = _place(curve, x)
+    for r in range(count):
+        if branch_of[r] == row and abs(wrap(roots[r] - theta)) < 1e-10:
+            return count
+    roots[count] = theta
+    branch_of[count] = row
+    return count + 1
+
+
+@jit
+def _brent(k, pre, fill, curve, a, fa, c, fc):
+    """The root in [a, c] (f(a), f(c) of opposite signs) to machine precision (Brent's method);
+    NaN if the curve stops reaching inside the bracket."""
+    bb, fb = c, fc
+    cc, fcc = a, fa
+    d = e = bb - a
+    for _ in range(100):
+        if (fb > 0.0) == (fcc > 0.0):
+            cc, fcc = a, fa
+            d = e = bb - a
+        if abs(fcc) < abs(fb):
+            a, fa = bb, fb
+            bb, fb = cc, fcc
+            cc, fcc = a, fa
+        tol = 4.440892098500626e-16 * abs(bb) + 1e-15
+        m = 0.5 * (cc - bb)
+        if abs(m) <= tol or fb == 0.0:
+            return bb
+        if abs(e) >= tol and abs(fa) > abs(fb):
+            s = fb / fa
+            if a == cc:
+                p, q = 2.0 * m * s, 1.0 - s
+            else:
+                q, r = fa / fcc, fb / fcc
+                p = s * (2.0 * m * q * (q - r) - (bb - a) * (r - 1.0))
+                q = (q - 1.0) * (r - 1.0) * (s - 1.0)
+            if p > 0.0:
+                q = -q
+            else:
+                p = -p
+            if 2.0 * p < min(3.0 * m * q - abs(tol * q), abs(e * q)):
+                e, d = d, p / q
+            else:
+                d = e = m
+        else:
+            d = e = m
+        a, fa = bb, fb
+        bb += d if abs(d) > tol else (tol if m > 0.0 else -tol)
+        fb, ok = _at(k, pre, fill, curve, bb)
+        if not ok:
+            return np.nan
+    return bb
+
+
+@jit
+def _minimum(k, pre, fill, curve, a, c, sign):
+    """The minimum of sign·f on [a, c] (Brent's minimisation: parabolic steps guarded by golden
+    sections, to ~1e-9 rad), or the first point where sign·f ≤ 0: (x, sign·f there); NaN when
+    the curve stops reaching inside."""
+    golden = 0.3819660112501051
+    x = w = v = a + golden * (c - a)
+    fx, ok = _at(k, pre, fill, curve, x)
+    if not ok:
+        return np.nan, np.nan
+    fx *= sign
+    fw = fv = fx
+    d = e = 0.0
+    for _ in range(MIN_STEPS):
+        if fx <= 0.0:
+            break
+        middle = 0.5 * (a + c)
+        tol1 = 1e-9 * abs(x) + 1e-11
+        tol2 = 2.0 * tol1
+        if abs(x - middle) <= tol2 - 0.5 * (c - a):
+            break
+        parabolic = False
+        if abs(e) > tol1:
+            r = (x - w) * (fx - fv)
+            q = (x - v) * (fx - fw)
+            p = (x - v) * q - (x - w) * r
+            q = 2.0 * (q - r)
+            if q > 0.0:
+                p = -p
+            q = abs(q)
+            if abs(p) < abs(0.5 * q * e) and q * (a - x) < p < q * (c - x):
+                e, d = d, p / q
+                parabolic = True
+                u = x + d
+                if u - a < tol2 or c - u < tol2:
+                    d = tol1 if middle >= x else -tol1
+        if not parabolic:
+            e = (a if x >= middle else c) - x
+            d = golden * e
+        u = x + (d if abs(d) >= tol1 else (tol1 if d > 0.0 else -tol1))
+        fu, ok = _at(k, pre, fill, curve, u)
+        if not ok:
+            return np.nan, np.nan
+        fu *= sign
+        if fu <= fx:
+            if u >= x:
+                a = x
+            else:
+                c = x
+            v, fv, w, fw, x, fx = w, fw, x, fx, u, fu
+        else:
+            if u < x:
+                a = u
+            else:
+                c = u
+            if fu <= fw or w == x:
+                v, fv, w, fw = w, fw, u, fu
+            elif fu <= fv or v == x or v == w:
+                v, fv = u, fu
+    return x, fx
+
+
+@jit
+def _bracket(k, pre, fill, curve, lo, flo, hi, fhi, roots, branch_of, count):
+    """The roots in [lo, hi] with f of one sign at both ends (≠ 0): a golden-section search
+    for the minimum of |f|; below 0, two roots (Brent's method), within TANGENT_TOL of 0 a
+    tangent one. The new count."""
+    sign = 1.0 if flo > 0.0 else -1.0
+    xm, gm = _minimum(k, pre, fill, curve, lo, hi, sign)
+    if gm != gm or gm >= min(sign * flo, sign * fhi):
+        return count
+    if gm <= 0.0:
+        count = _add(roots, branch_of, count, curve,
+                     _brent(k, pre, fill, curve, lo, flo, xm, sign * gm))  # fmt: skip
+        return _add(roots, branch_of, count, curve,
+                    _brent(k, pre, fill, curve, xm, sign * gm, hi, fhi))  # fmt: skip
+    if gm <= TANGENT_TOL:
+        return _add(roots, branch_of, count, curve, xm)
+    return count
+
+
+@jit
+def _flat(k, pre, fill, curve, a, fa, c, fc, roots, branch_of, count):
+    """An interval where |f| is small at both ends, of one sign: f at its middle; a sign change
+    there gives two roots, else the parabola through the three values decides whether a
+    minimum of |f| inside may cross 0 (:func:`_bracket`). The new count."""
+    middle = 0.5 * (a + c)
+    fm, ok = _at(k, pre, fill, curve, middle)
+    if not ok:
+        return count
+    if fm == 0.0:
+        return _add(roots, branch_of, count, curve, middle)
+    if (fm < 0.0) != (fa < 0.0):
+        count = _add(roots, branch_of, count, curve, _brent(k, pre, fill, curve, a, fa, middle, fm))
+        return _add(roots, branch_of, count, curve, _brent(k, pre, fill, curve, middle, fm, c, fc))
+    sign = 1.0 if fa > 0.0 else -1.0
+    g0, g1, g2 = sign * fa, sign * fm, sign * fc
+    curvature = g0 - 2.0 * g1 + g2
+    if curvature <= 0.0:
+        return count  # |f| bulges away from 0 between the ends
+    shift = (g0 - g2) / (2.0 * curvature)  # the vertex, in half-intervals from the middle
+    if abs(shift) > 1.0 or g1 - (g2 - g0) ** 2 / (8.0 * curvature) >= DIP * min(g0, g1, g2):
+        return count
+    return _bracket(k, pre, fill, curve, a, fa, c, fc, roots, branch_of, count)
+
+
+@jit
+def _dip(k, pre, fill, curve, xs, fs, roots, branch_of, count):
+    """The roots near a local minimum of |f| at xs[1] between samples xs[0], xs[2] (f of one
+    sign at all three) when its parabola dips towards 0; the new count."""
+    sign = 1.0 if fs[1] > 0.0 else -1.0
+    g0, g1, g2 = sign * fs[0], sign * fs[1], sign * fs[2]
+    if not (0.0 < g1 < g0 and g1 <= g2):
+        return count
+    curvature = g0 - 2.0 * g1 + g2
+    if curvature <= 0.0 or g1 - (g2 - g0) ** 2 / (8.0 * curvature) >= DIP * g1:
+        return count
+    return _bracket(k, pre, fill, curve, xs[0], fs[0], xs[2], fs[2], roots, branch_of, count)
+
+
+@jit
+def _to_edge(k, pre, fill, curve, i, xs, fs, ok, roots, branch_of, count):
+    """The roots between the reached one of points i, i + 1 of a curve and the end of its
+    reach between them (found by bisection); the new count."""
+    inside, outside, f_in = (xs[i], xs[i + 1], fs[i]) if ok[i] else (xs[i + 1], xs[i], fs[i + 1])
+    for _ in range(EDGE_STEPS):
+        middle = 0.5 * (inside + outside)
+        if middle == inside or middle == outside:
+            break
+        if _at(k, pre, fill, curve, middle)[1]:
+            inside = middle
+        else:
+            outside = middle
+    f_end, _ = _at(k, pre, fill, curve, inside)
+    start = xs[i] if ok[i] else xs[i + 1]
+    if f_end == 0.0:
+        return _add(roots, branch_of, count, curve, inside)
+    if f_in == 0.0 or start == inside:
+        return count
+    if (f_in < 0.0) != (f_end < 0.0):
+        root = _brent(k, pre, fill, curve, start, f_in, inside, f_end)
+        return _add(roots, branch_of, count, curve, root)
+    return _bracket(k, pre, fill, curve, start, f_in, inside, f_end, roots, branch_of, count)
+
+
+@jit
+def _scan(k, pre, fill, curve, xs, fs, ok, periodic, roots, branch_of, count):
+    """Roots on sampled points ``xs`` (n + 1) of a curve (``fs``, ``ok``: f and reached):
+    samples at 0, sign changes between reached neighbours (Brent), dips at local minima
+    (``periodic``: the last point is the first one again); the new count."""
+    n = xs.shape[0] - 1
+    for i in range(n):
+        if ok[i] and fs[i] == 0.0:
+            count = _add(roots, branch_of, count, curve, xs[i])
+        if ok[i] != ok[i + 1] and curve[0] == 1:  # a joined curve leaving its reach
+            count = _to_edge(k, pre, fill, curve, i, xs, fs, ok, roots, branch_of, count)
+        if not (ok[i] and ok[i + 1]) or fs[i + 1] == 0.0:
+            continue
+        if (fs[i] < 0.0 < fs[i + 1]) or (fs[i + 1] < 0.0 < fs[i]):
+            root = _brent(k, pre, fill, curve, xs[i], fs[i], xs[i + 1], fs[i + 1])
+            count = _add(roots, branch_of, count, curve, root)
+        elif max(abs(fs[i]), abs(fs[i + 1])) < FLAT and fs[i] != 0.0:
+            count = _flat(k, pre, fill, curve, xs[i], fs[i], xs[i + 1], fs[i + 1],
+                          roots, branch_of, count)  # fmt: skip
+    three_x = np.empty(3)
+    three_f = np.empty(3)
+    for i in range(0 if periodic else 1, n):
+        before = i - 1 if i > 0 else n - 1
+        if not (ok[before] and ok[i] and ok[i + 1]) or fs[i] == 0.0:
+            continue
+        if (fs[before] > 0.0) != (fs[i] > 0.0) or (fs[i + 1] > 0.0) != (fs[i] > 0.0):
+            continue
+        three_x[0] = xs[before] if i > 0 else xs[n - 1] - (xs[n] - xs[0])
+        three_x[1], three_x[2] = xs[i], xs[i + 1]
+        three_f[0], three_f[1], three_f[2] = fs[before], fs[i], fs[i + 1]
+        count = _dip(k, pre, fill, curve, three_x, three_f, roots, branch_of, count)
+    return count
+
+
+# ---------------------------------------------------------------------------- ends of reach
+@jit
+def _edge(k, pre, b, fill, inside, outside):
+    """The end of branch b's reach between θ6 = ``inside`` (reached) and ``outside`` (not),
+    by bisection: (θ6 of the last reached value, 1 or 2: the stage that fails beyond)."""
+    level, _ = _at(k, pre, fill, (0, b, b, 0.0, 0.0), outside)
+    for _ in range(EDGE_STEPS):
+        middle = 0.5 * (inside + outside)
+        if middle == inside or middle == outside:
+            break
+        f, ok = _at(k, pre, fill, (0, b, b, 0.0, 0.0), middle)
+        if ok:
+            inside = middle
+        else:
+            outside, level = middle, f
+    return inside, int(level)
+
+
+@jit
+def _end_of_reach(k, pre, fill, b, inside, outside, width, roots, branch_of, count):
+    """The roots of branch b and its partner (the other sign of the stage that fails) within
+    ``width`` [rad] of the end of their reach between θ6 = ``inside`` and ``outside``,
+    searched on the joined curve θ6 = θ_end ∓ s²; the new count."""
+    end, level = _edge(k, pre, b, fill, inside, outside)
+    partner = b ^ 2 if level == 1 else b ^ 1  # searched from both: its window may be narrow
+    curve = (1, b, partner, end, 1.0 if outside > inside else -1.0)
+    reach = math.sqrt(width)
+    xs = np.empty(LOOP_POINTS + 1)
+    fs = np.empty(LOOP_POINTS + 1)
+    ok = np.empty(LOOP_POINTS + 1, dtype=np.bool_)
+    for j in range(LOOP_POINTS + 1):
+        xs[j] = -reach + 2.0 * reach * j / LOOP_POINTS
+        fs[j], ok[j] = _at(k, pre, fill, curve, xs[j])
+    return _scan(k, pre, fill, curve, xs, fs, ok, False, roots, branch_of, count)
+
+
+@jit
+def _reach_point(k, pre, fill, b, a, c):
+    """A θ6 in [a, c] where branch b reaches, by golden-section ascent of its margin (the
+    failing stage's, < 0), or NaN: a window of reach narrower than the samples."""
+    ratio = 0.6180339887498949
+    x1, x2 = c - ratio * (c - a), a + ratio * (c - a)
+    out = branch(k, pre, math.cos(x1), math.sin(x1), b, fill)
+    if out[1]:
+        return x1
+    m1 = out[3]
+    out = branch(k, pre, math.cos(x2), math.sin(x2), b, fill)
+    if out[1]:
+        return x2
+    m2 = out[3]
+    for _ in range(GOLDEN_STEPS):
+        if m1 > m2:
+            c, x2, m2 = x2, x1, m1
+            x1 = c - ratio * (c - a)
+            out = branch(k, pre, math.cos(x1), math.sin(x1), b, fill)
+            if out[1]:
+                return x1
+            m1 = out[3]
+        else:
+            a, x1, m1 = x1, x2, m2
+            x2 = a + ratio * (c - a)
+            out = branch(k, pre, math.cos(x2), math.sin(x2), b, fill)
+            if out[1]:
+                return x2
+            m2 = out[3]
+        if c - a < 1e-7:
+            break  # a window narrower than this holds no root the verification would pass
+    return np.nan
+
+
+@jit
+def _windows(k, pre, fill, b, xs, margins, ok, roots, branch_of, count):
+    """Windows of reach of branch b narrower than the samples: at a local maximum of the
+    margin (< 0 at three samples) above −WINDOW or whose parabola rises towards 0 (the margins
+    of two stages may meet there, with a corner), a point of reach is sought, then both ends
+    of the window are searched; the new count."""
+    n = xs.shape[0] - 1
+    step = xs[1] - xs[0]
+    for i in range(n):
+        before = i - 1 if i > 0 else n - 1
+        if ok[before] or ok[i] or ok[i + 1]:
+            continue
+        m0, m1, m2 = margins[before], margins[i], margins[i + 1]
+        curvature = 2.0 * m1 - m0 - m2
+        if not (m1 > m0 and m1 >= m2) or curvature <= 0.0:
+            continue
+        if m1 < -WINDOW and m1 + (m2 - m0) ** 2 / (8.0 * curvature) < 0.5 * m1:
+            continue  # far from reaching, and the parabola does not rise towards it
+        left = xs[i] - step
+        inside = _reach_point(k, pre, fill, b, left, xs[i + 1])
+        if inside != inside:
+            continue
+        for outside in (left, xs[i + 1]):
+            count = _end_of_reach(k, pre, fill, b, inside, outside, 2.0 * step,
+                                  roots, branch_of, count)  # fmt: skip
+    return count
+
+
+# ---------------------------------------------------------------------------- all roots
+@jit
+def _sampled(k, pre, fill, n, values, reached, turns):
+    """Sample f of the four branches at n values of θ6; returns (whether some branch angle
+    turns by more than MAX_TURN between two samples, whether a free angle took its fill)."""
+    step = TAU / n
+    singular = False
+    for i in range(n):
+        theta = -math.pi + i * step
+        free = sample(k, pre, math.cos(theta), math.sin(theta), fill, values[i], reached[i],
+                      turns[i])  # fmt: skip
+        singular = singular or free
+    values[n, :] = values[0, :]
+    reached[n, :] = reached[0, :]
+    turns[n, :, :] = turns[0, :, :]
+    for i in range(n):
+        for b in range(4):
+            if not (reached[i, b] and reached[i + 1, b]):
+                continue
+            for a in range(0, 6, 2):
+                turned = turns[i, b, a] * turns[i + 1, b, a]
+                turned += turns[i, b, a + 1] * turns[i + 1, b, a + 1]
+                if turned < COS_TURN:
+                    return True, singular
+    return False, singular
+
+
+@jit
+def search(k, pre, fill, roots, branch_of):
+    """Every root of f_0…f_3 over a full turn of θ6 for the pose of ``pre``
+    (:func:`~kinplan.ik.wrist_offset_branches.prepare`): θ6 [rad] into ``roots`` and its branch
+    into ``branch_of`` (capacity ``len(roots)``).
+
+    Returns:
+        (count, singular): the roots found, and whether a free angle took its ``fill`` value.
+    """
+    n = SAMPLES
+    while True:
+        values = np.empty((n + 1, 4))
+        reached = np.empty((n + 1, 4), dtype=np.bool_)
+        turns = np.empty((n + 1, 4, 6))
+        fast, singular = _sampled(k, pre, fill, n, values, reached, turns)
+        if not fast or n >= MAX_SAMPLES:
+            break
+        n *= DENSER
+    step = TAU / n
+    xs = np.empty(n + 1)
+    for i in range(n + 1):
+        xs[i] = -math.pi + i * step
+    count = 0
+    for b in range(4):
+        curve = (0, b, b, 0.0, 0.0)
+        fs, ok = values[:, b].copy(), reached[:, b].copy()
+        count = _scan(k, pre, fill, curve, xs, fs, ok, True, roots, branch_of, count)
+        for i in range(n):
+            if ok[i] != ok[i + 1]:
+                inside, outside = (xs[i], xs[i + 1]) if ok[i] else (xs[i + 1], xs[i])
+                count = _end_of_reach(k, pre, fill, b, inside, outside, 2.0 * step,
+                                      roots, branch_of, count)  # fmt: skip
+        count = _windows(k, pre, fill, b, xs, fs, ok, roots, branch_of, count)
+    return count, singular
