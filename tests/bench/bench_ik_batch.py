@@ -133,6 +133,7 @@ def main() -> None:
     numerical_rounds = min(args.rounds, 3)
     cases: list[tuple[str, str | Path, int, int, tuple[str, float] | None, dict[str, Any]]] = [
         ("ur5, seed per target", "ur5", big, 300, ("poses", 500_000), {"seeded": True}),
+        ("ur5, seed per target", "ur5", mid, 300, ("poses", 500_000), {"seeded": True}),
         ("ur5, default seed", "ur5", big, 300, ("poses", 500_000), {"seeded": False}),
         (
             "ur5, list of SE3",
