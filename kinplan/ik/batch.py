@@ -57,6 +57,7 @@ from kinplan.ik.numeric import (
 from kinplan.ik.panda import PandaIK
 from kinplan.ik.spherical_wrist import SphericalWristIK
 from kinplan.ik.ur import URIK
+from kinplan.ik.wrist_offset import OffsetWristIK
 
 logger = logging.getLogger(__name__)
 
@@ -238,7 +239,7 @@ class BatchSolver:
     def _closed_form(self, positions, rotations, seeds, tolerances, masks=True):
         solver = self.closed_form
         assert isinstance(solver, ClosedFormIK)  # vectorised: it lists every branch at once
-        if rotations is not None and isinstance(solver, (URIK, SphericalWristIK)):
+        if rotations is not None and isinstance(solver, (URIK, SphericalWristIK, OffsetWristIK)):
             # the single-pose formulas on arrays; near singularities, all branches (as ik)
             extra = {"masks": masks} if isinstance(solver, URIK) else {}
             parts = [

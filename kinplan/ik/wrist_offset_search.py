@@ -1,12 +1,13 @@
 """The 1-D search over θ6, compiled (numba): every root of the four branch residuals
 ``f_b(θ6)`` of :mod:`~kinplan.ik.wrist_offset_branches` over a full turn, for one pose.
 
-1. **Samples.** ``f_b`` at :data:`SAMPLES` values of θ6 (all four branches at once). Where
+1. **Samples.** ``f_b`` at :data:`COARSE` values of θ6 (all four branches at once), or
+   :data:`SAMPLES` unless the branch angles stay nearly still between them. Where
    θ1, θ2 or θ3 of a branch turns by more than :data:`MAX_TURN` between two samples (the
    meeting point of axes 4 and 5 passing near axis 1, or an elbow near straight: ``f_b`` then
    changes fast between samples), the turn is sampled again :data:`DENSER` times as densely
    (up to :data:`MAX_SAMPLES`).
-2. **Sign changes** between samples are refined by Brent's method to machine precision.
+2. **Sign changes** between samples are refined by Brent's method to :data:`ROOT_TOL`.
 3. **Dips.** At a local minimum of ``|f_b|`` over the samples whose parabola dips towards 0,
    a golden-section search finds the minimum: below 0, two roots (each refined by Brent's
    method); within :data:`TANGENT_TOL` of 0, a tangent root.
@@ -31,14 +32,23 @@ import numpy as np
 from kinplan.ik.screws import TAU
 from kinplan.ik.wrist_offset_branches import branch, inline, jit, sample, wrap
 
-#: Samples of θ6 over a full turn before the roots are refined.
+#: Samples of θ6 over a full turn before the roots are refined: COARSE first, and SAMPLES
+#: unless θ1, θ2 and θ3 of every branch turn by less than STILL between two of them (the
+#: meeting point of axes 4 and 5 moves little as θ6 turns: a small offset of axis 6).
+COARSE = 16
 SAMPLES = 32
+STILL = 0.05
+COS_STILL = math.cos(STILL)
 #: Denser sampling where the branch angles turn fast: this many times, up to MAX_SAMPLES.
 DENSER = 8
 MAX_SAMPLES = 2048
 #: Largest turn of θ1, θ2 or θ3 between two samples [rad] before sampling more densely.
 MAX_TURN = 0.35
 COS_TURN = math.cos(MAX_TURN)
+#: Brent's method stops within ROOT_TOL [rad] of the root (1e-13 m per metre of reach at the
+#: tool: far inside the 1e-9 of the FK check) or where |f| ≤ ROOT_F (rounding level).
+ROOT_TOL = 1e-13
+ROOT_F = 1e-15
 #: A minimum of |f| at most this large (after the golden-section search) is a root.
 TANGENT_TOL = 1e-11
 #: Bisection steps locating the end of a branch's reach; steps of a minimum's search.
@@ -94,7 +104,7 @@ def _add(roots, branch_of, count, curve, x):
 
 @jit
 def _brent(k, pre, fill, curve, a, fa, c, fc):
-    """The root in [a, c] (f(a), f(c) of opposite signs) to machine precision (Brent's method);
+    """The root in [a, c] (f(a), f(c) of opposite signs) to ROOT_TOL (Brent's method);
     NaN if the curve stops reaching inside the bracket."""
     bb, fb = c, fc
     cc, fcc = a, fa
@@ -107,9 +117,9 @@ def _brent(k, pre, fill, curve, a, fa, c, fc):
             a, fa = bb, fb
             bb, fb = cc, fcc
             cc, fcc = a, fa
-        tol = 4.440892098500626e-16 * abs(bb) + 1e-15
+        tol = ROOT_TOL
         m = 0.5 * (cc - bb)
-        if abs(m) <= tol or fb == 0.0:
+        if abs(m) <= tol or abs(fb) <= ROOT_F:
             return bb
         if abs(e) >= tol and abs(fa) > abs(fb):
             s = fb / fa
@@ -417,8 +427,8 @@ def _windows(k, pre, fill, b, xs, margins, ok, roots, branch_of, count):
 # ---------------------------------------------------------------------------- all roots
 @jit
 def _sampled(k, pre, fill, n, values, reached, turns):
-    """Sample f of the four branches at n values of θ6; returns (whether some branch angle
-    turns by more than MAX_TURN between two samples, whether a free angle took its fill)."""
+    """Sample f of the four branches at n values of θ6; returns (the cosine of the largest turn
+    of θ1, θ2 or θ3 of a branch between two samples, whether a free angle took its fill)."""
     step = TAU / n
     singular = False
     for i in range(n):
@@ -429,6 +439,7 @@ def _sampled(k, pre, fill, n, values, reached, turns):
     values[n, :] = values[0, :]
     reached[n, :] = reached[0, :]
     turns[n, :, :] = turns[0, :, :]
+    least = 1.0
     for i in range(n):
         for b in range(4):
             if not (reached[i, b] and reached[i + 1, b]):
@@ -436,9 +447,8 @@ def _sampled(k, pre, fill, n, values, reached, turns):
             for a in range(0, 6, 2):
                 turned = turns[i, b, a] * turns[i + 1, b, a]
                 turned += turns[i, b, a + 1] * turns[i + 1, b, a + 1]
-                if turned < COS_TURN:
-                    return True, singular
-    return False, singular
+                least = min(least, turned)
+    return least, singular
 
 
 @jit
@@ -450,15 +460,20 @@ def search(k, pre, fill, roots, branch_of):
     Returns:
         (count, singular): the roots found, and whether a free angle took its ``fill`` value.
     """
-    n = SAMPLES
+    n = COARSE
     while True:
         values = np.empty((n + 1, 4))
         reached = np.empty((n + 1, 4), dtype=np.bool_)
         turns = np.empty((n + 1, 4, 6))
-        fast, singular = _sampled(k, pre, fill, n, values, reached, turns)
-        if not fast or n >= MAX_SAMPLES:
+        least, singular = _sampled(k, pre, fill, n, values, reached, turns)
+        if n == COARSE:
+            if least >= COS_STILL:
+                break  # θ1–θ3 nearly still: f is nearly a sinusoid of θ6, COARSE samples do
+            n = SAMPLES
+        elif least >= COS_TURN or n >= MAX_SAMPLES:
             break
-        n *= DENSER
+        else:
+            n *= DENSER
     step = TAU / n
     xs = np.empty(n + 1)
     for i in range(n + 1):
