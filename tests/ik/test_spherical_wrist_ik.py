@@ -14,7 +14,10 @@ from wrist_arms import wrist_arm_urdf
 
 import kinplan
 from kinplan.ik import ClosedFormIK, SphericalWristIK, closed_form_report, wrap_angle
+from kinplan.ik.screws import screws_at_zero
+from kinplan.ik.spherical_wrist_geometry import wrist_geometry
 from kinplan.ik.subproblems import sp1, sp2, sp4
+from kinplan.ik.wrist_offset import OffsetWristIK
 
 #: (seed, skewed wrist, lateral offset) of the synthetic arms; seeds ≥ 10 also tilt axes 2 ∥ 3
 #: by 0.4 rad out of the plane normal to axis 1.
@@ -91,7 +94,9 @@ def test_synthetic_arms_get_the_closed_form(folder, seed, skew, lateral):
     assert robot.ik_solver.description.startswith("closed form: spherical wrist")
 
 
-def test_wrist_offset_is_refused_with_its_reason(tmp_path):
+def test_wrist_offset_is_not_a_spherical_wrist_and_gets_the_1d_search(tmp_path):
+    """Axis 6 off the meeting of axes 4 and 5: the spherical-wrist form refuses it with its
+    reason, and the arm gets the 1-D search (kinplan.ik.wrist_offset) instead."""
     text = wrist_arm_urdf(5).replace('<joint name="j6" type="revolute"><parent link="l5"/>'
                                      '<child link="l6"/><origin xyz="0 0 0"',
                                      '<joint name="j6" type="revolute"><parent link="l5"/>'
@@ -100,14 +105,16 @@ def test_wrist_offset_is_refused_with_its_reason(tmp_path):
     path = tmp_path / "offset_wrist.urdf"
     path.write_text(text)
     robot = kinplan.load_robot(path, tip="tool0")
-    assert robot.closed_form_ik is None
-    solver, reason = closed_form_report(robot)
-    assert solver is None
+    wrist, reason = wrist_geometry(screws_at_zero(robot))
+    assert wrist is None
     assert "axis 6 misses the meeting of axes 4 and 5" in reason, reason
-    assert robot.ik_solver.description == reason
+    solver, description = closed_form_report(robot)
+    assert isinstance(solver, OffsetWristIK) and not isinstance(solver, SphericalWristIK)
+    assert description.startswith("closed form with a 1-D search")
+    assert robot.ik_solver.description == description
     target = robot.fk(np.full(6, 0.3))
-    result = robot.ik(target, np.zeros(6))  # the numerical fallback
-    assert result.success and result.method == "numerical"
+    result = robot.ik(target, np.zeros(6))
+    assert result.success and result.method == "analytic"
 
 
 def test_known_arms_say_which_solver():

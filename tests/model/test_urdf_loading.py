@@ -210,10 +210,13 @@ def test_ik_polishes_a_near_singular_target_the_damped_steps_leave_short():
     seed = np.array([1.9583, 0.2135, -0.7235, -2.4944, 0.5865, 0.0201])
     assert np.linalg.svd(robot.jacobian(q_target), compute_uv=False)[-1] < 1e-4
     target = robot.fk(q_target)
-    result = robot.ik(target, q_seed=seed)
+    # the numerical solver itself (the arm's axes fit the 1-D search closed form, which ik uses)
+    solve = robot.ik_solver.solve
+    result = solve(target.translation, target.rotation, seed)
     assert result.success and result.attempts == 42  # the seed, 40 restarts, the polish
     np.testing.assert_allclose(robot.fk(result.q).translation, target.translation, atol=1e-6)
-    assert not robot.ik(target, q_seed=seed, max_restarts=0).success  # the seed alone: short
+    assert not solve(target.translation, target.rotation, seed, max_restarts=0).success  # short
+    assert robot.ik(target, q_seed=seed).success
 
 
 def test_ik_solves_without_limits_and_turns_revolute_joints_into_them():
