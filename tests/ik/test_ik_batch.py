@@ -115,9 +115,12 @@ def test_numerical_revolute_arm_batch_is_ik_target_by_target(monkeypatch):
     assert np.all((q >= robot.lower - 1e-12) & (q <= robot.upper + 1e-12))
     monkeypatch.setattr(numeric_kernel, "ENABLED", False)
     plain = kinplan.load_robot(URDF / "skewed_axes.urdf")
-    assert plain.ik_solver.compiled_solve_many(
-        np.zeros((1, 3)), None, np.zeros((1, plain.nq)), 1e-6, 1e-6, 40, 40
-    ) is None
+    assert (
+        plain.ik_solver.compiled_solve_many(
+            np.zeros((1, 3)), None, np.zeros((1, plain.nq)), 1e-6, 1e-6, 40, 40
+        )
+        is None
+    )
     _, plain_success = plain.ik_batch(targets, q_seed=seeds)
     assert abs(int(plain_success.sum()) - int(success.sum())) <= 1
 
