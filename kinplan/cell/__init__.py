@@ -10,10 +10,9 @@
 
 from __future__ import annotations
 
-import importlib
-import importlib.util
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
+from kinplan._lazy import lazy_attributes
 from kinplan.cell.body import Body, CellError, xyz_rpy
 
 if TYPE_CHECKING:  # loaded on first use (see __getattr__)
@@ -31,12 +30,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        return getattr(importlib.import_module(f"kinplan.cell.{_LAZY[name]}"), name)
-    if importlib.util.find_spec(f"kinplan.cell.{name}") is not None:  # a submodule not yet loaded
-        return importlib.import_module(f"kinplan.cell.{name}")
-    raise AttributeError(f"module 'kinplan.cell' has no attribute {name!r}")
+__getattr__ = lazy_attributes(__name__, _LAZY)
 
 
 __all__ = [

@@ -47,10 +47,9 @@ URIK`` works as before): commands that need none start faster.
 
 from __future__ import annotations
 
-import importlib
-import importlib.util
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
+from kinplan._lazy import lazy_attributes
 from kinplan.ik.base import AnalyticIK, ClosedFormIK, self_check
 from kinplan.ik.numeric import (
     Evaluation,
@@ -84,12 +83,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        return getattr(importlib.import_module(f"kinplan.ik.{_LAZY[name]}"), name)
-    if importlib.util.find_spec(f"kinplan.ik.{name}") is not None:  # a submodule not yet loaded
-        return importlib.import_module(f"kinplan.ik.{name}")
-    raise AttributeError(f"module 'kinplan.ik' has no attribute {name!r}")
+__getattr__ = lazy_attributes(__name__, _LAZY)
 
 
 __all__ = [

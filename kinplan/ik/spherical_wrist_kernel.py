@@ -284,13 +284,14 @@ def _choice(value, ref, lower, upper):
 
 
 @jit
-def _nearest_of(raw, ok, limits, ref, out):
-    """The branch of ``raw`` nearest ``ref`` (written into ``out``), −1 if none; and the mask
-    of branches with an equivalent within the limits."""
+def nearest_of(raw, ok, limits, ref, out):
+    """The row of ``raw`` (S, 6) nearest ``ref`` (written into ``out``), −1 if none; and the
+    mask of rows with an equivalent within the limits (bit r: row r). Shared by the
+    spherical-wrist and offset-wrist kernels."""
     best = -1
     best_cost = np.inf
     mask = 0
-    for row in range(8):
+    for row in range(raw.shape[0]):
         if not ok[row]:
             continue
         cost = 0.0
@@ -336,7 +337,7 @@ def nearest(k, limits, position, rotation, ref, out):
     raw = np.empty((8, 6))
     ok = np.empty(8, dtype=np.bool_)
     branches(k, position, rotation, ref, raw, ok, np.empty((10, 3)), limits)
-    best, _ = _nearest_of(raw, ok, limits, ref, out)
+    best, _ = nearest_of(raw, ok, limits, ref, out)
     return best
 
 
@@ -350,7 +351,7 @@ def nearest_many(k, limits, positions, rotations, refs, q, branch, mask):
     work = np.empty((10, 3))
     for i in range(positions.shape[0]):
         branches(k, positions[i], rotations[i], refs[i], raw, ok, work, limits)
-        best, bits = _nearest_of(raw, ok, limits, refs[i], out)
+        best, bits = nearest_of(raw, ok, limits, refs[i], out)
         branch[i] = best
         mask[i] = bits
         for j in range(6):

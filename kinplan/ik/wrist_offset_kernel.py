@@ -25,7 +25,8 @@ import numpy as np
 
 from kinplan.compiled import numba, product_into, rotation_about
 from kinplan.ik import wrist_offset_branches
-from kinplan.ik.screws import LIMIT_TOL, TAU
+from kinplan.ik.screws import TAU
+from kinplan.ik.spherical_wrist_kernel import nearest_of
 from kinplan.ik.wrist_offset_branches import angle_to, branch, jit, prepare, turn, wrap
 from kinplan.ik.wrist_offset_search import search
 
@@ -162,54 +163,6 @@ def raw_many(k, tool, positions, rotations, fills, raw, singular):
 
 # ---------------------------------------------------------------------------- the nearest one
 @jit
-def _choice(value, ref, lower, upper):
-    """The 2π-equivalent of ``value`` within [lower, upper] nearest ``ref`` clipped into
-    them (ties to the lower one, as :func:`kinplan.ik.screws.wrap_near`), or NaN."""
-    clipped = min(max(ref, lower), upper)
-    turns = np.round((clipped - value) / TAU)
-    best = np.nan
-    best_distance = np.inf
-    for shift in (-1.0, 0.0, 1.0):
-        candidate = value + TAU * (turns + shift)
-        if lower - LIMIT_TOL <= candidate <= upper + LIMIT_TOL:
-            distance = abs(candidate - clipped)
-            if distance < best_distance:
-                best, best_distance = candidate, distance
-    if best_distance == np.inf:
-        return np.nan
-    return min(max(best, lower), upper)
-
-
-@jit
-def _nearest_of(raw, ok, limits, ref, out):
-    """The row of ``raw`` nearest ``ref`` (written into ``out``), −1 if none; and the mask of
-    rows with an equivalent within the limits."""
-    best = -1
-    best_cost = np.inf
-    mask = 0
-    for row in range(raw.shape[0]):
-        if not ok[row]:
-            continue
-        cost = 0.0
-        inside = True
-        for j in range(6):
-            q = _choice(raw[row, j], ref[j], limits[0, j], limits[1, j])
-            if q != q:
-                inside = False
-                break
-            cost += limits[2, j] * (q - ref[j]) * (q - ref[j])
-        if not inside:
-            continue
-        mask |= 1 << row
-        if cost < best_cost:
-            best, best_cost = row, cost
-    if best >= 0:
-        for j in range(6):
-            out[j] = _choice(raw[best, j], ref[j], limits[0, j], limits[1, j])
-    return best, mask
-
-
-@jit
 def nearest(k, tool, limits, position, rotation, ref, out):
     """The solution nearest ``ref`` [rad] (6,) written into ``out``; returns its row, −1 when
     none is within the limits, :data:`NOT_FINITE` for an input with a NaN or inf.
@@ -232,7 +185,7 @@ def nearest(k, tool, limits, position, rotation, ref, out):
     raw = np.empty((SLOTS, 6))
     ok = np.empty(SLOTS, dtype=np.bool_)
     branches(k, tool, position, rotation, ref, raw, ok)
-    best, _ = _nearest_of(raw, ok, limits, ref, out)
+    best, _ = nearest_of(raw, ok, limits, ref, out)
     return best
 
 
@@ -245,7 +198,7 @@ def nearest_many(k, tool, limits, positions, rotations, refs, q, row, mask):
     out = np.empty(6)
     for n in range(positions.shape[0]):
         branches(k, tool, positions[n], rotations[n], refs[n], raw, ok)
-        best, bits = _nearest_of(raw, ok, limits, refs[n], out)
+        best, bits = nearest_of(raw, ok, limits, refs[n], out)
         row[n] = best
         mask[n] = bits
         for j in range(6):
