@@ -13,6 +13,9 @@ $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e ".[dev]"
+	# byte-compiled once, as pip does for a wheel (an editable install leaves it to the first
+	# import, which PYTHONDONTWRITEBYTECODE=1 turns into a compile at every start-up)
+	$(BIN)/python -m compileall -q kinplan cartesian
 	touch $(STAMP)
 
 install: $(STAMP)
