@@ -56,6 +56,18 @@ def jit(function):
 
 
 @jit
+def turn_into(axis, v, c, s, out):
+    """``out`` (3,) = R(axis, θ) v (Rodrigues) for the unit ``axis``, cos θ = ``c``,
+    sin θ = ``s``; ``out`` may be ``v``."""
+    x, y, z = v[0], v[1], v[2]
+    ax, ay, az = axis[0], axis[1], axis[2]
+    k = (ax * x + ay * y + az * z) * (1.0 - c)
+    out[0] = x * c + (ay * z - az * y) * s + ax * k
+    out[1] = y * c + (az * x - ax * z) * s + ay * k
+    out[2] = z * c + (ax * y - ay * x) * s + az * k
+
+
+@jit
 def rotation_about(axis, c, s, out):
     """The rotation about the unit ``axis`` (3,) by the angle of cosine ``c`` and sine ``s``
     (Rodrigues), written into ``out`` (3, 3)."""

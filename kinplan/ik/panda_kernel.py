@@ -33,7 +33,7 @@ import os
 
 import numpy as np
 
-from kinplan.compiled import jit, numba, product_into, rotation_about
+from kinplan.compiled import jit, numba, product_into, rotation_about, turn_into
 from kinplan.ik.screws import CLAMP, FREE_TOL, HALF_TURN_SAFE, LIMIT_TOL, TAU
 
 #: Private switch for tests and benchmarks: False makes :func:`available` False.
@@ -171,17 +171,6 @@ def _matvec(m, v):
 
 
 @jit
-def _turn(v, axis, c, s, out):
-    """:func:`_rotate_cs` into ``out`` (3,) (which may be ``v``): the same arithmetic."""
-    ax, ay, az = axis[0], axis[1], axis[2]
-    x, y, z = v[0], v[1], v[2]
-    k = (ax * x + ay * y + az * z) * (1.0 - c)
-    out[0] = x * c + (ay * z - az * y) * s + ax * k
-    out[1] = y * c + (az * x - ax * z) * s + ay * k
-    out[2] = z * c + (ax * y - ay * x) * s + az * k
-
-
-@jit
 def _matvec_into(m, v, out):
     """``out`` = m v for (3, 3) ``m`` and (3,) ``v``, ``out`` not ``v`` (:func:`_matvec`)."""
     for i in range(3):
@@ -221,7 +210,7 @@ def _solve(
     c7, s7 = math.cos(q7), math.sin(q7)
     for i in range(3):
         y[i] = seen[i] - p7[i]
-    _turn(y, a7, c7, s7, y)
+    turn_into(a7, y, c7, s7, y)
     for i in range(3):
         v[i] = (y[i] + p7[i]) - wrist[i]
     base = weights[6] * (q7 - q_ref[6]) ** 2
@@ -245,7 +234,7 @@ def _solve(
             continue
         cost4 += base
         cos4, sin4 = math.cos(q4), -math.sin(q4)
-        _turn(s4, a4, cos4, sin4, u)
+        turn_into(a4, s4, cos4, sin4, u)
         for k in range(3):
             u[k] -= w4[k]
         found = _pair(pairs[0], u, v, -clipped[4], -clipped[5], angles)
@@ -289,13 +278,13 @@ def _solve(
             product_into(rotation_tm, turn, rotation_p)
             have_p = True
         cos5, sin5, cos6, sin6 = math.cos(q5), -math.sin(q5), math.cos(q6), -math.sin(q6)
-        _turn(axes[2], a4, cos4, sin4, h)
-        _turn(h, a5, cos5, sin5, h)
-        _turn(h, a6, cos6, sin6, h)
+        turn_into(a4, axes[2], cos4, sin4, h)
+        turn_into(a5, h, cos5, sin5, h)
+        turn_into(a6, h, cos6, sin6, h)
         _matvec_into(rotation_p, h, g3)
-        _turn(e3, a4, cos4, sin4, h)
-        _turn(h, a5, cos5, sin5, h)
-        _turn(h, a6, cos6, sin6, h)
+        turn_into(a4, e3, cos4, sin4, h)
+        turn_into(a5, h, cos5, sin5, h)
+        turn_into(a6, h, cos6, sin6, h)
         _matvec_into(rotation_p, h, ge)
         found = _pair(pairs[1], axes[2], g3, clipped[1], clipped[0], angles)
         for j in range(found):
@@ -307,8 +296,8 @@ def _solve(
             total = cost6 + cost1 + cost2
             if total >= bound:
                 continue
-            _turn(ge, axes[0], math.cos(-t1), math.sin(-t1), h)
-            _turn(h, axes[1], math.cos(-t2), math.sin(-t2), h)
+            turn_into(axes[0], ge, math.cos(-t1), math.sin(-t1), h)
+            turn_into(axes[1], h, math.cos(-t2), math.sin(-t2), h)
             t3 = _angle_about(axes[2], e3, h, clipped[2])
             ok3, q3, cost3 = _choice(t3, q_ref[2], clipped[2], lower[2], upper[2], weights[2])
             if not ok3:

@@ -273,3 +273,23 @@ def parallel(u: np.ndarray, v: np.ndarray) -> bool:
 
 def perpendicular(u: np.ndarray, v: np.ndarray) -> bool:
     return bool(abs(u @ v) < STRUCTURE_TOL)
+
+
+def line_meet(
+    p: np.ndarray, u: np.ndarray, q: np.ndarray, v: np.ndarray
+) -> tuple[np.ndarray, float]:
+    """The midpoint of the shortest segment between the non-parallel lines (p, u) and (q, v)
+    (points [m], unit directions), and its length [m]."""
+    w = p - q
+    b = float(u @ v)
+    d, e = float(u @ w), float(v @ w)
+    denominator = 1.0 - b * b
+    s = (b * e - d) / denominator
+    t = (e - b * d) / denominator
+    a_point, b_point = p + s * u, q + t * v
+    return 0.5 * (a_point + b_point), float(np.linalg.norm(a_point - b_point))
+
+
+def sine_between(u: np.ndarray, v: np.ndarray) -> float:
+    """|sin| of the angle between unit vectors ``u`` and ``v``."""
+    return float(np.linalg.norm(np.cross(u, v)))

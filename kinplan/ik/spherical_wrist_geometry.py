@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kinplan.ik.screws import STRUCTURE_TOL, Screws, plane_basis
+from kinplan.ik.screws import STRUCTURE_TOL, Screws, line_meet, plane_basis, sine_between
 
 #: Smallest sine of the angle between axes that must not be parallel (below: refused).
 SKEW_TOL = 1e-6
@@ -81,25 +81,6 @@ class WristGeometry:
         ).astype(float)
 
 
-def _line_meet(
-    p: np.ndarray, u: np.ndarray, q: np.ndarray, v: np.ndarray
-) -> tuple[np.ndarray, float]:
-    """The midpoint of the shortest segment between the non-parallel lines (p, u) and (q, v),
-    and its length [m]."""
-    w = p - q
-    b = float(u @ v)
-    d, e = float(u @ w), float(v @ w)
-    denominator = 1.0 - b * b
-    s = (b * e - d) / denominator
-    t = (e - b * d) / denominator
-    a_point, b_point = p + s * u, q + t * v
-    return 0.5 * (a_point + b_point), float(np.linalg.norm(a_point - b_point))
-
-
-def _sine(u: np.ndarray, v: np.ndarray) -> float:
-    return float(np.linalg.norm(np.cross(u, v)))
-
-
 def wrist_geometry(screws: Screws) -> tuple[WristGeometry | None, str]:
     """The spherical-wrist structure of six revolute screws at q = 0.
 
@@ -113,9 +94,9 @@ def wrist_geometry(screws: Screws) -> tuple[WristGeometry | None, str]:
     u, p = screws.directions, screws.points
     if len(u) != 6:
         return None, f"{len(u)} joints, not 6"
-    if _sine(u[3], u[4]) < SKEW_TOL or _sine(u[4], u[5]) < SKEW_TOL:
+    if sine_between(u[3], u[4]) < SKEW_TOL or sine_between(u[4], u[5]) < SKEW_TOL:
         return None, "no spherical wrist: axes 4, 5 or 5, 6 are parallel"
-    centre, gap = _line_meet(p[3], u[3], p[4], u[4])
+    centre, gap = line_meet(p[3], u[3], p[4], u[4])
     if gap > STRUCTURE_TOL:
         return None, f"no spherical wrist: axes 4 and 5 do not intersect ({gap:.1e} m apart)"
     off = centre - p[5]
@@ -125,12 +106,12 @@ def wrist_geometry(screws: Screws) -> tuple[WristGeometry | None, str]:
             None,
             f"no spherical wrist: axis 6 misses the meeting of axes 4 and 5 by {miss:.1e} m",
         )
-    if _sine(u[1], u[2]) > STRUCTURE_TOL:
+    if sine_between(u[1], u[2]) > STRUCTURE_TOL:
         return (
             None,
             "spherical wrist, but axes 2 and 3 are not parallel (not solved in closed form)",
         )
-    if _sine(u[0], u[1]) < SKEW_TOL:
+    if sine_between(u[0], u[1]) < SKEW_TOL:
         return None, "spherical wrist, but axes 1 and 2 are parallel"
     a = u[1]
     e, f = plane_basis(a)

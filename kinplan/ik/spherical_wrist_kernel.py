@@ -20,6 +20,7 @@ import os
 import numpy as np
 
 from kinplan.compiled import jit, numba
+from kinplan.compiled import turn_into as _turn
 from kinplan.ik.screws import CLAMP, FREE_TOL, LIMIT_TOL, TAU
 from kinplan.ik.subproblems import FREE_ROOM
 
@@ -39,17 +40,6 @@ def available() -> bool:
 def _rotate(axis, v, angle, out):
     """``out`` = R(axis, angle) v (Rodrigues); ``out`` may be ``v``."""
     _turn(axis, v, math.cos(angle), math.sin(angle), out)
-
-
-@jit
-def _turn(axis, v, c, s, out):
-    """``out`` = R(axis, θ) v for cos θ = ``c``, sin θ = ``s``; ``out`` may be ``v``."""
-    x, y, z = v[0], v[1], v[2]
-    ax, ay, az = axis[0], axis[1], axis[2]
-    k = (ax * x + ay * y + az * z) * (1.0 - c)
-    out[0] = x * c + (ay * z - az * y) * s + ax * k
-    out[1] = y * c + (az * x - ax * z) * s + ay * k
-    out[2] = z * c + (ax * y - ay * x) * s + az * k
 
 
 @jit
@@ -314,6 +304,18 @@ def nearest_of(raw, ok, limits, ref, out):
 
 
 @jit
+def pose_finite(position, rotation, ref):
+    """Whether a pose (3,), (3, 3) and a reference (6,) hold no NaN or inf (by their sum, as
+    the numpy path checks them)."""
+    total = 0.0
+    for i in range(3):
+        total += position[i] + rotation[i, 0] + rotation[i, 1] + rotation[i, 2]
+    for j in range(6):
+        total += ref[j]
+    return math.isfinite(total)
+
+
+@jit
 def nearest(k, limits, position, rotation, ref, out):
     """The solution nearest ``ref`` [rad] (6,) written into ``out``; returns its branch, −1
     when no branch has a solution within the limits, :data:`NOT_FINITE` for an input with a
@@ -327,12 +329,7 @@ def nearest(k, limits, position, rotation, ref, out):
         ref: Reference configuration; also the value of joints free at a singularity.
         out: Written with the solution.
     """
-    total = 0.0
-    for i in range(3):
-        total += position[i] + rotation[i, 0] + rotation[i, 1] + rotation[i, 2]
-    for j in range(6):
-        total += ref[j]
-    if not math.isfinite(total):
+    if not pose_finite(position, rotation, ref):
         return NOT_FINITE
     raw = np.empty((8, 6))
     ok = np.empty(8, dtype=np.bool_)

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kinplan.ik.screws import STRUCTURE_TOL, Screws, plane_basis
+from kinplan.ik.screws import STRUCTURE_TOL, Screws, line_meet, plane_basis, sine_between
 
 #: Smallest sine of the angle between axes that must not be parallel (below: refused).
 SKEW_TOL = 1e-6
@@ -142,25 +142,6 @@ def _meeting_rows(g: OffsetWristGeometry) -> np.ndarray:
     return rows
 
 
-def _line_meet(
-    p: np.ndarray, u: np.ndarray, q: np.ndarray, v: np.ndarray
-) -> tuple[np.ndarray, float]:
-    """The midpoint of the shortest segment between the non-parallel lines (p, u) and (q, v),
-    and its length [m]."""
-    w = p - q
-    b = float(u @ v)
-    d, e = float(u @ w), float(v @ w)
-    denominator = 1.0 - b * b
-    s = (b * e - d) / denominator
-    t = (e - b * d) / denominator
-    a_point, b_point = p + s * u, q + t * v
-    return 0.5 * (a_point + b_point), float(np.linalg.norm(a_point - b_point))
-
-
-def _sine(u: np.ndarray, v: np.ndarray) -> float:
-    return float(np.linalg.norm(np.cross(u, v)))
-
-
 def _off_axis(point: np.ndarray, axis_point: np.ndarray, axis: np.ndarray) -> float:
     """Distance [m] from ``point`` to the line through ``axis_point`` along unit ``axis``."""
     off = point - axis_point
@@ -180,9 +161,9 @@ def offset_wrist_geometry(screws: Screws) -> tuple[OffsetWristGeometry | None, s
     u, p = screws.directions, screws.points
     if len(u) != 6:
         return None, f"{len(u)} joints, not 6"
-    if _sine(u[3], u[4]) < SKEW_TOL:
+    if sine_between(u[3], u[4]) < SKEW_TOL:
         return None, "axes 4 and 5 are parallel"
-    centre, gap = _line_meet(p[3], u[3], p[4], u[4])
+    centre, gap = line_meet(p[3], u[3], p[4], u[4])
     if gap > STRUCTURE_TOL:
         return None, f"axes 4 and 5 do not intersect ({gap:.1e} m apart)"
     miss = _off_axis(centre, p[5], u[5])
@@ -201,15 +182,15 @@ def offset_wrist_geometry(screws: Screws) -> tuple[OffsetWristGeometry | None, s
             origin=origin,
         )
 
-    if _sine(u[1], u[2]) <= STRUCTURE_TOL:
-        if _sine(u[0], u[1]) < SKEW_TOL:
+    if sine_between(u[1], u[2]) <= STRUCTURE_TOL:
+        if sine_between(u[0], u[1]) < SKEW_TOL:
             return None, "axes 1 and 2 are parallel"
         if min(_off_axis(p[2], p[1], u[1]), _off_axis(centre, p[2], u[2])) < STRUCTURE_TOL:
             return None, "axis 3, or the meeting of axes 4 and 5, lies on the axis before it"
         return geometry(PARALLEL, p[0].copy()), ""
-    if _sine(u[0], u[1]) < SKEW_TOL:
+    if sine_between(u[0], u[1]) < SKEW_TOL:
         return None, "axes 2 and 3 are not parallel and axes 1, 2 are parallel"
-    origin, gap12 = _line_meet(p[0], u[0], p[1], u[1])
+    origin, gap12 = line_meet(p[0], u[0], p[1], u[1])
     if gap12 > STRUCTURE_TOL:
         return None, "axes 2 and 3 are not parallel and axes 1 and 2 do not intersect"
     if min(_off_axis(centre, p[2], u[2]), _off_axis(origin, p[2], u[2])) < STRUCTURE_TOL:

@@ -26,7 +26,7 @@ import numpy as np
 from kinplan.compiled import numba, product_into, rotation_about
 from kinplan.ik import wrist_offset_branches
 from kinplan.ik.screws import TAU
-from kinplan.ik.spherical_wrist_kernel import nearest_of
+from kinplan.ik.spherical_wrist_kernel import nearest_of, pose_finite
 from kinplan.ik.wrist_offset_branches import angle_to, branch, jit, prepare, turn, wrap
 from kinplan.ik.wrist_offset_search import search
 
@@ -175,12 +175,7 @@ def nearest(k, tool, limits, position, rotation, ref, out):
         ref: Reference configuration; also the value of joints free at a singularity.
         out: Written with the solution.
     """
-    total = 0.0
-    for i in range(3):
-        total += position[i] + rotation[i, 0] + rotation[i, 1] + rotation[i, 2]
-    for j in range(6):
-        total += ref[j]
-    if not math.isfinite(total):
+    if not pose_finite(position, rotation, ref):
         return NOT_FINITE
     raw = np.empty((SLOTS, 6))
     ok = np.empty(SLOTS, dtype=np.bool_)
