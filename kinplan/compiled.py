@@ -51,8 +51,12 @@ if numba is not None:
 def jit(function):
     """``function`` compiled by numba on first call and cached on disk, or as it is without
     numba. ``error_model="numpy"``: a division by zero gives inf or NaN (for the callers'
-    checks), as numpy's, instead of raising ZeroDivisionError."""
-    return function if numba is None else numba.njit(cache=True, error_model="numpy")(function)
+    checks), as numpy's, instead of raising ZeroDivisionError. ``nogil``: a compiled call
+    releases Python's GIL, so the batch solvers' threads (:mod:`kinplan.ik.batch_threads`) run
+    at once."""
+    if numba is None:
+        return function
+    return numba.njit(cache=True, nogil=True, error_model="numpy")(function)
 
 
 @jit

@@ -44,6 +44,7 @@ from kinplan.ik.batch_kinematics import (
     one_blas_thread,
     pose_errors,
 )
+from kinplan.ik.batch_threads import split_run, thread_count
 from kinplan.ik.numeric import (
     DAMPING_FLOOR,
     DAMPING_GAIN,
@@ -141,17 +142,19 @@ class BatchSolver:
         max_iterations: int,
         max_restarts: int,
         rescue: bool = True,
+        threads: int | None = 1,
     ) -> tuple[np.ndarray, np.ndarray]:
         """Solve every target; see :meth:`kinplan.Robot.ik_batch` (inputs already checked,
         seeds within 2π of the limits). ``rescue=False`` leaves out the last numerical tries
-        of targets every attempt failed (see :meth:`_rescue`).
+        of targets every attempt failed (see :meth:`_rescue`). ``threads``: as
+        :meth:`solve_with_branches`.
 
         Returns:
             (q (N, nq), success (N,)).
         """
         return self.solve_with_branches(
             positions, rotations, seeds, position_tolerance, rotation_tolerance,
-            max_iterations, max_restarts, rescue, masks=False,
+            max_iterations, max_restarts, rescue, masks=False, threads=threads,
         )[:2]  # fmt: skip
 
     def solve_with_branches(
@@ -166,12 +169,17 @@ class BatchSolver:
         rescue: bool = True,
         *,
         masks: bool = True,
+        threads: int | None = 1,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`solve`, and for closed forms that list branches (UR family, planar 2R) the
         branch of each solution and a bit mask of every branch that reaches the target within
         the limits (bit b for branch b); −1 and 0 for other solvers. ``masks=False``: masks
         not wanted (the UR kernel then skips the branches that cannot be nearest; they may
-        come out 0).
+        come out 0). ``threads``: how many threads share the targets (None: the automatic
+        choice of :func:`kinplan.ik.batch_threads.thread_count`); the answers are the same on
+        any number of threads (q to the last bits of rounding). Arms without batch
+        kinematics (a Python loop over :meth:`kinplan.Robot.ik`, whose Pinocchio data are
+        shared) run on one.
 
         Returns:
             (q (N, nq), success (N,), branch (N,) int8, mask (N,) uint16).
@@ -181,11 +189,21 @@ class BatchSolver:
                 :func:`kinplan.ik.numeric.check_effort` (per target).
         """
         check_effort(max_iterations, max_restarts)
-        with one_blas_thread():
+        count = len(positions)
+        threads = thread_count(count, threads)
+        if self.method(rotations is None) == "loop":
+            threads = 1
+
+        def solve(part: slice) -> tuple[np.ndarray, ...]:
             return self._solve_with_branches(
-                positions, rotations, seeds, position_tolerance, rotation_tolerance,
-                max_iterations, max_restarts, rescue, masks,
+                positions[part], None if rotations is None else rotations[part], seeds[part],
+                position_tolerance, rotation_tolerance, max_iterations, max_restarts, rescue,
+                masks,
             )  # fmt: skip
+
+        with one_blas_thread():
+            q, success, branches, found = split_run(solve, count, threads)
+        return q, success, branches, found
 
     def _solve_with_branches(
         self,

@@ -442,6 +442,13 @@ def parse_targets(targets: object) -> tuple[np.ndarray, np.ndarray | None]:
             return np.zeros((0, 3)), None
         if matrices.ndim != 3 or matrices.shape[1:] != (4, 4):
             raise InputError(f"targets must be {wanted}; got an array of shape {matrices.shape}")
+    from kinplan.ik import batch_kinematics_kernel as kernel  # numba: on first use
+
+    if kernel.available():  # one compiled pass; a target it refuses gets numpy's message
+        matrices = np.ascontiguousarray(matrices)
+        positions, rotations = np.empty((len(matrices), 3)), np.empty((len(matrices), 3, 3))
+        if kernel.split_poses(matrices, positions, rotations) < 0:
+            return positions, rotations
     rotations = matrices[:, :3, :3]
     rows = np.ascontiguousarray(matrices.reshape(-1, 16).T)  # row 4i + j: entry (i, j)
     defect, determinant = _rotation_defects([(rows[j], rows[4 + j], rows[8 + j]) for j in range(3)])

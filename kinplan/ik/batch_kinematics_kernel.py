@@ -88,3 +88,43 @@ def errors_many(q, placements, offsets, axes, columns, tool, positions, rotation
                 d2 = rotations[n, 2, j] - (r20 * m0 + r21 * m1 + r22 * m2)
                 total += d0 * d0 + d1 * d1 + d2 * d2
         out[1, n] = total
+
+
+@jit
+def split_poses(matrices, positions, rotations):
+    """The positions (N, 3) [m] and rotations (N, 3, 3) of homogeneous matrices (N, 4, 4)
+    written, each checked as :func:`~kinplan.ik.batch_kinematics.parse_targets` checks it
+    (finite, last row 0 0 0 1, ‖RᵀR − I‖_F² ≤ 1e-12 and det R ≥ 0, the same arithmetic in the
+    same order as :func:`~kinplan.ik.batch_kinematics._rotation_defects`): returns the index
+    of the first matrix that fails, or −1 (one pass over the targets instead of numpy's
+    several)."""
+    for n in range(matrices.shape[0]):
+        m = matrices[n]
+        total = 0.0
+        for i in range(4):
+            for j in range(4):
+                total += m[i, j]
+        if not math.isfinite(total):
+            return n
+        if not (m[3, 0] == 0.0 and m[3, 1] == 0.0 and m[3, 2] == 0.0 and m[3, 3] == 1.0):
+            return n
+        x0, y0, z0 = m[0, 0], m[1, 0], m[2, 0]  # the columns c0, c1, c2 of R
+        x1, y1, z1 = m[0, 1], m[1, 1], m[2, 1]
+        x2, y2, z2 = m[0, 2], m[1, 2], m[2, 2]
+        d0 = (x0 * x0 + y0 * y0 + z0 * z0) - 1.0
+        d1 = (x1 * x1 + y1 * y1 + z1 * z1) - 1.0
+        d2 = (x2 * x2 + y2 * y2 + z2 * z2) - 1.0
+        o01 = x0 * x1 + y0 * y1 + z0 * z1
+        o02 = x0 * x2 + y0 * y2 + z0 * z2
+        o12 = x1 * x2 + y1 * y2 + z1 * z2
+        defect = (d0 * d0 + d1 * d1) + d2 * d2
+        defect += 2.0 * ((o01 * o01 + o02 * o02) + o12 * o12)
+        cx, cy, cz = y1 * z2 - z1 * y2, z1 * x2 - x1 * z2, x1 * y2 - y1 * x2
+        determinant = (x0 * cx + y0 * cy) + z0 * cz
+        if not defect <= 1e-12 or determinant < 0.0:
+            return n
+        for i in range(3):
+            positions[n, i] = m[i, 3]
+            for j in range(3):
+                rotations[n, i, j] = m[i, j]
+    return -1

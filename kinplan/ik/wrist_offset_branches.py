@@ -45,7 +45,7 @@ def inline(function):
     arithmetic of these helpers)."""
     if not ENABLED or numba is None:
         return function
-    return numba.njit(inline="always", cache=True, error_model="numpy")(function)
+    return numba.njit(inline="always", cache=True, nogil=True, error_model="numpy")(function)
 
 
 # ---------------------------------------------------------------------------- small geometry

@@ -394,6 +394,7 @@ class Robot:
         rotation_tolerance: float = 1e-6,
         max_iterations: int = 40,
         max_restarts: int = 40,
+        threads: int | None = None,
     ) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`ik` for many targets at once, vectorised over the targets.
 
@@ -416,6 +417,11 @@ class Robot:
             rotation_tolerance: Success threshold on the rotation error [rad].
             max_iterations: Iterations per numerical attempt.
             max_restarts: Numerical restarts after the seeded attempt fails.
+            threads: Threads that share the targets (the answers are the same on any
+                number, q to the last bits of rounding). Default: one per core for 8,192
+                targets or more when called from the main thread (``KINPLAN_THREADS`` sets
+                the number), else one — called from Dask's workers or another thread pool,
+                the cores are busy already (see :mod:`kinplan.ik.batch_threads`).
 
         Returns:
             (q, success): configurations (N, nq) within the limits (for a failure the best one
@@ -423,7 +429,8 @@ class Robot:
 
         Raises:
             InputError: targets of another shape, not finite, rotations that are not
-                rotations, seeds of the wrong size; tolerances and counts as :meth:`ik`.
+                rotations, seeds of the wrong size; tolerances and counts as :meth:`ik`;
+                ``threads`` not a positive integer.
         """
         from kinplan.ik.batch_kinematics import batch_seeds, parse_targets  # on first use
 
@@ -441,7 +448,7 @@ class Robot:
         max_restarts = checks.count(max_restarts, "max_restarts", minimum=0)
         q, success = self.batch_solver.solve(
             positions, rotations, seeds, position_tolerance, rotation_tolerance,
-            max_iterations, max_restarts,
+            max_iterations, max_restarts, threads=threads,
         )  # fmt: skip
         unbounded = self._unbounded
         if unbounded.size:  # continuous joints: the equivalent angle nearest the seed

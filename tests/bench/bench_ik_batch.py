@@ -11,7 +11,9 @@ order alternating from round to round (3 rounds at most for the numerical arms, 
 runs over 1,000 targets); the table gives the medians.
 
 Columns:
-    poses/s: ``ik_batch`` over the N targets (median of the rounds).
+    poses/s: ``ik_batch`` over the N targets (median of the rounds), its default threads (one
+        per core for 8,192 targets or more: :mod:`kinplan.ik.batch_threads`).
+    1 thread /s: the same with ``threads=1``.
     target: issue 18's bar: UR5 ≥ 500k poses/s, panda ≥ 100k poses/s, numerical arms ≥ 10× the
         loop (planar 2R: no bar, shown for reference).
     of target: poses/s over the bar (or batch/loop over 10× for numerical arms); ≥ 1 is met.
@@ -76,15 +78,18 @@ def case_row(
     seeds = np.array([robot.random_configuration(rng) for _ in range(n_batch)]) if seeded else None
     robot.ik_batch(array[:10], q_seed=None if seeds is None else seeds[:10])  # builds the solver
     robot.ik(one_by_one[0])
-    batch_rates, loop_rates = [], []
+    batch_rates, single_rates, loop_rates = [], [], []
     q = success = None
     results = []
     for r in range(rounds):
-        for what in ("batch", "loop") if r % 2 == 0 else ("loop", "batch"):
+        for what in ("batch", "single", "loop") if r % 2 == 0 else ("loop", "single", "batch"):
             started = time.perf_counter()
             if what == "batch":
                 q, success = robot.ik_batch(targets, q_seed=seeds)
                 batch_rates.append(n_batch / (time.perf_counter() - started))
+            elif what == "single":
+                robot.ik_batch(targets, q_seed=seeds, threads=1)
+                single_rates.append(n_batch / (time.perf_counter() - started))
             else:
                 results = [
                     robot.ik(t, q_seed=None if seeds is None else seeds[k])
@@ -112,6 +117,7 @@ def case_row(
         label,
         f"{n_batch:,}",
         f"{batch_rate:,.0f}",
+        f"{float(np.median(single_rates)):,.0f}",
         target,
         of_target,
         f"{loop_rate:,.0f}",
@@ -170,6 +176,7 @@ def main() -> None:
         "arm, targets",
         "N",
         "poses/s",
+        "1 thread /s",
         "target",
         "of target",
         "loop over ik /s",

@@ -377,3 +377,50 @@ def test_rotation_checks_of_many_targets():
     expected = np.sum((np.swapaxes(rotations, 1, 2) @ rotations - np.eye(3)) ** 2, axis=(1, 2))
     np.testing.assert_allclose(defect, expected, rtol=1e-9, atol=1e-15)
     np.testing.assert_allclose(determinant, np.linalg.det(rotations), atol=1e-12)
+
+
+def test_compiled_target_split_decides_as_numpy(monkeypatch):
+    """parse_targets' compiled pass (batch_kinematics_kernel.split_poses) accepts and refuses
+    exactly the targets numpy's checks do — thousands of seeded poses, among them rotations
+    perturbed around the 1e-6 threshold, reflections, NaN and inf, wrong last rows — and gives
+    the same arrays; a refused batch gets numpy's message."""
+    pytest.importorskip("numba")
+    from kinplan.errors import InputError
+    from kinplan.ik import batch_kinematics_kernel
+    from kinplan.ik.batch_kinematics import parse_targets
+
+    rng = np.random.default_rng(21)
+    count = 3000
+    poses = np.array([pin.SE3.Random().homogeneous for _ in range(count)])
+    kinds = rng.integers(0, 6, count)
+    scale = 10.0 ** rng.uniform(-8.5, -5.5, count)  # defects around the 1e-12 bar
+    poses[kinds == 1, :3, :3] += rng.normal(size=(np.sum(kinds == 1), 3, 3)) * scale[
+        kinds == 1, None, None
+    ]
+    poses[kinds == 2, :3, :3] *= -1.0
+    poses[kinds == 3, rng.integers(0, 4), rng.integers(0, 4)] = rng.choice([np.nan, np.inf])
+    poses[kinds == 4, 3, rng.integers(0, 4)] += 1e-9
+    perturbed_refused = []
+    for k in range(count):
+        one = poses[k : k + 1]
+        monkeypatch.setattr(batch_kinematics_kernel, "ENABLED", False)
+        try:
+            expected, refused = parse_targets(one), None
+        except InputError as error:
+            expected, refused = None, str(error)
+        monkeypatch.setattr(batch_kinematics_kernel, "ENABLED", True)
+        try:
+            got, message = parse_targets(one), None
+        except InputError as error:
+            got, message = None, str(error)
+        assert message == refused, k
+        if kinds[k] == 1:
+            perturbed_refused.append(refused is not None)
+        if expected is not None:
+            np.testing.assert_array_equal(got[0], expected[0])
+            np.testing.assert_array_equal(got[1], expected[1])
+    valid = poses[kinds == 0]
+    positions, rotations = parse_targets(valid)
+    np.testing.assert_array_equal(positions, valid[:, :3, 3])
+    np.testing.assert_array_equal(rotations, valid[:, :3, :3])
+    assert 50 < sum(perturbed_refused) < len(perturbed_refused) - 50  # both sides of the bar

@@ -1,0 +1,151 @@
+"""Robot.ik_batch on several threads: the same answers as on one (the same successes, q to the
+last bits of rounding: numpy's BLAS rounds a column of a product by where it lies in the block,
+as the batch's chunks already do); who decides how many threads; the compiled kernels release
+the GIL (else the threads would take turns)."""
+
+from __future__ import annotations
+
+import importlib
+import threading
+
+import numpy as np
+import pytest
+from conftest import TESTS, cached_robot
+
+import kinplan
+from kinplan.errors import InputError
+from kinplan.ik import batch_threads
+from kinplan.ik.batch_threads import THREADED_FROM, WARM_UP, split_run, thread_count
+
+URDF = TESTS / "urdf"
+
+
+def _poses(robot: kinplan.Robot, rng: np.random.Generator, count: int) -> np.ndarray:
+    """(count, 4, 4): FK of random configurations, one in five moved 0.5–1.5 m away (mostly
+    unreachable: failures must split the same way too)."""
+    kinematics = robot.batch_solver.kinematics
+    q = np.array([robot.random_configuration(rng) for _ in range(count)])
+    positions, rotations = kinematics.fk(q)
+    positions[::5] += rng.uniform(0.5, 1.5, (len(positions[::5]), 3))
+    poses = np.zeros((count, 4, 4))
+    poses[:, :3, :3], poses[:, :3, 3], poses[:, 3, 3] = rotations, positions, 1.0
+    return poses
+
+
+@pytest.mark.parametrize(
+    ("source", "count"),
+    [
+        ("ur5", 3000),
+        ("panda", 1500),
+        ("planar_2r", 3000),
+        (URDF / "skewed_axes.urdf", 300),  # numerical (compiled LM)
+        (URDF / "prismatic_gantry.urdf", 300),  # numerical (numpy LM)
+    ],
+)
+def test_threads_give_the_answers_of_one_thread(source, count):
+    robot = cached_robot(source) if isinstance(source, str) else kinplan.load_robot(source)
+    rng = np.random.default_rng([5, count])
+    poses = _poses(robot, rng, count)
+    if robot.nq == 2:  # the planar arm: positions only
+        targets, options = poses[:, :3, 3], {"position_only": True}
+    else:
+        targets, options = poses, {}
+    seeds = np.array([robot.random_configuration(rng) for _ in range(count)])
+    q1, ok1 = robot.ik_batch(targets, q_seed=seeds, threads=1, **options)
+    assert 0 < ok1.sum() < count  # reachable and unreachable targets both
+    for threads in (2, 3):
+        q, ok = robot.ik_batch(targets, q_seed=seeds, threads=threads, **options)
+        np.testing.assert_array_equal(ok, ok1)
+        # failures' best attempts included; 1e-12 rad is ~4,000 times the rounding of angles
+        np.testing.assert_allclose(q, q1, rtol=0.0, atol=1e-12)
+
+
+def test_split_run_joins_the_parts_in_order():
+    calls: list[tuple[int, int, str]] = []
+
+    def solve(part: slice) -> tuple[np.ndarray, ...]:
+        calls.append((part.start, part.stop, threading.current_thread().name))
+        index = np.arange(part.start, part.stop)
+        return index * 2.0, index % 3 == 0
+
+    doubled, thirds = split_run(solve, 1000, 3)
+    np.testing.assert_array_equal(doubled, 2.0 * np.arange(1000))
+    np.testing.assert_array_equal(thirds, np.arange(1000) % 3 == 0)
+    assert calls[0][:2] == (0, WARM_UP)  # in the calling thread, before the others
+    assert calls[0][2] == threading.current_thread().name
+    parts = sorted(call[:2] for call in calls[1:])
+    assert len(parts) == 3 and parts[0][0] == WARM_UP and parts[-1][1] == 1000
+    assert all(a[1] == b[0] for a, b in zip(parts, parts[1:]))  # contiguous, no overlap
+    assert all(name.startswith("kinplan-ik") for _, _, name in calls[1:])
+    assert split_run(solve, WARM_UP + 2, 3)[0].shape == (WARM_UP + 2,)  # too few: one call
+
+
+def test_thread_count_choice(monkeypatch):
+    monkeypatch.delenv("KINPLAN_THREADS", raising=False)
+    monkeypatch.setattr(batch_threads, "available_cores", lambda: 4)
+    assert thread_count(THREADED_FROM - 1) == 1  # a small batch: one thread
+    assert thread_count(THREADED_FROM) == 4  # one per core
+    assert thread_count(10, 3) == 3  # the caller's choice wins
+    assert thread_count(2, 8) == 2  # never more threads than targets
+    monkeypatch.setenv("KINPLAN_THREADS", "2")
+    assert thread_count(THREADED_FROM) == 2
+    answers: list[int] = []  # another thread (Dask's workers, a pool): one thread
+    worker = threading.Thread(target=lambda: answers.append(thread_count(10**6)))
+    worker.start()
+    worker.join()
+    assert answers == [1]
+
+
+@pytest.mark.parametrize("bad", [0, -1, 1.5, "2", True])
+def test_bad_thread_counts_are_refused(ur5, bad):
+    with pytest.raises(InputError, match="threads must be a positive integer"):
+        ur5.ik_batch(np.eye(4)[None], threads=bad)
+
+
+@pytest.mark.parametrize("setting", ["0", "two", "-3"])
+def test_bad_environment_setting_is_refused(monkeypatch, setting):
+    monkeypatch.setenv("KINPLAN_THREADS", setting)
+    with pytest.raises(InputError, match="KINPLAN_THREADS must be a positive integer"):
+        thread_count(THREADED_FROM)
+
+
+def test_large_batches_use_the_cores_from_the_main_thread_only(ur5, monkeypatch):
+    used: list[int] = []
+    original = split_run
+
+    def recording(solve, count, threads):
+        used.append(threads)
+        return original(solve, count, threads)
+
+    monkeypatch.setattr("kinplan.ik.batch.split_run", recording)
+    monkeypatch.setattr(batch_threads, "available_cores", lambda: 2)
+    monkeypatch.delenv("KINPLAN_THREADS", raising=False)
+    poses = np.tile(ur5.fk(ur5.neutral()).homogeneous, (THREADED_FROM, 1, 1))
+    ur5.ik_batch(poses)
+    worker = threading.Thread(target=lambda: ur5.ik_batch(poses))
+    worker.start()
+    worker.join()
+    ur5.ik_batch(poses[:100])
+    assert used == [2, 1, 1]
+
+
+KERNELS = [
+    "kinplan.ik.ur_kernel",
+    "kinplan.ik.panda_kernel",
+    "kinplan.ik.spherical_wrist_kernel",
+    "kinplan.ik.wrist_offset_kernel",
+    "kinplan.ik.numeric_kernel",
+    "kinplan.ik.batch_kinematics_kernel",
+]
+
+
+@pytest.mark.parametrize("name", KERNELS)
+def test_compiled_kernels_release_the_gil(name):
+    numba = pytest.importorskip("numba")
+    module = importlib.import_module(name)
+    dispatcher = numba.core.registry.CPUDispatcher
+    dispatchers = [value for value in vars(module).values() if isinstance(value, dispatcher)]
+    assert dispatchers, f"{name} has no compiled functions"
+    assert all(d.targetoptions.get("nogil") for d in dispatchers), [
+        d.__name__ for d in dispatchers if not d.targetoptions.get("nogil")
+    ]
