@@ -421,8 +421,9 @@ def _map_chunk(centers: np.ndarray, payload: dict[str, Any]) -> dict[str, np.nda
     targets = None if rotations is None else np.tile(rotations, (count, 1, 1))
     seeds = np.tile(robot.neutral(), (len(positions), 1))
     q, ok, _, masks = solver.solve_with_branches(
-        positions, targets, seeds, 1e-6, 1e-6, 40, payload["max_restarts"], rescue=False
-    )
+        positions, targets, seeds, 1e-6, 1e-6, 40, payload["max_restarts"], rescue=False,
+        threads=None,  # the cores in-process; one thread on Dask's workers (batch_threads)
+    )  # fmt: skip
     if payload["cell"] is not None:
         ok, q = _collision_free(robot, payload["cell"], positions, targets, q, ok)
     manipulability = np.zeros(len(positions))
