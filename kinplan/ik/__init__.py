@@ -34,6 +34,12 @@ Modules, each importing only those before it:
   branch residuals) → :mod:`~kinplan.ik.wrist_offset_search` (their roots) →
   :mod:`~kinplan.ik.wrist_offset_kernel` (solutions, FK check, nearest; numba) →
   :mod:`~kinplan.ik.wrist_offset` (the solver);
+* 6R arms with three parallel axes 2 ∥ 3 ∥ 4 and axes 1, 5, 6 anywhere (Unitree's Z1, UR-like
+  arms with a skewed or offset wrist), :class:`~kinplan.ik.three_parallel.ThreeParallelIK`,
+  IK-Geo's subproblem-6 closed form: :mod:`~kinplan.ik.three_parallel_geometry` →
+  :mod:`~kinplan.ik.three_parallel_quartic` (real roots of a quartic; numba) →
+  :mod:`~kinplan.ik.three_parallel_kernel` (solutions, FK check, nearest; numba) →
+  :mod:`~kinplan.ik.three_parallel` (the solver);
 * :mod:`~kinplan.ik.batch_kinematics` (FK and Jacobians of many configurations, its FK check
   compiled in :mod:`~kinplan.ik.batch_kinematics_kernel`) → :mod:`~kinplan.ik.batch` (what
   ``Robot.ik_batch`` runs: the closed forms over many poses, or the numerical solve compiled
@@ -66,6 +72,7 @@ if TYPE_CHECKING:  # the closed forms load on first use (see __getattr__)
     from kinplan.ik.panda import PandaIK, panda_solver_for
     from kinplan.ik.planar import Planar2RIK
     from kinplan.ik.spherical_wrist import SphericalWristIK
+    from kinplan.ik.three_parallel import ThreeParallelIK
     from kinplan.ik.ur import URIK
     from kinplan.ik.wrist_offset import OffsetWristIK
 
@@ -78,6 +85,7 @@ _LAZY = {
     "panda_solver_for": "panda",
     "Planar2RIK": "planar",
     "SphericalWristIK": "spherical_wrist",
+    "ThreeParallelIK": "three_parallel",
     "URIK": "ur",
     "OffsetWristIK": "wrist_offset",
 }
@@ -96,6 +104,7 @@ __all__ = [
     "PandaIK",
     "Planar2RIK",
     "SphericalWristIK",
+    "ThreeParallelIK",
     "URIK",
     "analytic_solver_for",
     "closed_form_report",

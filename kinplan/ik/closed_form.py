@@ -52,6 +52,8 @@ from kinplan.ik.planar import planar_2r_solver
 from kinplan.ik.screws import screws_at_zero
 from kinplan.ik.spherical_wrist import SphericalWristIK
 from kinplan.ik.spherical_wrist_geometry import wrist_geometry
+from kinplan.ik.three_parallel import ThreeParallelIK
+from kinplan.ik.three_parallel_geometry import three_parallel_geometry
 from kinplan.ik.ur import URIK, ur_geometry
 from kinplan.ik.wrist_offset import OffsetWristIK
 from kinplan.ik.wrist_offset_geometry import offset_wrist_geometry
@@ -65,8 +67,10 @@ def analytic_solver_for(robot: Arm, weights: np.ndarray | None = None) -> Analyt
 
     Planar 2R arms (two parallel revolute axes), UR-type arms (see :func:`ur_geometry`),
     spherical-wrist 6R arms (axes 4, 5, 6 meeting, axes 2 ∥ 3; see
-    :func:`~kinplan.ik.spherical_wrist_geometry.wrist_geometry`), 6R arms with axes 4 and 5
-    meeting and axis 6 offset (a 1-D search over θ6; see
+    :func:`~kinplan.ik.spherical_wrist_geometry.wrist_geometry`), 6R arms with axes 2 ∥ 3 ∥ 4
+    and axes 1, 5, 6 anywhere (subproblem 6; see
+    :func:`~kinplan.ik.three_parallel_geometry.three_parallel_geometry`), 6R arms with axes 4
+    and 5 meeting and axis 6 offset (a 1-D search over θ6; see
     :func:`~kinplan.ik.wrist_offset_geometry.offset_wrist_geometry`) and panda-type 7-joint arms
     (closed form for a given θ7, θ7 searched; :mod:`kinplan.ik.panda`) are recognised from the
     Pinocchio model's joint placements and tool frame; the solver is then checked against
@@ -116,13 +120,19 @@ def closed_form_report(
             if wrist is not None:
                 solver = SphericalWristIK(wrist, robot.lower, robot.upper, weights)
                 description = SphericalWristIK.description
-            else:  # axes 4, 5 meeting, axis 6 anywhere: the 1-D search (IK-Geo)
-                offset, why = offset_wrist_geometry(screws)
-                if offset is not None:
-                    solver = OffsetWristIK(offset, robot.lower, robot.upper, weights)
+            else:  # axes 2 ∥ 3 ∥ 4, axes 1, 5, 6 anywhere: subproblem 6 (IK-Geo)
+                parallel, why_not = three_parallel_geometry(screws)
+                if parallel is not None:
+                    solver = ThreeParallelIK(parallel, robot.lower, robot.upper, weights)
                     description = solver.description
-                else:
-                    reason += f"; no 1-D search form: {why}"
+                else:  # axes 4, 5 meeting, axis 6 anywhere: the 1-D search (IK-Geo)
+                    reason += f"; not three parallel axes: {why_not}"
+                    offset, why = offset_wrist_geometry(screws)
+                    if offset is not None:
+                        solver = OffsetWristIK(offset, robot.lower, robot.upper, weights)
+                        description = solver.description
+                    else:
+                        reason += f"; no 1-D search form: {why}"
             reason += "; not the UR structure"
     if solver is None:
         return None, _NUMERICAL + reason + ")"
