@@ -58,6 +58,7 @@ from kinplan.ik.numeric import (
 from kinplan.ik.panda import PandaIK
 from kinplan.ik.spherical_wrist import SphericalWristIK
 from kinplan.ik.ur import URIK
+from kinplan.ik.three_parallel import ThreeParallelIK
 from kinplan.ik.wrist_offset import OffsetWristIK
 
 logger = logging.getLogger(__name__)
@@ -104,6 +105,10 @@ UR_CHUNK = 4096
 #: make about SIDE_BY_SIDE_ROWS rows, at most RESTARTS_AT_ONCE.
 RESTARTS_AT_ONCE = 8
 SIDE_BY_SIDE_ROWS = 1024
+
+
+#: Closed forms whose compiled ``nearest_many`` solves many poses (q, branch, mask, left).
+_NEAREST_MANY = (URIK, SphericalWristIK, OffsetWristIK, ThreeParallelIK)
 
 
 class BatchSolver:
@@ -257,7 +262,7 @@ class BatchSolver:
     def _closed_form(self, positions, rotations, seeds, tolerances, masks=True):
         solver = self.closed_form
         assert isinstance(solver, ClosedFormIK)  # vectorised: it lists every branch at once
-        if rotations is not None and isinstance(solver, (URIK, SphericalWristIK, OffsetWristIK)):
+        if rotations is not None and isinstance(solver, _NEAREST_MANY):
             # the single-pose formulas on arrays; near singularities, all branches (as ik)
             extra = {"masks": masks} if isinstance(solver, URIK) else {}
             parts = [

@@ -11,6 +11,7 @@ import threading
 import numpy as np
 import pytest
 from conftest import TESTS, cached_robot
+from parallel_arms import parallel_arm_urdf
 
 import kinplan
 from kinplan.errors import InputError
@@ -40,9 +41,14 @@ def _poses(robot: kinplan.Robot, rng: np.random.Generator, count: int) -> np.nda
         ("planar_2r", 3000),
         (URDF / "skewed_axes.urdf", 300),  # numerical (compiled LM)
         (URDF / "prismatic_gantry.urdf", 300),  # numerical (numpy LM)
+        ("three parallel", 1500),  # ThreeParallelIK (a synthetic arm)
     ],
 )
-def test_threads_give_the_answers_of_one_thread(source, count):
+def test_threads_give_the_answers_of_one_thread(source, count, tmp_path):
+    if source == "three parallel":
+        source = tmp_path / "parallel.urdf"
+        source.write_text(parallel_arm_urdf(1))
+        assert "three parallel" in kinplan.load_robot(source).ik_solver.description
     robot = cached_robot(source) if isinstance(source, str) else kinplan.load_robot(source)
     rng = np.random.default_rng([5, count])
     poses = _poses(robot, rng, count)

@@ -10,21 +10,21 @@ import time
 
 import numpy as np
 import pytest
+from conftest import TESTS
 
 import kinplan
 from kinplan.errors import InputError
 from kinplan.ik import numeric
-from kinplan.model.sources import example_robot_data_dir
 
 UNREACHABLE = np.array([5.0, 0.0, 0.0])
 
 
 @pytest.fixture(scope="module")
 def arm():
-    """A 6-joint arm without a closed form: the numerical solver (the z1: its wrist axes 4
-    and 5 do not meet; the kinova, used before, has a spherical wrist since issue 29)."""
-    robots = example_robot_data_dir() / "example-robot-data" / "robots"
-    robot = kinplan.load_robot(robots / "z1_description/urdf/z1.urdf")
+    """A 6-joint arm without a closed form: the numerical solver (tests/urdf/skewed_axes: no
+    two of its axes meet or are parallel; the kinova, used before, has a spherical wrist since
+    issue 29, and the z1 after it three parallel axes)."""
+    robot = kinplan.load_robot(TESTS / "urdf" / "skewed_axes.urdf")
     assert robot.closed_form_ik is None
     return robot
 
