@@ -57,8 +57,8 @@ from kinplan.ik.numeric import (
 )
 from kinplan.ik.panda import PandaIK
 from kinplan.ik.spherical_wrist import SphericalWristIK
-from kinplan.ik.ur import URIK
 from kinplan.ik.three_parallel import ThreeParallelIK
+from kinplan.ik.ur import URIK
 from kinplan.ik.wrist_offset import OffsetWristIK
 
 logger = logging.getLogger(__name__)

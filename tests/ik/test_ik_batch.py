@@ -394,9 +394,9 @@ def test_compiled_target_split_decides_as_numpy(monkeypatch):
     poses = np.array([pin.SE3.Random().homogeneous for _ in range(count)])
     kinds = rng.integers(0, 6, count)
     scale = 10.0 ** rng.uniform(-8.5, -5.5, count)  # defects around the 1e-12 bar
-    poses[kinds == 1, :3, :3] += rng.normal(size=(np.sum(kinds == 1), 3, 3)) * scale[
-        kinds == 1, None, None
-    ]
+    poses[kinds == 1, :3, :3] += (
+        rng.normal(size=(np.sum(kinds == 1), 3, 3)) * scale[kinds == 1, None, None]
+    )
     poses[kinds == 2, :3, :3] *= -1.0
     poses[kinds == 3, rng.integers(0, 4), rng.integers(0, 4)] = rng.choice([np.nan, np.inf])
     poses[kinds == 4, 3, rng.integers(0, 4)] += 1e-9
