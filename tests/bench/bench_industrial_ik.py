@@ -9,8 +9,14 @@ rtb runs at ``tol=5e-9`` (its usual benchmark setting, fast but ~1e-5 m accurate
 ``tol=1e-13`` (about kinplan's accuracy). Batch: ``robot.ik_batch`` on 20,000 poses as an
 (N, 4, 4) array, on its default threads (one per core) and with ``threads=1`` (in brackets).
 
+``--synthetic`` adds arms of the families no corpus arm has: the generated test arms of
+``tests/ik/parallel_arms.py`` (three parallel axes, axes 1, 5, 6 anywhere; UR5s with a skewed
+or offset wrist) and ``tests/ik/general_wrist_arms.py`` (spherical wrists with axes 2 ∦ 3),
+and example-robot-data's Unitree Z1.
+
 Usage:
     python tests/bench/bench_industrial_ik.py [--n 500] [--arms kuka_kr6r900sixx ...]
+        [--synthetic]
 """
 
 from __future__ import annotations
@@ -21,6 +27,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pinocchio as pin
@@ -129,12 +136,44 @@ def bench_arm(arm, path: Path, count: int, folder: Path) -> dict:
     return result
 
 
+def synthetic_arms(folder: Path) -> list[tuple[SimpleNamespace, Path]]:
+    """The generated arms of ``--synthetic`` (see the module's text), written into ``folder``."""
+    from parallel_arms import parallel_arm_urdf, skewed_ur5_urdf
+
+    from kinplan.model.sources import example_robot_data_dir
+
+    texts = {f"three_parallel_{seed}": parallel_arm_urdf(seed) for seed in (0, 1)}
+    ur5 = kinplan.load_robot("ur5").urdf_path.read_text()
+    texts["ur5_axis6_tilted_off"] = skewed_ur5_urdf(ur5, "axis6")
+    try:
+        from general_wrist_arms import MODES, general_arm_urdf
+    except ImportError:  # the spherical-wrist generator is not in this checkout
+        MODES, general_arm_urdf = (), None
+    for mode in MODES:
+        texts[f"spherical_wrist_{mode}"] = general_arm_urdf(0, mode)
+    arms = []
+    for name, text in texts.items():
+        path = folder / f"{name}.urdf"
+        path.write_text(text)
+        arms.append((SimpleNamespace(name=name, tip=None, limits={}), path))
+    robots = example_robot_data_dir() / "example-robot-data" / "robots"
+    arms.append(
+        (SimpleNamespace(name="unitree_z1", tip=None, limits={}),
+         robots / "z1_description" / "urdf" / "z1.urdf")
+    )  # fmt: skip
+    return arms
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=500)
     parser.add_argument("--arms", nargs="*", default=None)
+    parser.add_argument("--synthetic", action="store_true", help="add the generated arms")
     args = parser.parse_args(argv)
     present = [(a, p) for a, p in corpus_arms() if args.arms is None or a.name in args.arms]
+    generated = Path(tempfile.mkdtemp(prefix="kinplan-bench-arms-"))
+    if args.synthetic:
+        present += synthetic_arms(generated)
     if not present:
         print(f"no corpus arms present ({len(ARMS)} listed): run tests/ik/corpus/fetch_arms.py")
         return 1
