@@ -15,17 +15,13 @@ does not rely on it).
 
 from __future__ import annotations
 
-import logging
-
 import numpy as np
 
-from kinplan.ik.base import ClosedFormIK
+from kinplan.ik.kernel_closed_form import KernelClosedFormIK
 from kinplan.ik.wrist_offset_geometry import PARALLEL, OffsetWristGeometry
 
-logger = logging.getLogger(__name__)
 
-
-class OffsetWristIK(ClosedFormIK):
+class OffsetWristIK(KernelClosedFormIK):
     """Closed-form IK with a search over θ6 for 6R arms with axes 4, 5 meeting and axis 6
     offset: up to 16 solutions.
 
@@ -54,83 +50,8 @@ class OffsetWristIK(ClosedFormIK):
         upper: np.ndarray,
         weights: np.ndarray | None = None,
     ) -> None:
-        super().__init__(lower, upper, weights)
-        self.geometry = geometry
-        if geometry.mode != PARALLEL:
-            self.description = self.description_meeting
-        self._constants = np.ascontiguousarray(geometry.constants())
-        self._tool = np.ascontiguousarray(geometry.tool())
-        self._limits = np.ascontiguousarray(np.vstack([self.lower, self.upper, self.weights]))
         from kinplan.ik import wrist_offset_kernel  # numba loads with the first solver
 
-        self._kernel = wrist_offset_kernel
-        self.slots = wrist_offset_kernel.SLOTS
-
-    # ------------------------------------------------------------ every solution
-    def _raw(
-        self, positions: np.ndarray, rotations: np.ndarray | None, fill: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray]:
-        assert rotations is not None  # needs_rotation: _check_poses refused None
-        count = len(positions)
-        raw = np.empty((count, self.slots, 6))
-        singular = np.empty(count, dtype=bool)
-        self._kernel.raw_many(
-            self._constants,
-            self._tool,
-            np.ascontiguousarray(positions, dtype=float),
-            np.ascontiguousarray(rotations, dtype=float),
-            np.ascontiguousarray(np.broadcast_to(fill, (count, 6)), dtype=float),
-            raw,
-            singular,
-        )
-        return raw, singular
-
-    def nearest(
-        self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray
-    ) -> np.ndarray | None:
-        if rotation is not None:
-            position = np.asarray(position, dtype=float)
-            rotation = np.asarray(rotation, dtype=float)
-            q_ref = np.asarray(q_ref, dtype=float)
-            if position.shape == (3,) and rotation.shape == (3, 3) and q_ref.shape == (6,):
-                out = np.empty(6)
-                row = self._kernel.nearest(
-                    self._constants, self._tool, self._limits, position, rotation, q_ref, out
-                )
-                if row != self._kernel.NOT_FINITE:  # else the checks below say what is wrong
-                    return None if row < 0 else out
-        return super().nearest(position, rotation, q_ref)
-
-    nearest.__doc__ = ClosedFormIK.nearest.__doc__
-
-    def nearest_many(
-        self, positions: np.ndarray, rotations: np.ndarray, q_ref: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """:meth:`nearest` of many poses, each with its own reference (inputs unchecked), as
-        :meth:`kinplan.ik.spherical_wrist.SphericalWristIK.nearest_many` returns it.
-
-        Args:
-            positions: Tool positions in the world frame [m], shape (N, 3).
-            rotations: Tool rotations in the world frame, shape (N, 3, 3).
-            q_ref: References [rad], shape (N, 6).
-
-        Returns:
-            (q (N, 6) [rad], row (N,) int (−1: none within the limits), mask (N,) uint16 of
-            the rows within the limits, left (N,) bool: all False, every pose is solved).
-        """
-        count = len(positions)
-        q = np.empty((count, 6))
-        row = np.empty(count, dtype=np.int64)
-        mask = np.empty(count, dtype=np.uint16)
-        self._kernel.nearest_many(
-            self._constants,
-            self._tool,
-            self._limits,
-            np.ascontiguousarray(positions, dtype=float),
-            np.ascontiguousarray(rotations, dtype=float),
-            np.ascontiguousarray(q_ref, dtype=float),
-            q,
-            row,
-            mask,
-        )
-        return q, row, mask, np.zeros(count, dtype=bool)
+        super().__init__(geometry, wrist_offset_kernel, lower, upper, weights)
+        if geometry.mode != PARALLEL:
+            self.description = self.description_meeting
