@@ -45,6 +45,7 @@ from kinplan.ik.batch_kinematics import (
     pose_errors,
 )
 from kinplan.ik.batch_threads import split_run, thread_count
+from kinplan.ik.kernel_closed_form import KernelClosedFormIK
 from kinplan.ik.numeric import (
     DAMPING_FLOOR,
     DAMPING_GAIN,
@@ -57,9 +58,7 @@ from kinplan.ik.numeric import (
 )
 from kinplan.ik.panda import PandaIK
 from kinplan.ik.spherical_wrist import SphericalWristIK
-from kinplan.ik.three_parallel import ThreeParallelIK
 from kinplan.ik.ur import URIK
-from kinplan.ik.wrist_offset import OffsetWristIK
 
 logger = logging.getLogger(__name__)
 
@@ -108,7 +107,7 @@ SIDE_BY_SIDE_ROWS = 1024
 
 
 #: Closed forms whose compiled ``nearest_many`` solves many poses (q, branch, mask, left).
-_NEAREST_MANY = (URIK, SphericalWristIK, OffsetWristIK, ThreeParallelIK)
+_NEAREST_MANY = (URIK, SphericalWristIK, KernelClosedFormIK)
 
 
 class BatchSolver:
