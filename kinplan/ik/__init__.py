@@ -34,6 +34,13 @@ Modules, each importing only those before it:
   branch residuals) → :mod:`~kinplan.ik.wrist_offset_search` (their roots) →
   :mod:`~kinplan.ik.wrist_offset_kernel` (solutions, FK check, nearest; numba) →
   :mod:`~kinplan.ik.wrist_offset` (the solver);
+* spherical-wrist 6R arms whose axes 2 and 3 are not parallel (axes 1, 2 or axes 2, 3 meeting,
+  or neither), :class:`~kinplan.ik.spherical_general.GeneralWristIK`, IK-Geo's spherical forms
+  by subproblems 3, 2, 1 or subproblem 5 (a quartic):
+  :mod:`~kinplan.ik.spherical_general_geometry` → :mod:`~kinplan.ik.spherical_general_quartic`
+  (real roots; numba) → :mod:`~kinplan.ik.spherical_general_positions` (θ1–θ3; numba) →
+  :mod:`~kinplan.ik.spherical_general_kernel` (the wrist, FK check, nearest; numba) →
+  :mod:`~kinplan.ik.spherical_general` (the solver);
 * 6R arms with three parallel axes 2 ∥ 3 ∥ 4 and axes 1, 5, 6 anywhere (Unitree's Z1, UR-like
   arms with a skewed or offset wrist), :class:`~kinplan.ik.three_parallel.ThreeParallelIK`,
   IK-Geo's subproblem-6 closed form: :mod:`~kinplan.ik.three_parallel_geometry` →
@@ -71,6 +78,7 @@ if TYPE_CHECKING:  # the closed forms load on first use (see __getattr__)
     from kinplan.ik.closed_form import analytic_solver_for, closed_form_report
     from kinplan.ik.panda import PandaIK, panda_solver_for
     from kinplan.ik.planar import Planar2RIK
+    from kinplan.ik.spherical_general import GeneralWristIK
     from kinplan.ik.spherical_wrist import SphericalWristIK
     from kinplan.ik.three_parallel import ThreeParallelIK
     from kinplan.ik.ur import URIK
@@ -84,6 +92,7 @@ _LAZY = {
     "PandaIK": "panda",
     "panda_solver_for": "panda",
     "Planar2RIK": "planar",
+    "GeneralWristIK": "spherical_general",
     "SphericalWristIK": "spherical_wrist",
     "ThreeParallelIK": "three_parallel",
     "URIK": "ur",
@@ -98,6 +107,7 @@ __all__ = [
     "Evaluation",
     "AnalyticIK",
     "ClosedFormIK",
+    "GeneralWristIK",
     "IKResult",
     "IKSolver",
     "OffsetWristIK",

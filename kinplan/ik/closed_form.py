@@ -50,6 +50,8 @@ from kinplan.ik.base import AnalyticIK, ClosedFormIK, self_check
 from kinplan.ik.panda import panda_solver_for
 from kinplan.ik.planar import planar_2r_solver
 from kinplan.ik.screws import screws_at_zero
+from kinplan.ik.spherical_general import GeneralWristIK
+from kinplan.ik.spherical_general_geometry import NOT_PARALLEL, general_wrist_geometry
 from kinplan.ik.spherical_wrist import SphericalWristIK
 from kinplan.ik.spherical_wrist_geometry import wrist_geometry
 from kinplan.ik.three_parallel import ThreeParallelIK
@@ -67,8 +69,10 @@ def analytic_solver_for(robot: Arm, weights: np.ndarray | None = None) -> Analyt
 
     Planar 2R arms (two parallel revolute axes), UR-type arms (see :func:`ur_geometry`),
     spherical-wrist 6R arms (axes 4, 5, 6 meeting, axes 2 ∥ 3; see
-    :func:`~kinplan.ik.spherical_wrist_geometry.wrist_geometry`), 6R arms with axes 2 ∥ 3 ∥ 4
-    and axes 1, 5, 6 anywhere (subproblem 6; see
+    :func:`~kinplan.ik.spherical_wrist_geometry.wrist_geometry`; with axes 2 ∦ 3, axes 1, 2
+    or axes 2, 3 meeting, or neither and subproblem 5; see
+    :func:`~kinplan.ik.spherical_general_geometry.general_wrist_geometry`), 6R arms with axes
+    2 ∥ 3 ∥ 4 and axes 1, 5, 6 anywhere (subproblem 6; see
     :func:`~kinplan.ik.three_parallel_geometry.three_parallel_geometry`), 6R arms with axes 4
     and 5 meeting and axis 6 offset (a 1-D search over θ6; see
     :func:`~kinplan.ik.wrist_offset_geometry.offset_wrist_geometry`) and panda-type 7-joint arms
@@ -117,9 +121,17 @@ def closed_form_report(
         else:
             wrist, reason = wrist_geometry(screws)
             solver = None
+            general = None
+            if reason == NOT_PARALLEL:  # a spherical wrist, axes 2 ∦ 3: IK-Geo's other forms
+                general, why_general = general_wrist_geometry(screws)
+                if general is None:
+                    reason += f"; no IK-Geo spherical form: {why_general}"
             if wrist is not None:
                 solver = SphericalWristIK(wrist, robot.lower, robot.upper, weights)
                 description = SphericalWristIK.description
+            elif general is not None:
+                solver = GeneralWristIK(general, robot.lower, robot.upper, weights)
+                description = solver.description
             else:  # axes 2 ∥ 3 ∥ 4, axes 1, 5, 6 anywhere: subproblem 6 (IK-Geo)
                 parallel, why_not = three_parallel_geometry(screws)
                 if parallel is not None:
