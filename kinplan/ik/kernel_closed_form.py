@@ -73,7 +73,8 @@ class KernelClosedFormIK(ClosedFormIK):
             *limits,
             np.ascontiguousarray(positions, dtype=float),
             np.ascontiguousarray(rotations, dtype=float),
-            np.ascontiguousarray(np.broadcast_to(fill, (count, 6)), dtype=float),
+            # a writable copy: numba compiles read-only arrays (a broadcast view) apart
+            np.array(np.broadcast_to(fill, (count, 6)), dtype=float, order="C"),
             raw,
             singular,
         )
