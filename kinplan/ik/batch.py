@@ -183,7 +183,8 @@ class BatchSolver:
         choice of :func:`kinplan.ik.batch_threads.thread_count`); the answers are the same on
         any number of threads (q to the last bits of rounding). Arms without batch
         kinematics (a Python loop over :meth:`kinplan.Robot.ik`, whose Pinocchio data are
-        shared) run on one.
+        shared) and numerical arms without the compiled solve (numpy's many small steps hold
+        the GIL: a prismatic gantry ran no faster on two) run on one.
 
         Returns:
             (q (N, nq), success (N,), branch (N,) int8, mask (N,) uint16).
@@ -195,8 +196,10 @@ class BatchSolver:
         check_effort(max_iterations, max_restarts)
         count = len(positions)
         threads = thread_count(count, threads)
-        if self.method(rotations is None) == "loop":
-            threads = 1
+        method = self.method(rotations is None)
+        numpy_steps = method == "levenberg-marquardt" and not self.robot.ik_solver.compiled
+        if method == "loop" or numpy_steps:
+            threads = 1  # Pinocchio's shared data; numpy's small steps hold the GIL
 
         def solve(part: slice) -> tuple[np.ndarray, ...]:
             return self._solve_with_branches(

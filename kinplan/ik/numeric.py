@@ -595,6 +595,12 @@ class IKSolver:
             self.restart_configuration(max_restarts)  # the Halton starts, made once
         return kernel, screws, tool, settings, polish, self._restarts[:max_restarts]
 
+    @property
+    def compiled(self) -> bool:
+        """Whether solves run compiled (:mod:`kinplan.ik.numeric_kernel`: numba, a serial
+        chain of revolute joints)."""
+        return self._kernel_inputs(1e-6, 1e-6, 1, 0) is not None
+
     def compiled_solve_many(
         self,
         positions: np.ndarray,

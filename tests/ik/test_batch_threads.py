@@ -155,3 +155,22 @@ def test_compiled_kernels_release_the_gil(name):
     assert all(d.targetoptions.get("nogil") for d in dispatchers), [
         d.__name__ for d in dispatchers if not d.targetoptions.get("nogil")
     ]
+
+
+def test_numpy_steps_and_python_loops_keep_to_one_thread(monkeypatch):
+    """A numerical arm without the compiled solve (a prismatic joint: numpy's small steps hold
+    the GIL) runs on one thread even when asked for more; a compiled one on those asked for."""
+    used: list[int] = []
+    original = split_run
+
+    def recording(solve, count, threads):
+        used.append(threads)
+        return original(solve, count, threads)
+
+    monkeypatch.setattr("kinplan.ik.batch.split_run", recording)
+    gantry = kinplan.load_robot(URDF / "prismatic_gantry.urdf")
+    skewed = kinplan.load_robot(URDF / "skewed_axes.urdf")
+    assert not gantry.ik_solver.compiled and skewed.ik_solver.compiled
+    for robot in (gantry, skewed):
+        robot.ik_batch(np.tile(robot.fk(robot.neutral()).homogeneous, (4, 1, 1)), threads=2)
+    assert used == [1, 2]
