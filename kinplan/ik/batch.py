@@ -126,6 +126,8 @@ class BatchSolver:
         self.vectorised = closed_form is not None and hasattr(closed_form, "all_branches")
         self.lower, self.upper = robot.lower, robot.upper
         self._restarts = robot.ik_solver.restart_configuration
+        #: Whether a batch has run on threads (the first warms the solver's lazy caches up).
+        self._warm = False
 
     def method(self, position_only: bool) -> str:
         """``"closed-form"``, ``"closed-form-loop"``, ``"levenberg-marquardt"`` or ``"loop"``."""
@@ -209,7 +211,8 @@ class BatchSolver:
             )  # fmt: skip
 
         with one_blas_thread():
-            q, success, branches, found = split_run(solve, count, threads)
+            q, success, branches, found = split_run(solve, count, threads, not self._warm)
+        self._warm = self._warm or threads > 1
         return q, success, branches, found
 
     def _solve_with_branches(

@@ -9,9 +9,11 @@ by where it lies in its block, as the chunks of one thread do already).
 
 :func:`thread_count` decides: ``threads`` given by the caller wins; otherwise the environment
 variable ``KINPLAN_THREADS`` (a positive integer) or the cores this process may run on, but one
-thread for batches below :data:`THREADED_FROM` targets (the threads' start cost about 0.1 ms:
-more than they save on a small batch) and one thread when called from a thread other than the
-main one — Dask's workers, a user's thread pool — which already keeps the cores busy.
+thread for batches below :data:`THREADED_FROM` targets (handing parts to threads costs tenths
+of a millisecond: more than they save on a small batch) and one thread when called from a
+thread other than the main one — Dask's workers, a user's thread pool — which already keeps
+the cores busy. :func:`split_run` runs the parts: the first in the calling thread, the others
+on a pool of threads kept between calls (started again in a forked child).
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from __future__ import annotations
 import os
 import threading
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, wait
 
 import numpy as np
 
@@ -27,8 +29,8 @@ from kinplan.errors import InputError
 
 #: Targets from which an automatic choice uses more than one thread.
 THREADED_FROM = 8192
-#: Targets solved in the calling thread before the others start (lazy per-solver caches and
-#: numba's compiled code are then in place when the threads arrive).
+#: Targets a solver's first threaded batch solves in the calling thread before the others start
+#: (lazy per-solver caches and numba's compiled code are then in place when the threads arrive).
 WARM_UP = 64
 
 
@@ -68,16 +70,52 @@ def thread_count(count: int, threads: int | None = None) -> int:
 
 
 def split_run(
-    solve: Callable[[slice], tuple[np.ndarray, ...]], count: int, threads: int
+    solve: Callable[[slice], tuple[np.ndarray, ...]],
+    count: int,
+    threads: int,
+    warm_up: bool = True,
 ) -> tuple[np.ndarray, ...]:
-    """``solve(slice(0, count))`` computed on ``threads`` threads: the first :data:`WARM_UP`
-    targets in the calling thread, the rest in ``threads`` contiguous parts at once; the parts'
-    outputs (arrays whose first axis runs over the targets) are joined in order."""
+    """``solve(slice(0, count))`` computed on ``threads`` threads: with ``warm_up`` the first
+    :data:`WARM_UP` targets alone in the calling thread (a solver's first batch: its lazy
+    caches and numba's compiled code are then in place), then the rest in ``threads``
+    contiguous parts at once, the first in the calling thread and the others on kinplan's
+    pool of ``threads − 1`` threads (kept between calls: starting threads costs about as much
+    as a thousand UR5 targets). The parts' outputs (arrays whose first axis runs over the
+    targets) are joined in order."""
     if threads <= 1 or count <= WARM_UP + threads:
         return solve(slice(0, count))
-    first = solve(slice(0, WARM_UP))
-    edges = np.linspace(WARM_UP, count, threads + 1).round().astype(int)
+    pieces = [solve(slice(0, WARM_UP))] if warm_up else []
+    edges = np.linspace(WARM_UP if warm_up else 0, count, threads + 1).round().astype(int)
     parts = [slice(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:])]
-    with ThreadPoolExecutor(max_workers=threads, thread_name_prefix="kinplan-ik") as pool:
-        rest = list(pool.map(solve, parts))
-    return tuple(np.concatenate(pieces) for pieces in zip(first, *rest))
+    futures = [_pool(threads - 1).submit(solve, part) for part in parts[1:]]
+    try:
+        pieces.append(solve(parts[0]))
+    finally:
+        wait(futures)  # the other parts end before this returns or raises
+    pieces += [future.result() for future in futures]
+    return tuple(np.concatenate(arrays) for arrays in zip(*pieces))
+
+
+_POOLS: dict[int, ThreadPoolExecutor] = {}
+_POOLS_LOCK = threading.Lock()
+
+
+def _pool(workers: int) -> ThreadPoolExecutor:
+    """kinplan's pool of ``workers`` threads, started on first use and kept."""
+    with _POOLS_LOCK:
+        pool = _POOLS.get(workers)
+        if pool is None:
+            pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="kinplan-ik")
+            _POOLS[workers] = pool
+        return pool
+
+
+def _forget_pools() -> None:
+    """In a forked child the pools' threads are gone: start new ones on next use."""
+    global _POOLS_LOCK
+    _POOLS.clear()
+    _POOLS_LOCK = threading.Lock()
+
+
+if hasattr(os, "register_at_fork"):  # pragma: no branch - POSIX
+    os.register_at_fork(after_in_child=_forget_pools)

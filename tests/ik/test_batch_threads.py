@@ -6,6 +6,8 @@ the GIL (else the threads would take turns)."""
 from __future__ import annotations
 
 import importlib
+import os
+import signal
 import threading
 
 import numpy as np
@@ -74,16 +76,51 @@ def test_split_run_joins_the_parts_in_order():
         index = np.arange(part.start, part.stop)
         return index * 2.0, index % 3 == 0
 
-    doubled, thirds = split_run(solve, 1000, 3)
-    np.testing.assert_array_equal(doubled, 2.0 * np.arange(1000))
-    np.testing.assert_array_equal(thirds, np.arange(1000) % 3 == 0)
-    assert calls[0][:2] == (0, WARM_UP)  # in the calling thread, before the others
-    assert calls[0][2] == threading.current_thread().name
-    parts = sorted(call[:2] for call in calls[1:])
-    assert len(parts) == 3 and parts[0][0] == WARM_UP and parts[-1][1] == 1000
-    assert all(a[1] == b[0] for a, b in zip(parts, parts[1:]))  # contiguous, no overlap
-    assert all(name.startswith("kinplan-ik") for _, _, name in calls[1:])
+    here = threading.current_thread().name
+    for warm_up in (True, False):
+        calls.clear()
+        doubled, thirds = split_run(solve, 1000, 3, warm_up)
+        np.testing.assert_array_equal(doubled, 2.0 * np.arange(1000))
+        np.testing.assert_array_equal(thirds, np.arange(1000) % 3 == 0)
+        first = WARM_UP if warm_up else 0
+        if warm_up:  # alone in the calling thread, before the others
+            assert calls.pop(0) == (0, WARM_UP, here)
+        parts = sorted(calls)
+        assert len(parts) == 3 and parts[0][0] == first and parts[-1][1] == 1000
+        assert all(a[1] == b[0] for a, b in zip(parts, parts[1:]))  # contiguous, no overlap
+        assert parts[0][2] == here  # the first part in the calling thread, the others pooled
+        assert all(name.startswith("kinplan-ik") for _, _, name in parts[1:])
     assert split_run(solve, WARM_UP + 2, 3)[0].shape == (WARM_UP + 2,)  # too few: one call
+
+
+def test_a_failing_part_raises_after_the_others_end():
+    ended: list[int] = []
+
+    def solve(part: slice) -> tuple[np.ndarray, ...]:
+        if part.start == 0:
+            raise ValueError("part 0 failed")
+        ended.append(part.start)
+        return (np.arange(part.start, part.stop),)
+
+    with pytest.raises(ValueError, match="part 0 failed"):
+        split_run(solve, 900, 3, warm_up=False)
+    assert sorted(ended) == [300, 600]
+
+
+def test_pools_are_started_again_in_a_forked_child():
+    """The kept pool's threads do not survive ``fork``: a child must not wait on them."""
+
+    def solve(part: slice) -> tuple[np.ndarray, ...]:
+        return (np.arange(part.start, part.stop),)
+
+    split_run(solve, 1000, 2)  # the pool exists in this process
+    pid = os.fork()
+    if pid == 0:  # the child: answers within 20 s or is killed by the alarm
+        signal.alarm(20)
+        ok = np.array_equal(split_run(solve, 1000, 2)[0], np.arange(1000))
+        os._exit(0 if ok else 1)
+    _, status = os.waitpid(pid, 0)
+    assert os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0, status
 
 
 def test_thread_count_choice(monkeypatch):
@@ -115,24 +152,27 @@ def test_bad_environment_setting_is_refused(monkeypatch, setting):
         thread_count(THREADED_FROM)
 
 
-def test_large_batches_use_the_cores_from_the_main_thread_only(ur5, monkeypatch):
-    used: list[int] = []
+def test_large_batches_use_the_cores_from_the_main_thread_only(monkeypatch):
+    used: list[tuple[int, bool]] = []
     original = split_run
 
-    def recording(solve, count, threads):
-        used.append(threads)
-        return original(solve, count, threads)
+    def recording(solve, count, threads, warm_up=True):
+        used.append((threads, warm_up))
+        return original(solve, count, threads, warm_up)
 
     monkeypatch.setattr("kinplan.ik.batch.split_run", recording)
     monkeypatch.setattr(batch_threads, "available_cores", lambda: 2)
     monkeypatch.delenv("KINPLAN_THREADS", raising=False)
+    ur5 = kinplan.load_robot("ur5")  # a solver of its own: its first threaded batch warms up
     poses = np.tile(ur5.fk(ur5.neutral()).homogeneous, (THREADED_FROM, 1, 1))
     ur5.ik_batch(poses)
     worker = threading.Thread(target=lambda: ur5.ik_batch(poses))
     worker.start()
     worker.join()
     ur5.ik_batch(poses[:100])
-    assert used == [2, 1, 1]
+    ur5.ik_batch(poses)
+    assert [threads for threads, _ in used] == [2, 1, 1, 2]
+    assert used[0][1] and not used[3][1]  # only the first threaded batch warms up
 
 
 KERNELS = [
@@ -163,9 +203,9 @@ def test_numpy_steps_and_python_loops_keep_to_one_thread(monkeypatch):
     used: list[int] = []
     original = split_run
 
-    def recording(solve, count, threads):
+    def recording(solve, count, threads, *rest):
         used.append(threads)
-        return original(solve, count, threads)
+        return original(solve, count, threads, *rest)
 
     monkeypatch.setattr("kinplan.ik.batch.split_run", recording)
     gantry = kinplan.load_robot(URDF / "prismatic_gantry.urdf")
