@@ -12,8 +12,9 @@ variable ``KINPLAN_THREADS`` (a positive integer) or the cores this process may 
 thread for batches below :data:`THREADED_FROM` targets (handing parts to threads costs tenths
 of a millisecond: more than they save on a small batch) and one thread when called from a
 thread other than the main one — Dask's workers, a user's thread pool — which already keeps
-the cores busy. :func:`split_run` runs the parts: the first in the calling thread, the others
-on a pool of threads kept between calls (started again in a forked child).
+the cores busy, or without the compiled kernels (``KINPLAN_JIT=0`` or no numba: the
+pure-Python loops hold the GIL). :func:`split_run` runs the parts: the first in the calling
+thread, the others on a pool of threads kept between calls (started again in a forked child).
 """
 
 from __future__ import annotations
@@ -58,6 +59,8 @@ def thread_count(count: int, threads: int | None = None) -> int:
         return int(min(threads, max(1, count)))
     if count < THREADED_FROM or threading.current_thread() is not threading.main_thread():
         return 1
+    if os.environ.get("KINPLAN_JIT", "1") == "0" or not _numba_installed():
+        return 1  # the pure-Python loops hold the GIL: threads would take turns
     setting = os.environ.get("KINPLAN_THREADS", "").strip()
     if setting:
         if not setting.isdigit() or int(setting) < 1:
@@ -67,6 +70,12 @@ def thread_count(count: int, threads: int | None = None) -> int:
             )
         return int(setting)
     return available_cores()
+
+
+def _numba_installed() -> bool:
+    from kinplan.compiled import numba  # the batch solvers load numba anyway
+
+    return numba is not None
 
 
 def split_run(

@@ -132,6 +132,9 @@ def test_thread_count_choice(monkeypatch):
     assert thread_count(2, 8) == 2  # never more threads than targets
     monkeypatch.setenv("KINPLAN_THREADS", "2")
     assert thread_count(THREADED_FROM) == 2
+    monkeypatch.setenv("KINPLAN_JIT", "0")  # the pure-Python loops: one thread, unless asked
+    assert thread_count(THREADED_FROM) == 1 and thread_count(THREADED_FROM, 2) == 2
+    monkeypatch.delenv("KINPLAN_JIT")
     answers: list[int] = []  # another thread (Dask's workers, a pool): one thread
     worker = threading.Thread(target=lambda: answers.append(thread_count(10**6)))
     worker.start()
