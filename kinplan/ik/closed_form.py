@@ -1,4 +1,6 @@
-"""Closed-form inverse kinematics for arms whose geometry allows it: planar 2R and the UR family.
+"""Closed-form inverse kinematics for arms whose geometry allows it: planar 2R and the UR family
+here; which closed form an arm has (:func:`closed_form_report`: also the spherical-wrist,
+three-parallel-axis, 1-D search and panda-type forms of their own modules).
 
 The geometry is read from the robot's Pinocchio model, never from a table of numbers: at q = 0
 every joint is a screw in the world frame (a unit axis ``u`` through a point ``p``, taken from the
@@ -49,7 +51,7 @@ import numpy as np
 from kinplan.ik.base import AnalyticIK, ClosedFormIK, self_check
 from kinplan.ik.panda import panda_solver_for
 from kinplan.ik.planar import planar_2r_solver
-from kinplan.ik.screws import screws_at_zero
+from kinplan.ik.screws import Screws, screws_at_zero
 from kinplan.ik.spherical_general import GeneralWristIK
 from kinplan.ik.spherical_general_geometry import NOT_PARALLEL, general_wrist_geometry
 from kinplan.ik.spherical_wrist import SphericalWristIK
@@ -111,41 +113,7 @@ def closed_form_report(
         description = "closed form: planar 2R"
         reason = "the two axes are not parallel"
     else:
-        geometry = ur_geometry(screws)
-        if geometry is not None:
-            solver = URIK(geometry, robot.lower, robot.upper, weights)
-            description = "closed form: UR family (axes 2 ∥ 3 ∥ 4)"
-            if solver._fast is None:
-                description += ", without the single-pose fast path (axes not orthonormal)"
-            reason = ""
-        else:
-            wrist, reason = wrist_geometry(screws)
-            solver = None
-            general = None
-            if reason == NOT_PARALLEL:  # a spherical wrist, axes 2 ∦ 3: IK-Geo's other forms
-                general, why_general = general_wrist_geometry(screws)
-                if general is None:
-                    reason += f"; no IK-Geo spherical form: {why_general}"
-            if wrist is not None:
-                solver = SphericalWristIK(wrist, robot.lower, robot.upper, weights)
-                description = SphericalWristIK.description
-            elif general is not None:
-                solver = GeneralWristIK(general, robot.lower, robot.upper, weights)
-                description = solver.description
-            else:  # axes 2 ∥ 3 ∥ 4, axes 1, 5, 6 anywhere: subproblem 6 (IK-Geo)
-                parallel, why_not = three_parallel_geometry(screws)
-                if parallel is not None:
-                    solver = ThreeParallelIK(parallel, robot.lower, robot.upper, weights)
-                    description = solver.description
-                else:  # axes 4, 5 meeting, axis 6 anywhere: the 1-D search (IK-Geo)
-                    reason += f"; not three parallel axes: {why_not}"
-                    offset, why = offset_wrist_geometry(screws)
-                    if offset is not None:
-                        solver = OffsetWristIK(offset, robot.lower, robot.upper, weights)
-                        description = solver.description
-                    else:
-                        reason += f"; no 1-D search form: {why}"
-            reason += "; not the UR structure"
+        solver, description, reason = _six_joint_form(robot, screws, weights)
     if solver is None:
         return None, _NUMERICAL + reason + ")"
     if not self_check(robot, lambda pose, q: solver.solutions(pose.translation, pose.rotation)):
@@ -153,6 +121,44 @@ def closed_form_report(
         form = description.removeprefix("closed form: ")
         return None, _NUMERICAL + f"the {form} disagrees with the model's FK)"
     return solver, description
+
+
+def _six_joint_form(
+    robot: Arm, screws: Screws, weights: np.ndarray | None
+) -> tuple[ClosedFormIK | None, str, str]:
+    """The first 6R closed form whose structure the screws have, tried in order (UR family,
+    spherical wrist with axes 2 ∥ 3, spherical wrist with axes 2 ∦ 3, three parallel axes,
+    the 1-D search): (solver, its description, "") or (None, "", why each one does not fit)."""
+    lower, upper = robot.lower, robot.upper
+    geometry = ur_geometry(screws)
+    if geometry is not None:
+        ur = URIK(geometry, lower, upper, weights)
+        description = "closed form: UR family (axes 2 ∥ 3 ∥ 4)"
+        if ur._fast is None:
+            description += ", without the single-pose fast path (axes not orthonormal)"
+        return ur, description, ""
+    wrist, why = wrist_geometry(screws)
+    if wrist is not None:
+        return SphericalWristIK(wrist, lower, upper, weights), SphericalWristIK.description, ""
+    reasons = [why]
+    solver: ClosedFormIK
+    if why == NOT_PARALLEL:  # a spherical wrist, axes 2 ∦ 3: IK-Geo's other forms
+        general, why = general_wrist_geometry(screws)
+        if general is not None:
+            solver = GeneralWristIK(general, lower, upper, weights)
+            return solver, solver.description, ""
+        reasons.append(f"no IK-Geo spherical form: {why}")
+    parallel, why = three_parallel_geometry(screws)  # axes 2 ∥ 3 ∥ 4: subproblem 6
+    if parallel is not None:
+        solver = ThreeParallelIK(parallel, lower, upper, weights)
+        return solver, solver.description, ""
+    reasons.append(f"not three parallel axes: {why}")
+    offset, why = offset_wrist_geometry(screws)  # axes 4, 5 meeting: the 1-D search
+    if offset is not None:
+        solver = OffsetWristIK(offset, lower, upper, weights)
+        return solver, solver.description, ""
+    reasons += [f"no 1-D search form: {why}", "not the UR structure"]
+    return None, "", "; ".join(reasons)
 
 
 _NUMERICAL = "numerical (Levenberg–Marquardt): no closed form ("

@@ -18,34 +18,13 @@ import math
 
 import numpy as np
 
+from kinplan.compiled import horner
 from kinplan.ik.wrist_offset_branches import inline, jit
 
 #: Relative |E| at a critical point below which it is taken as a (double) root.
 TOUCH = 1e-10
 #: Newton steps at most per bracket.
 ROOT_STEPS = 60
-
-
-@inline
-def _horner(c, t):
-    """E(t) and E'(t) of ``E = Σ c[i] tⁱ`` (degree 4)."""
-    p = c[4]
-    dp = 0.0
-    for i in range(3, -1, -1):
-        dp = dp * t + p
-        p = p * t + c[i]
-    return p, dp
-
-
-@inline
-def _slope(c, t):
-    """E'(t) and E''(t) of ``E = Σ c[i] tⁱ`` (degree 4)."""
-    d = 4.0 * c[4]
-    dd = 0.0
-    for i in range(3, 0, -1):
-        dd = dd * t + d
-        d = d * t + i * c[i]
-    return d, dd
 
 
 @inline
@@ -62,16 +41,13 @@ def _crossing(a, b):
 
 
 @jit
-def _bracketed(c, derivative, lo, hi, f_lo):
-    """The zero of E (``derivative`` False) or of E' (True) in [lo, hi], where it is monotone
-    and changes sign (``f_lo`` its value at lo): Newton steps, bisecting whenever a step
-    would leave the bracket."""
+def _bracketed(c, degree, lo, hi, f_lo):
+    """The zero of the polynomial ``Σ c[i] tⁱ`` (i ≤ ``degree``: E, or E' from its
+    coefficients) in [lo, hi], where it is monotone and changes sign (``f_lo`` its value at
+    lo): Newton steps, bisecting whenever a step would leave the bracket."""
     t = 0.5 * (lo + hi)
     for _ in range(ROOT_STEPS):
-        if derivative:
-            f, df = _slope(c, t)
-        else:
-            f, df = _horner(c, t)
+        f, df = horner(c, degree, t)
         if f == 0.0:
             return t
         if (f < 0.0) == (f_lo < 0.0):
@@ -136,11 +112,14 @@ def real_roots(c, scale, lo, hi, out, work):
     # the critical points of E between them
     crit[0] = lo
     turns = 1
-    f_lo, _ = _slope(c, ends[0])
+    slope = work[0, 6:10]  # E' = Σ (i + 1) c[i + 1] tⁱ (ends take at most four)
+    for i in range(4):
+        slope[i] = (i + 1) * c[i + 1]
+    f_lo, _ = horner(slope, 3, ends[0])
     for i in range(count - 1):
-        f_hi, _ = _slope(c, ends[i + 1])
+        f_hi, _ = horner(slope, 3, ends[i + 1])
         if _crossing(f_lo, f_hi):
-            crit[turns] = _bracketed(c, True, ends[i], ends[i + 1], f_lo)
+            crit[turns] = _bracketed(slope, 3, ends[i], ends[i + 1], f_lo)
             turns += 1
         elif f_hi == 0.0 and i < count - 2:
             crit[turns] = ends[i + 1]
@@ -150,7 +129,7 @@ def real_roots(c, scale, lo, hi, out, work):
     turns += 1
     # the roots of E: crossings between critical points, touches at them
     for i in range(turns):
-        values[i], _ = _horner(c, crit[i])
+        values[i], _ = horner(c, 4, crit[i])
     n = 0
     for i in range(turns):
         v = values[i]
@@ -162,6 +141,6 @@ def real_roots(c, scale, lo, hi, out, work):
                 out[n] = crit[i]
                 n += 1
         if i < turns - 1 and _crossing(v, values[i + 1]):
-            out[n] = _bracketed(c, False, crit[i], crit[i + 1], v)
+            out[n] = _bracketed(c, 4, crit[i], crit[i + 1], v)
             n += 1
     return n

@@ -57,8 +57,8 @@ import numpy as np
 from kinplan.compiled import numba
 from kinplan.ik.screws import CLAMP, FREE_TOL, TAU
 from kinplan.ik.spherical_wrist_kernel import nearest_of, pose_finite
-from kinplan.ik.three_parallel_quartic import ENABLED, MOST, jit, real_roots
-from kinplan.ik.wrist_offset_branches import angle_to, turn
+from kinplan.ik.three_parallel_quartic import MOST, real_roots
+from kinplan.ik.wrist_offset_branches import ENABLED, angle_to, jit, turn
 from kinplan.ik.wrist_offset_kernel import VERIFY_TOL
 
 #: Solution slots per pose (NaN rows past the solutions found): 4 pairs (θ1, θ5) × 2 elbows.

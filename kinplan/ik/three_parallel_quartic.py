@@ -22,14 +22,11 @@ Without numba, or with ``KINPLAN_JIT=0`` at import, the same functions run as pl
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
 
-from kinplan.compiled import numba
-
-#: Whether the functions are compiled (read from ``KINPLAN_JIT`` at import).
-ENABLED = os.environ.get("KINPLAN_JIT", "1") != "0"
+from kinplan.compiled import horner
+from kinplan.ik.wrist_offset_branches import jit  # numba, or plain Python at KINPLAN_JIT=0
 
 #: |P| at a critical point without a root beside it, as a share of the coefficients' scale
 #: (times (1 + t²)²), below which it counts as a double root (rounding lifted it off zero: the
@@ -58,32 +55,12 @@ STEPS = 100
 STEP_TOL = 1e-13
 
 
-def jit(function):
-    """``function`` compiled by numba (cached on disk, GIL released: callers may run poses on
-    threads) or, without numba or with ``KINPLAN_JIT=0``, as it is. ``error_model="numpy"``: a
-    division by zero gives inf or NaN instead of raising."""
-    if not ENABLED or numba is None:
-        return function
-    return numba.njit(cache=True, nogil=True, error_model="numpy")(function)
-
-
-@jit
-def _value(c, degree, t):
-    """P(t) and P'(t) of ``P = Σ c[i] tⁱ`` (i ≤ ``degree``), by Horner's rule."""
-    p = c[degree]
-    dp = 0.0
-    for i in range(degree - 1, -1, -1):
-        dp = dp * t + p
-        p = p * t + c[i]
-    return p, dp
-
-
 @jit
 def _flat(c, t, share, scale):
     """Whether |P(t)| ≤ ``share · scale · (1 + t²)²``: P at zero within ``share`` of the
     rounding scale of its coefficients (``scale``, absolute; the factor as P = (1 + t²)² q of
     a trigonometric polynomial q)."""
-    p, _ = _value(c, 4, t)
+    p, _ = horner(c, 4, t)
     return abs(p) <= share * scale * (1.0 + t * t) ** 2
 
 
@@ -99,7 +76,7 @@ def _bracketed(c, degree, lo, hi, p_lo, p_hi, start):
         if not lo < t < hi:
             t = 0.5 * (lo + hi)
     for _ in range(STEPS):
-        p, dp = _value(c, degree, t)
+        p, dp = horner(c, degree, t)
         if p == 0.0:
             return t
         if (p < 0.0) == (p_lo < 0.0):
@@ -151,12 +128,12 @@ def _critical_points(c, bound, out, curvature):
     n = 0
     for i in range(count):
         t = roots[i]
-        slope, bend = _value(derivative, 3, t)
+        slope, bend = horner(derivative, 3, t)
         for _ in range(CUBIC_STEPS):
             if bend == 0.0:
                 break
             moved = t - slope / bend
-            new_slope, new_bend = _value(derivative, 3, moved)
+            new_slope, new_bend = horner(derivative, 3, moved)
             if abs(new_slope) >= abs(slope):
                 break
             t, slope, bend = moved, new_slope, new_bend
@@ -204,7 +181,7 @@ def real_roots(c, scale, out, group):
         ends[1 + i] = critical[i]
     ends[1 + turns] = bound
     for i in range(turns + 2):
-        values[i], _ = _value(c, 4, ends[i])
+        values[i], _ = horner(c, 4, ends[i])
     found = np.empty(4, dtype=np.bool_)
     at = np.empty(4)  # the root of interval i
     for i in range(turns + 1):
