@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from general_wrist_arms import general_arm_urdf
+from ik_checks import smallest_sigma
 from parallel_arms import parallel_arm_urdf
 
 import kinplan
@@ -20,16 +21,12 @@ from kinplan.ik.three_parallel import ThreeParallelIK
 TARGETS = 100
 
 
-def _sigma(robot: kinplan.Robot, q: np.ndarray) -> float:
-    return float(np.linalg.svd(robot.jacobian(q), compute_uv=False)[-1])
-
-
 def _check_arm(robot: kinplan.Robot, family: type, seed: int) -> tuple[int, int]:
     """(misses, singular skips) of one arm; asserts the family and every solution's pose."""
     solver = robot.closed_form_ik
     assert isinstance(solver, family), robot.ik_solver.description
     rng = np.random.default_rng([seed, 99])
-    typical = np.median([_sigma(robot, robot.random_configuration(rng)) for _ in range(50)])
+    typical = np.median([smallest_sigma(robot, robot.random_configuration(rng)) for _ in range(50)])
     misses = skips = 0
     for _ in range(TARGETS):
         q = robot.random_configuration(rng)
@@ -44,7 +41,7 @@ def _check_arm(robot: kinplan.Robot, family: type, seed: int) -> tuple[int, int]
         else:
             gap = np.inf
         if gap > 1e-6:
-            if _sigma(robot, q) < 1e-3 * typical:
+            if smallest_sigma(robot, q) < 1e-3 * typical:
                 skips += 1
             else:
                 misses += 1

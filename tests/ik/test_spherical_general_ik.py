@@ -22,6 +22,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from general_wrist_arms import general_arm_urdf
+from ik_checks import contains, pose_errors, smallest_sigma, typical_sigma
 
 import kinplan
 from kinplan.ik import ClosedFormIK, GeneralWristIK, closed_form_report, wrap_angle
@@ -71,29 +72,6 @@ def solver_of(mode: str, seed: int, folder: str) -> GeneralWristIK:
     geometry, reason = general_wrist_geometry(screws_at_zero(robot))
     assert geometry is not None, reason
     return GeneralWristIK(geometry, robot.lower, robot.upper)
-
-
-def pose_errors(robot: kinplan.Robot, q: np.ndarray, target: pin.SE3) -> tuple[float, float]:
-    reached = robot.fk(q)
-    position = float(np.linalg.norm(reached.translation - target.translation))
-    rotation = float(np.linalg.norm(pin.log3(reached.rotation.T @ target.rotation)))
-    return position, rotation
-
-
-def contains(solutions: np.ndarray, q: np.ndarray, tol: float) -> bool:
-    return any(np.max(np.abs(wrap_angle(s - q))) < tol for s in solutions)
-
-
-def smallest_sigma(robot: kinplan.Robot, q: np.ndarray) -> float:
-    return float(np.linalg.svd(robot.jacobian(q), compute_uv=False)[-1])
-
-
-@functools.cache
-def typical_sigma(robot: kinplan.Robot) -> float:
-    """The median smallest singular value of the tool Jacobian over random configurations."""
-    rng = np.random.default_rng(3)
-    return float(np.median([smallest_sigma(robot, robot.random_configuration(rng))
-                            for _ in range(200)]))  # fmt: skip
 
 
 def near_singular(robot: kinplan.Robot, q: np.ndarray) -> bool:

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
+from ik_checks import contains, pose_errors
 from wrist_arms import wrist_arm_urdf
 
 import kinplan
@@ -38,17 +39,6 @@ def arm(seed: int, skew: bool, lateral: bool, folder: str) -> kinplan.Robot:
 @pytest.fixture(scope="module")
 def folder(tmp_path_factory) -> str:
     return str(tmp_path_factory.mktemp("wrist_arms"))
-
-
-def pose_errors(robot: kinplan.Robot, q: np.ndarray, target: pin.SE3) -> tuple[float, float]:
-    reached = robot.fk(q)
-    position = float(np.linalg.norm(reached.translation - target.translation))
-    rotation = float(np.linalg.norm(pin.log3(reached.rotation.T @ target.rotation)))
-    return position, rotation
-
-
-def contains(solutions: np.ndarray, q: np.ndarray, tol: float) -> bool:
-    return any(np.max(np.abs(wrap_angle(s - q))) < tol for s in solutions)
 
 
 # ---------------------------------------------------------------------------- subproblems

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
+from ik_checks import contains, pose_errors, smallest_sigma, typical_sigma
 from parallel_arms import parallel_arm_urdf, skewed_ur5_urdf
 
 import kinplan
@@ -62,29 +63,6 @@ def robot_of(kind: str, which, folder: str) -> kinplan.Robot:
 @pytest.fixture(scope="module")
 def folder(tmp_path_factory) -> str:
     return str(tmp_path_factory.mktemp("parallel_arms"))
-
-
-def pose_errors(robot: kinplan.Robot, q: np.ndarray, target: pin.SE3) -> tuple[float, float]:
-    reached = robot.fk(q)
-    position = float(np.linalg.norm(reached.translation - target.translation))
-    rotation = float(np.linalg.norm(pin.log3(reached.rotation.T @ target.rotation)))
-    return position, rotation
-
-
-def contains(solutions: np.ndarray, q: np.ndarray, tol: float) -> bool:
-    return any(np.max(np.abs(wrap_angle(s - q))) < tol for s in solutions)
-
-
-def smallest_sigma(robot: kinplan.Robot, q: np.ndarray) -> float:
-    return float(np.linalg.svd(robot.jacobian(q), compute_uv=False)[-1])
-
-
-@functools.cache
-def typical_sigma(robot: kinplan.Robot) -> float:
-    """The median smallest singular value of the tool Jacobian over random configurations."""
-    rng = np.random.default_rng(3)
-    return float(np.median([smallest_sigma(robot, robot.random_configuration(rng))
-                            for _ in range(200)]))  # fmt: skip
 
 
 #: A configuration whose smallest Jacobian singular value is below this share of the arm's

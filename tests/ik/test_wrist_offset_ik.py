@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
+from ik_checks import contains, pose_errors, smallest_sigma, typical_sigma
 from wrist_arms import wrist_arm_urdf
 
 import kinplan
@@ -78,35 +79,12 @@ def robot_for(kind: str, which, folder: str) -> kinplan.Robot:
     return corpus(which)
 
 
-def pose_errors(robot: kinplan.Robot, q: np.ndarray, target: pin.SE3) -> tuple[float, float]:
-    reached = robot.fk(q)
-    position = float(np.linalg.norm(reached.translation - target.translation))
-    rotation = float(np.linalg.norm(pin.log3(reached.rotation.T @ target.rotation)))
-    return position, rotation
-
-
-def contains(solutions: np.ndarray, q: np.ndarray, tol: float) -> bool:
-    return any(np.max(np.abs(wrap_angle(s - q))) < tol for s in solutions)
-
-
-@functools.cache
-def typical_sigma(robot: kinplan.Robot) -> float:
-    """The median smallest singular value of the tool Jacobian over random configurations."""
-    rng = np.random.default_rng(3)
-    return float(np.median([smallest_sigma(robot, robot.random_configuration(rng))
-                            for _ in range(300)]))  # fmt: skip
-
-
-def smallest_sigma(robot: kinplan.Robot, q: np.ndarray) -> float:
-    return float(np.linalg.svd(robot.jacobian(q), compute_uv=False)[-1])
-
-
 def near_singular(robot: kinplan.Robot, q: np.ndarray) -> bool:
     """Whether q is within a few per cent of a singularity (its smallest singular value below
     5 % of the arm's typical one): where two roots of the 1-D search close in on each other
     (a double root at the singularity) and sampling may miss the pair (see
     kinplan.ik.wrist_offset_search)."""
-    return smallest_sigma(robot, q) < NEAR_SINGULAR * typical_sigma(robot)
+    return smallest_sigma(robot, q) < NEAR_SINGULAR * typical_sigma(robot, 300)
 
 
 #: Share of the typical smallest singular value below which a configuration counts as near
