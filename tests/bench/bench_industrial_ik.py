@@ -170,33 +170,38 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--arms", nargs="*", default=None)
     parser.add_argument("--synthetic", action="store_true", help="add the generated arms")
     args = parser.parse_args(argv)
+    with tempfile.TemporaryDirectory() as folder:
+        return _table(args, Path(folder))
+
+
+def _table(args: argparse.Namespace, folder: Path) -> int:
+    """Print the table of the corpus arms (and the generated ones), using ``folder``."""
     present = [(a, p) for a, p in corpus_arms() if args.arms is None or a.name in args.arms]
-    generated = Path(tempfile.mkdtemp(prefix="kinplan-bench-arms-"))
     if args.synthetic:
-        present += synthetic_arms(generated)
+        (folder / "generated").mkdir()
+        present += synthetic_arms(folder / "generated")
     if not present:
         print(f"no corpus arms present ({len(ARMS)} listed): run tests/ik/corpus/fetch_arms.py")
         return 1
     print("| arm | solver | kinplan ik median ms (ok % 1e-6 / 1e-4) | rtb ik_LM tol 5e-9 | "
           "rtb ik_LM tol 1e-13 | rtb 5e-9 / kinplan | ik_batch poses/s (1 thread) |")  # fmt: skip
     print("|---|---|---|---|---|---|---|")
-    with tempfile.TemporaryDirectory() as folder:
-        for arm, path in present:
-            r = bench_arm(arm, path, args.n, Path(folder))
 
-            def cell(value) -> str:
-                if isinstance(value, str):
-                    return value
-                return f"{value[0]:.3f} ({value[1]:.1f} / {value[2]:.1f})"
+    def cell(value) -> str:
+        if isinstance(value, str):
+            return value
+        return f"{value[0]:.3f} ({value[1]:.1f} / {value[2]:.1f})"
 
-            fast = r["rtb 5e-09"]
-            ratio = "–" if isinstance(fast, str) else f"{fast[0] / r['kinplan'][0]:.1f}×"
-            print(
-                f"| {r['arm']} | {r['solver']} | {cell(r['kinplan'])} | {cell(r['rtb 5e-09'])} | "
-                f"{cell(r['rtb 1e-13'])} | {ratio} | {r['batch_rate']:,.0f} "
-                f"({r['single_rate']:,.0f}; {100 * r['batch_ok']:.1f} % ok) |",
-                flush=True,
-            )
+    for arm, path in present:
+        r = bench_arm(arm, path, args.n, folder)
+        fast = r["rtb 5e-09"]
+        ratio = "–" if isinstance(fast, str) else f"{fast[0] / r['kinplan'][0]:.1f}×"
+        print(
+            f"| {r['arm']} | {r['solver']} | {cell(r['kinplan'])} | {cell(r['rtb 5e-09'])} | "
+            f"{cell(r['rtb 1e-13'])} | {ratio} | {r['batch_rate']:,.0f} "
+            f"({r['single_rate']:,.0f}; {100 * r['batch_ok']:.1f} % ok) |",
+            flush=True,
+        )
     return 0
 
 
