@@ -105,7 +105,7 @@ class WorkCell:
             if srdf is True:
                 raise CellError("srdf must be a path, None (look next to the URDF) or False")
             path = Path(checks.file_path(srdf, "srdf"))
-            if not path.is_file():
+            if not os.path.isfile(path):  # False, not OSError, for a name too long
                 raise CellError(f"srdf: no file {str(path)!r}")
             self._srdf_path = path
         disabled = None

@@ -9,6 +9,7 @@ meshes here, so they all find the same files.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterable, Sequence
 from os import PathLike
 from pathlib import Path
@@ -71,7 +72,7 @@ def resolve_mesh(
     else:
         candidates += [urdf_dir / filename, *(folder / filename for folder in folders)]
     for candidate in candidates:
-        if candidate.is_file():
+        if os.path.isfile(candidate):  # False, not OSError, for a name too long
             return candidate, candidates
     return None, candidates
 

@@ -20,6 +20,7 @@ always built, so the robot's self-collision is checked even without ``obstacles:
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 from typing import Literal
 
@@ -235,7 +236,7 @@ def _body(
             return None
         file = Path(value).expanduser()
         file = file if file.is_absolute() else base_dir / file
-        if not file.is_file():
+        if not os.path.isfile(file):  # Path.is_file raises on a name too long to look up
             checker.error(
                 where,
                 f"no file {str(file)!r} (relative paths are taken from the program's folder)",

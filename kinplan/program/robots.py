@@ -5,6 +5,7 @@ Loading parses a URDF, so named robots loaded without options are kept for the n
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -43,10 +44,7 @@ def resolve_robot_source(source: str, base_dir: Path) -> str:
     if not path.is_absolute():
         path = base_dir / path
     looks_like_a_path = "/" in source or "\\" in source or path.suffix.lower() in (".urdf", ".xml")
-    try:
-        is_file = path.is_file()
-    except (OSError, ValueError):  # a name too long for the file system, a NUL character
-        is_file = False
+    is_file = os.path.isfile(path)  # False for a name too long to look up or a NUL character
     return str(path) if looks_like_a_path or is_file else source
 
 

@@ -459,6 +459,12 @@ def test_every_validation_error_is_reported_with_its_key_path(tmp_path):
     assert "\n" not in error.one_line()
 
 
+TOO_LONG_NAME_PROGRAM = (
+    "robot: ur5\nstart: {joints: [0, 0, 0, 0, 0, 0]}\npoints: {p: {joints: [0, 0, 0, 0, 0, 0]}}\n"
+    "moves: [{ptp: p}]\n"
+)
+
+
 @pytest.mark.parametrize(
     ("text", "path", "fragment"),
     [
@@ -492,6 +498,16 @@ def test_every_validation_error_is_reported_with_its_key_path(tmp_path):
             "moves: [{ptp: p, lin: p}]\n",
             "moves[0]",
             "exactly one of ptp, lin, circ",
+        ),
+        (  # a name longer than the file system allows: Path.is_file raises OSError for it
+            TOO_LONG_NAME_PROGRAM + "tool: {xyz: [0, 0, 0.1], body: {mesh: " + "a" * 300 + "}}\n",
+            "tool.body.mesh",
+            "no file",
+        ),
+        (
+            TOO_LONG_NAME_PROGRAM + "obstacles: {part: {mesh: " + "b" * 300 + ".stl}}\n",
+            "obstacles.part.mesh",
+            "no file",
         ),
     ],
 )
