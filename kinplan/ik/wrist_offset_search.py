@@ -253,18 +253,18 @@ def _flat(k, pre, fill, curve, a, fa, c, fc, roots, branch_of, count):
     return _bracket(k, pre, fill, curve, a, fa, c, fc, roots, branch_of, count)
 
 
-@jit
-def _dip(k, pre, fill, curve, xs, fs, roots, branch_of, count):
-    """The roots near a local minimum of |f| at xs[1] between samples xs[0], xs[2] (f of one
-    sign at all three) when its parabola dips towards 0; the new count."""
-    sign = 1.0 if fs[1] > 0.0 else -1.0
-    g0, g1, g2 = sign * fs[0], sign * fs[1], sign * fs[2]
+@inline
+def _dips(f0, f1, f2):
+    """Whether a local minimum of |f| at the middle of three samples (f of one sign at all
+    three) has a parabola that dips towards 0, so that :func:`_bracket` searches it. Scalars
+    only: :func:`_scan` meets dozens of local minima a pose and searches almost none, and a
+    call taking its arrays costs ~100 ns in reference counts (half the search's time before)."""
+    sign = 1.0 if f1 > 0.0 else -1.0
+    g0, g1, g2 = sign * f0, sign * f1, sign * f2
     if not (0.0 < g1 < g0 and g1 <= g2):
-        return count
+        return False
     curvature = g0 - 2.0 * g1 + g2
-    if curvature <= 0.0 or g1 - (g2 - g0) ** 2 / (8.0 * curvature) >= DIP * g1:
-        return count
-    return _bracket(k, pre, fill, curve, xs[0], fs[0], xs[2], fs[2], roots, branch_of, count)
+    return curvature > 0.0 and g1 - (g2 - g0) ** 2 / (8.0 * curvature) < DIP * g1
 
 
 @jit
@@ -311,18 +311,16 @@ def _scan(k, pre, fill, curve, xs, fs, ok, periodic, roots, branch_of, count):
         elif max(abs(fs[i]), abs(fs[i + 1])) < FLAT and fs[i] != 0.0:
             count = _flat(k, pre, fill, curve, xs[i], fs[i], xs[i + 1], fs[i + 1],
                           roots, branch_of, count)  # fmt: skip
-    three_x = np.empty(3)
-    three_f = np.empty(3)
     for i in range(0 if periodic else 1, n):
         before = i - 1 if i > 0 else n - 1
         if not (ok[before] and ok[i] and ok[i + 1]) or fs[i] == 0.0:
             continue
         if (fs[before] > 0.0) != (fs[i] > 0.0) or (fs[i + 1] > 0.0) != (fs[i] > 0.0):
             continue
-        three_x[0] = xs[before] if i > 0 else xs[n - 1] - (xs[n] - xs[0])
-        three_x[1], three_x[2] = xs[i], xs[i + 1]
-        three_f[0], three_f[1], three_f[2] = fs[before], fs[i], fs[i + 1]
-        count = _dip(k, pre, fill, curve, three_x, three_f, roots, branch_of, count)
+        if _dips(fs[before], fs[i], fs[i + 1]):  # the roots near a local minimum of |f|
+            x0 = xs[before] if i > 0 else xs[n - 1] - (xs[n] - xs[0])
+            count = _bracket(k, pre, fill, curve, x0, fs[before], xs[i + 1], fs[i + 1],
+                             roots, branch_of, count)  # fmt: skip
     return count
 
 
