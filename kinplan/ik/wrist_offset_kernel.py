@@ -23,11 +23,11 @@ import math
 
 import numpy as np
 
-from kinplan.compiled import numba, product_into, rotation_about
+from kinplan.compiled import numba
 from kinplan.ik import wrist_offset_branches
 from kinplan.ik.screws import TAU
 from kinplan.ik.spherical_wrist_kernel import nearest_of, pose_finite
-from kinplan.ik.wrist_offset_branches import angle_to, branch, jit, prepare, turn, wrap
+from kinplan.ik.wrist_offset_branches import angle_to, branch, inline, jit, prepare, turn, wrap
 from kinplan.ik.wrist_offset_search import search
 
 #: Solution slots per pose (NaN rows past the solutions found).
@@ -44,10 +44,10 @@ def available() -> bool:
 
 
 # ---------------------------------------------------------------------------- solutions
-@jit
-def _solution(k, pre, theta6, b, fill, q, cs):
-    """The joint angles [rad] of root ``theta6`` of branch ``b``, written into ``q`` (6,), and
-    their cosines and sines into ``cs`` (6, 2)."""
+@inline
+def _solution(k, pre, theta6, b, fill, q):
+    """The joint angles [rad] of root ``theta6`` of branch ``b``, written into ``q`` (6,);
+    returns their cosines and sines (cos θ1, sin θ1, …, cos θ6, sin θ6)."""
     c6, s6 = math.cos(theta6), math.sin(theta6)
     _, _, _, cm, sm, c2, s2, c3, s3 = branch(k, pre, c6, s6, b, fill)
     # W h5 = R3ᵀ R2ᵀ R1ᵀ (R_T R_Mᵀ R6ᵀ h5), W x5 likewise
@@ -72,41 +72,70 @@ def _solution(k, pre, theta6, b, fill, q, cs):
     q[3] = math.atan2(s4, c4)
     q[4] = math.atan2(s5, c5)
     q[5] = wrap(theta6)
-    cs[0, 0], cs[0, 1], cs[1, 0], cs[1, 1] = cm, -sm, c2, s2
-    cs[2, 0], cs[2, 1], cs[3, 0], cs[3, 1] = c3, s3, c4, s4
-    cs[4, 0], cs[4, 1], cs[5, 0], cs[5, 1] = c5, s5, c6, s6
+    return cm, -sm, c2, s2, c3, s3, c4, s4, c5, s5, c6, s6
 
 
-@jit
-def _reaches(k, tool, cs, position, rotation, work):
-    """Whether the configuration of cosines and sines ``cs`` (6, 2) puts the tool at the pose
-    within :data:`VERIFY_TOL`: the product of exponentials ``e1 ⋯ e6 M`` (``work`` (3, 3, 3)
-    scratch)."""
-    turned, step, product = work[0], work[1], work[2]
+@inline
+def _screw_step(k, joint, c, s, rot, tx, ty, tz):
+    """One factor of the product of exponentials: with ``rot`` (9 entries, row by row) and
+    (tx, ty, tz) [m] the rotation and translation of ``e1 ⋯ e(j−1)``, those of ``e1 ⋯ ej`` for
+    joint j = ``joint`` at cos θ = c, sin θ = s (Rodrigues about the unit axis ``k[joint]``
+    through ``k[6 + joint]``). Scalars only, no scratch array."""
+    x, y, z = k[joint, 0], k[joint, 1], k[joint, 2]
+    t = 1.0 - c
+    a00, a01, a02 = c + x * x * t, x * y * t - z * s, x * z * t + y * s
+    a10, a11, a12 = y * x * t + z * s, c + y * y * t, y * z * t - x * s
+    a20, a21, a22 = z * x * t - y * s, z * y * t + x * s, c + z * z * t
+    px, py, pz = k[6 + joint, 0], k[6 + joint, 1], k[6 + joint, 2]
+    sx = px - (a00 * px + a01 * py + a02 * pz)
+    sy = py - (a10 * px + a11 * py + a12 * pz)
+    sz = pz - (a20 * px + a21 * py + a22 * pz)
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rot
+    tx += r00 * sx + r01 * sy + r02 * sz
+    ty += r10 * sx + r11 * sy + r12 * sz
+    tz += r20 * sx + r21 * sy + r22 * sz
+    return (
+        (
+            r00 * a00 + r01 * a10 + r02 * a20,
+            r00 * a01 + r01 * a11 + r02 * a21,
+            r00 * a02 + r01 * a12 + r02 * a22,
+            r10 * a00 + r11 * a10 + r12 * a20,
+            r10 * a01 + r11 * a11 + r12 * a21,
+            r10 * a02 + r11 * a12 + r12 * a22,
+            r20 * a00 + r21 * a10 + r22 * a20,
+            r20 * a01 + r21 * a11 + r22 * a21,
+            r20 * a02 + r21 * a12 + r22 * a22,
+        ),
+        tx,
+        ty,
+        tz,
+    )
+
+
+@inline
+def _reaches(k, tool, cs, position, rotation):
+    """Whether the configuration of cosines and sines ``cs`` (cos θ1, sin θ1, …, cos θ6,
+    sin θ6) puts the tool at the pose within :data:`VERIFY_TOL`: the product of exponentials
+    ``e1 ⋯ e6 M``, in scalars."""
+    rot = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
     tx = ty = tz = 0.0
-    for i in range(3):
-        for j in range(3):
-            turned[i, j] = 1.0 if i == j else 0.0
-    for joint in range(6):
-        rotation_about(k[joint], cs[joint, 0], cs[joint, 1], step)
-        px, py, pz = k[6 + joint, 0], k[6 + joint, 1], k[6 + joint, 2]
-        sx = px - (step[0, 0] * px + step[0, 1] * py + step[0, 2] * pz)
-        sy = py - (step[1, 0] * px + step[1, 1] * py + step[1, 2] * pz)
-        sz = pz - (step[2, 0] * px + step[2, 1] * py + step[2, 2] * pz)
-        tx += turned[0, 0] * sx + turned[0, 1] * sy + turned[0, 2] * sz
-        ty += turned[1, 0] * sx + turned[1, 1] * sy + turned[1, 2] * sz
-        tz += turned[2, 0] * sx + turned[2, 1] * sy + turned[2, 2] * sz
-        product_into(turned, step, product)
-        turned[:, :] = product
+    rot, tx, ty, tz = _screw_step(k, 0, cs[0], cs[1], rot, tx, ty, tz)
+    rot, tx, ty, tz = _screw_step(k, 1, cs[2], cs[3], rot, tx, ty, tz)
+    rot, tx, ty, tz = _screw_step(k, 2, cs[4], cs[5], rot, tx, ty, tz)
+    rot, tx, ty, tz = _screw_step(k, 3, cs[6], cs[7], rot, tx, ty, tz)
+    rot, tx, ty, tz = _screw_step(k, 4, cs[8], cs[9], rot, tx, ty, tz)
+    rot, tx, ty, tz = _screw_step(k, 5, cs[10], cs[11], rot, tx, ty, tz)
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rot
     mx, my, mz = tool[0, 3], tool[1, 3], tool[2, 3]
-    miss = (turned[0, 0] * mx + turned[0, 1] * my + turned[0, 2] * mz + tx - position[0]) ** 2
-    miss += (turned[1, 0] * mx + turned[1, 1] * my + turned[1, 2] * mz + ty - position[1]) ** 2
-    miss += (turned[2, 0] * mx + turned[2, 1] * my + turned[2, 2] * mz + tz - position[2]) ** 2
+    miss = (r00 * mx + r01 * my + r02 * mz + tx - position[0]) ** 2
+    miss += (r10 * mx + r11 * my + r12 * mz + ty - position[1]) ** 2
+    miss += (r20 * mx + r21 * my + r22 * mz + tz - position[2]) ** 2
     spin = 0.0
-    for i in range(3):
-        for j in range(3):
-            reached = turned[i, 0] * tool[0, j] + turned[i, 1] * tool[1, j]
-            spin += (reached + turned[i, 2] * tool[2, j] - rotation[i, j]) ** 2
+    for j in range(3):
+        t0, t1, t2 = tool[0, j], tool[1, j], tool[2, j]
+        spin += (r00 * t0 + r01 * t1 + r02 * t2 - rotation[0, j]) ** 2
+        spin += (r10 * t0 + r11 * t1 + r12 * t2 - rotation[1, j]) ** 2
+        spin += (r20 * t0 + r21 * t1 + r22 * t2 - rotation[2, j]) ** 2
     return miss <= VERIFY_TOL * VERIFY_TOL and spin <= 2.0 * VERIFY_TOL * VERIFY_TOL
 
 
@@ -123,7 +152,7 @@ def branches(k, tool, position, rotation, fill, raw, ok):
         rotation: Tool rotation in the world frame (3, 3).
         fill: Values [rad] (6,) of θ1, θ2 where they are free (the meeting point of axes 4, 5
             on axis 1, or on axis 2's elbow centre).
-        raw, ok: Written.
+        raw, ok: Written (a row whose ``ok`` is False holds no solution: anything).
 
     Returns:
         Whether some joint was free (took its ``fill`` value) at a sample or root.
@@ -133,15 +162,19 @@ def branches(k, tool, position, rotation, fill, raw, ok):
     roots = np.empty(SLOTS)
     branch_of = np.empty(SLOTS, dtype=np.int64)
     count, singular = search(k, pre, fill, roots, branch_of)
-    order = np.argsort(branch_of[:count] * 16.0 + (roots[:count] + math.pi) / TAU, kind="mergesort")
-    work = np.empty((3, 3, 3))
-    q = np.empty(6)
-    cs = np.empty((6, 2))
+    # sorted by branch then θ6 (insertion sort: stable, ≤ SLOTS roots)
+    for r in range(1, count):
+        root, b = roots[r], branch_of[r]
+        key = b * 16.0 + (root + math.pi) / TAU
+        i = r
+        while i > 0 and branch_of[i - 1] * 16.0 + (roots[i - 1] + math.pi) / TAU > key:
+            roots[i], branch_of[i] = roots[i - 1], branch_of[i - 1]
+            i -= 1
+        roots[i], branch_of[i] = root, b
     row = 0
-    for r in order:
-        _solution(k, pre, roots[r], branch_of[r], fill, q, cs)
-        if _reaches(k, tool, cs, position, rotation, work):
-            raw[row] = q
+    for r in range(count):
+        cs = _solution(k, pre, roots[r], branch_of[r], fill, raw[row])
+        if _reaches(k, tool, cs, position, rotation):
             ok[row] = True
             row += 1
     for r in range(row, SLOTS):
