@@ -267,7 +267,15 @@ def _meeting_residual(k, gx, gy, gz, c2, s2, dx, dy, dz, cm, sm):
 # ---------------------------------------------------------------------------- branches
 @jit
 def branch(k, pre, c6, s6, b, fill):
-    """Branch ``b`` (0–3) at the θ6 of cosine ``c6``, sine ``s6``.
+    """Branch ``b`` (0–3) at the θ6 of cosine ``c6``, sine ``s6``: :func:`branch_inline`, as a
+    call (for the callers that evaluate a branch at a few θ6 only)."""
+    return branch_inline(k, pre, c6, s6, b, fill)
+
+
+@inline
+def branch_inline(k, pre, c6, s6, b, fill):
+    """Branch ``b`` (0–3) at the θ6 of cosine ``c6``, sine ``s6``, inlined into its caller
+    (Brent's method evaluates it a few dozen times a pose: no call, no reference counts).
 
     Returns:
         (f, ok, singular, cos, sin of −θ1, of θ2, of θ3): ``ok`` False where the branch does
@@ -311,27 +319,28 @@ def branch(k, pre, c6, s6, b, fill):
     return f, True, free, cm, sm, c2, s2, c3, s3
 
 
-@jit
-def sample(k, pre, c6, s6, fill, values, reached, turns):
-    """f of the four branches at one θ6 into ``values``, ``reached`` (4,) and the cosines and
-    sines of −θ1, θ2, θ3 into ``turns`` (4, 6) (the shared stages computed once:
-    :func:`branch` four times, at about half the cost); where a branch does not reach,
-    ``values`` holds the failing stage's margin (< 0) instead. Returns whether a free angle
-    took its fill value."""
+@inline
+def sample(k, pre, c6, s6, fill, values, reached, turns, i):
+    """f of the four branches at one θ6 into row ``i`` of ``values``, ``reached`` (·, 4) and
+    the cosines and sines of −θ1, θ2, θ3 into row ``i`` of ``turns`` (·, 4, 6) (the shared
+    stages computed once: :func:`branch` four times, at about half the cost); where a branch
+    does not reach, ``values`` holds the failing stage's margin (< 0) instead. Returns whether
+    a free angle took its fill value. Inlined into the sampling loop (a call would pass seven
+    arrays, with their reference counts, at each sample)."""
     ctx, cty, ctz, dx, dy, dz = _moving(pre, c6, s6)
     singular = False
     for b in range(4):
-        reached[b] = False
-        values[b] = 0.0
+        reached[i, b] = False
+        values[i, b] = 0.0
     if k[23, 0] == 0.0:
         vx, vy, vz, a, bb, ratio, radius, rhs = _parallel_shoulder(k, ctx, cty, ctz)
         if radius < FREE_TOL:
             if abs(rhs) > FREE_ROOM:
-                values[:] = FREE_ROOM - abs(rhs)
+                _fill(values, i, FREE_ROOM - abs(rhs))
                 return False
             singular = True
         elif abs(ratio) > 1.0 + CLAMP:
-            values[:] = 1.0 + CLAMP - abs(ratio)
+            _fill(values, i, 1.0 + CLAMP - abs(ratio))
             return False
         for first in range(2):
             if radius < FREE_TOL:
@@ -340,7 +349,7 @@ def sample(k, pre, c6, s6, fill, values, reached, turns):
                 cm, sm = _pair(a, bb, ratio, first)
             tx, ty, d2, cosine = _parallel_elbow(k, vx, vy, vz, cm, sm)
             if abs(cosine) > 1.0 + CLAMP:
-                values[2 * first] = values[2 * first + 1] = 1.0 + CLAMP - abs(cosine)
+                values[i, 2 * first] = values[i, 2 * first + 1] = 1.0 + CLAMP - abs(cosine)
                 continue
             p0, p1, p2 = _parallel_wrist(k, dx, dy, dz, cm, sm)
             for second in range(2):
@@ -348,37 +357,44 @@ def sample(k, pre, c6, s6, fill, values, reached, turns):
                     k, tx, ty, d2, cosine, second, fill
                 )
                 row = 2 * first + second
-                values[row] = p0 + cphi * p1 + sphi * p2 - k[23, 1]
-                reached[row] = True
-                _store(turns, row, cm, sm, c2, s2, c3, s3)
+                values[i, row] = p0 + cphi * p1 + sphi * p2 - k[23, 1]
+                reached[i, row] = True
+                _store(turns, i, row, cm, sm, c2, s2, c3, s3)
                 singular = singular or free
         return singular
     yx, yy, yz, dd, ratio = _meeting_elbow(k, ctx, cty, ctz)
     if abs(ratio) > 1.0 + CLAMP:
-        values[:] = 1.0 + CLAMP - abs(ratio)
+        _fill(values, i, 1.0 + CLAMP - abs(ratio))
         return False
     for first in range(2):
         c3, s3, xx, xy, xz, gx, gy, gz = _meeting_third(k, ratio, first)
         mx, my, mz, gamma2, margin = _meeting_cone(k, xx, xy, xz, yx, yy, yz, dd)
         if margin < 0.0:
-            values[2 * first] = values[2 * first + 1] = margin
+            values[i, 2 * first] = values[i, 2 * first + 1] = margin
             continue
         for second in range(2):
             free, cm, sm, c2, s2 = _meeting_angles(
                 k, xx, xy, xz, yx, yy, yz, mx, my, mz, gamma2, second, fill
             )
             row = 2 * first + second
-            values[row] = _meeting_residual(k, gx, gy, gz, c2, s2, dx, dy, dz, cm, sm)
-            reached[row] = True
-            _store(turns, row, cm, sm, c2, s2, c3, s3)
+            values[i, row] = _meeting_residual(k, gx, gy, gz, c2, s2, dx, dy, dz, cm, sm)
+            reached[i, row] = True
+            _store(turns, i, row, cm, sm, c2, s2, c3, s3)
             singular = singular or free
     return singular
 
 
 @inline
-def _store(turns, row, cm, sm, c2, s2, c3, s3):
-    turns[row, 0], turns[row, 1], turns[row, 2] = cm, sm, c2
-    turns[row, 3], turns[row, 4], turns[row, 5] = s2, c3, s3
+def _store(turns, i, row, cm, sm, c2, s2, c3, s3):
+    turns[i, row, 0], turns[i, row, 1], turns[i, row, 2] = cm, sm, c2
+    turns[i, row, 3], turns[i, row, 4], turns[i, row, 5] = s2, c3, s3
+
+
+@inline
+def _fill(values, i, margin):
+    """Row ``i`` of ``values`` (·, 4) set to ``margin``."""
+    for b in range(4):
+        values[i, b] = margin
 
 
 @jit

@@ -30,7 +30,7 @@ import math
 import numpy as np
 
 from kinplan.ik.screws import TAU
-from kinplan.ik.wrist_offset_branches import branch, inline, jit, sample, wrap
+from kinplan.ik.wrist_offset_branches import branch, branch_inline, inline, jit, sample, wrap
 
 #: Samples of θ6 over a full turn before the roots are refined: COARSE first, and SAMPLES
 #: unless θ1, θ2 and θ3 of every branch turn by less than STILL between two of them (the
@@ -45,6 +45,15 @@ MAX_SAMPLES = 2048
 #: Largest turn of θ1, θ2 or θ3 between two samples [rad] before sampling more densely.
 MAX_TURN = 0.35
 COS_TURN = math.cos(MAX_TURN)
+#: cos, sin of the MAX_SAMPLES + 1 values θ6 = −π + j·2π/MAX_SAMPLES (rows j): those of the
+#: n samples of a pass are rows j = i·MAX_SAMPLES/n (n divides MAX_SAMPLES: the same θ6 to the
+#: bit, and the same libm cos, sin as the compiled code's), read instead of computed.
+CIRCLE = np.array(
+    [
+        (math.cos(-math.pi + j * (TAU / MAX_SAMPLES)), math.sin(-math.pi + j * (TAU / MAX_SAMPLES)))
+        for j in range(MAX_SAMPLES + 1)
+    ]
+)
 #: Brent's method stops within ROOT_TOL [rad] of the root (1e-13 m per metre of reach at the
 #: tool: far inside the 1e-9 of the FK check) or where |f| ≤ ROOT_F (rounding level).
 ROOT_TOL = 1e-13
@@ -88,7 +97,15 @@ def _at(k, pre, fill, curve, x):
     return out[0], out[1]
 
 
-@jit
+@inline
+def _at_inline(k, pre, fill, curve, x):
+    """:func:`_at` with the branch inlined (for Brent's method, the most frequent caller)."""
+    theta, row = _place(curve, x)
+    out = branch_inline(k, pre, math.cos(theta), math.sin(theta), row, fill)
+    return out[0], out[1]
+
+
+@inline
 def _add(roots, branch_of, count, curve, x):
     """Append the root at ``x`` of the curve unless already listed; the new count."""
     if x != x or count >= roots.shape[0]:
@@ -141,7 +158,7 @@ def _brent(k, pre, fill, curve, a, fa, c, fc):
             d = e = m
         a, fa = bb, fb
         bb += d if abs(d) > tol else (tol if m > 0.0 else -tol)
-        fb, ok = _at(k, pre, fill, curve, bb)
+        fb, ok = _at_inline(k, pre, fill, curve, bb)
         if not ok:
             return np.nan
     return bb
@@ -268,10 +285,14 @@ def _dips(f0, f1, f2):
 
 
 @jit
-def _to_edge(k, pre, fill, curve, i, xs, fs, ok, roots, branch_of, count):
-    """The roots between the reached one of points i, i + 1 of a curve and the end of its
-    reach between them (found by bisection); the new count."""
-    inside, outside, f_in = (xs[i], xs[i + 1], fs[i]) if ok[i] else (xs[i + 1], xs[i], fs[i + 1])
+def _to_edge(k, pre, fill, curve, i, xs, fs, ok, col, roots, branch_of, count):
+    """The roots between the reached one of points i, i + 1 of a curve (column ``col`` of
+    ``fs``, ``ok``) and the end of its reach between them (found by bisection); the new
+    count."""
+    if ok[i, col]:
+        inside, outside, f_in = xs[i], xs[i + 1], fs[i, col]
+    else:
+        inside, outside, f_in = xs[i + 1], xs[i], fs[i + 1, col]
     for _ in range(EDGE_STEPS):
         middle = 0.5 * (inside + outside)
         if middle == inside or middle == outside:
@@ -281,7 +302,7 @@ def _to_edge(k, pre, fill, curve, i, xs, fs, ok, roots, branch_of, count):
         else:
             outside = middle
     f_end, _ = _at(k, pre, fill, curve, inside)
-    start = xs[i] if ok[i] else xs[i + 1]
+    start = xs[i] if ok[i, col] else xs[i + 1]
     if f_end == 0.0:
         return _add(roots, branch_of, count, curve, inside)
     if f_in == 0.0 or start == inside:
@@ -293,34 +314,35 @@ def _to_edge(k, pre, fill, curve, i, xs, fs, ok, roots, branch_of, count):
 
 
 @jit
-def _scan(k, pre, fill, curve, xs, fs, ok, periodic, roots, branch_of, count):
-    """Roots on sampled points ``xs`` (n + 1) of a curve (``fs``, ``ok``: f and reached):
-    samples at 0, sign changes between reached neighbours (Brent), dips at local minima
-    (``periodic``: the last point is the first one again); the new count."""
+def _scan(k, pre, fill, curve, xs, fs, ok, col, periodic, roots, branch_of, count):
+    """Roots on sampled points ``xs`` (n + 1) of a curve (column ``col`` of ``fs``, ``ok``
+    (n + 1, m): f and reached): samples at 0, sign changes between reached neighbours (Brent),
+    dips at local minima (``periodic``: the last point is the first one again); the new
+    count."""
     n = xs.shape[0] - 1
     for i in range(n):
-        if ok[i] and fs[i] == 0.0:
+        f0, f1, ok0, ok1 = fs[i, col], fs[i + 1, col], ok[i, col], ok[i + 1, col]
+        if ok0 and f0 == 0.0:
             count = _add(roots, branch_of, count, curve, xs[i])
-        if ok[i] != ok[i + 1] and curve[0] == 1:  # a joined curve leaving its reach
-            count = _to_edge(k, pre, fill, curve, i, xs, fs, ok, roots, branch_of, count)
-        if not (ok[i] and ok[i + 1]) or fs[i + 1] == 0.0:
+        if ok0 != ok1 and curve[0] == 1:  # a joined curve leaving its reach
+            count = _to_edge(k, pre, fill, curve, i, xs, fs, ok, col, roots, branch_of, count)
+        if not (ok0 and ok1) or f1 == 0.0:
             continue
-        if (fs[i] < 0.0 < fs[i + 1]) or (fs[i + 1] < 0.0 < fs[i]):
-            root = _brent(k, pre, fill, curve, xs[i], fs[i], xs[i + 1], fs[i + 1])
+        if (f0 < 0.0 < f1) or (f1 < 0.0 < f0):
+            root = _brent(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1)
             count = _add(roots, branch_of, count, curve, root)
-        elif max(abs(fs[i]), abs(fs[i + 1])) < FLAT and fs[i] != 0.0:
-            count = _flat(k, pre, fill, curve, xs[i], fs[i], xs[i + 1], fs[i + 1],
-                          roots, branch_of, count)  # fmt: skip
+        elif max(abs(f0), abs(f1)) < FLAT and f0 != 0.0:
+            count = _flat(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1, roots, branch_of, count)
     for i in range(0 if periodic else 1, n):
         before = i - 1 if i > 0 else n - 1
-        if not (ok[before] and ok[i] and ok[i + 1]) or fs[i] == 0.0:
+        if not (ok[before, col] and ok[i, col] and ok[i + 1, col]):
             continue
-        if (fs[before] > 0.0) != (fs[i] > 0.0) or (fs[i + 1] > 0.0) != (fs[i] > 0.0):
+        f0, f1, f2 = fs[before, col], fs[i, col], fs[i + 1, col]
+        if f1 == 0.0 or (f0 > 0.0) != (f1 > 0.0) or (f2 > 0.0) != (f1 > 0.0):
             continue
-        if _dips(fs[before], fs[i], fs[i + 1]):  # the roots near a local minimum of |f|
+        if _dips(f0, f1, f2):  # the roots near a local minimum of |f|
             x0 = xs[before] if i > 0 else xs[n - 1] - (xs[n] - xs[0])
-            count = _bracket(k, pre, fill, curve, x0, fs[before], xs[i + 1], fs[i + 1],
-                             roots, branch_of, count)  # fmt: skip
+            count = _bracket(k, pre, fill, curve, x0, f0, xs[i + 1], f2, roots, branch_of, count)
     return count
 
 
@@ -352,12 +374,12 @@ def _end_of_reach(k, pre, fill, b, inside, outside, width, roots, branch_of, cou
     curve = (1, b, partner, end, 1.0 if outside > inside else -1.0)
     reach = math.sqrt(width)
     xs = np.empty(LOOP_POINTS + 1)
-    fs = np.empty(LOOP_POINTS + 1)
-    ok = np.empty(LOOP_POINTS + 1, dtype=np.bool_)
+    fs = np.empty((LOOP_POINTS + 1, 1))
+    ok = np.empty((LOOP_POINTS + 1, 1), dtype=np.bool_)
     for j in range(LOOP_POINTS + 1):
         xs[j] = -reach + 2.0 * reach * j / LOOP_POINTS
-        fs[j], ok[j] = _at(k, pre, fill, curve, xs[j])
-    return _scan(k, pre, fill, curve, xs, fs, ok, False, roots, branch_of, count)
+        fs[j, 0], ok[j, 0] = _at(k, pre, fill, curve, xs[j])
+    return _scan(k, pre, fill, curve, xs, fs, ok, 0, False, roots, branch_of, count)
 
 
 @jit
@@ -394,19 +416,21 @@ def _reach_point(k, pre, fill, b, a, c):
     return np.nan
 
 
-@jit
+@inline
 def _windows(k, pre, fill, b, xs, margins, ok, roots, branch_of, count):
-    """Windows of reach of branch b narrower than the samples: at a local maximum of the
-    margin (< 0 at three samples) above −WINDOW or whose parabola rises towards 0 (the margins
-    of two stages may meet there, with a corner), a point of reach is sought, then both ends
-    of the window are searched; the new count."""
+    """Windows of reach of branch b narrower than the samples (column b of ``margins``,
+    ``ok``): at a local maximum of the margin (< 0 at three samples) above −WINDOW or whose
+    parabola rises towards 0 (the margins of two stages may meet there, with a corner), a
+    point of reach is sought, then both ends of the window are searched; the new count.
+    Inlined into :func:`search` (a call, with its arrays, for each branch of each pose, cost
+    more than the loop)."""
     n = xs.shape[0] - 1
     step = xs[1] - xs[0]
     for i in range(n):
         before = i - 1 if i > 0 else n - 1
-        if ok[before] or ok[i] or ok[i + 1]:
+        if ok[before, b] or ok[i, b] or ok[i + 1, b]:
             continue
-        m0, m1, m2 = margins[before], margins[i], margins[i + 1]
+        m0, m1, m2 = margins[before, b], margins[i, b], margins[i + 1, b]
         curvature = 2.0 * m1 - m0 - m2
         if not (m1 > m0 and m1 >= m2) or curvature <= 0.0:
             continue
@@ -424,19 +448,27 @@ def _windows(k, pre, fill, b, xs, margins, ok, roots, branch_of, count):
 
 # ---------------------------------------------------------------------------- all roots
 @jit
-def _sampled(k, pre, fill, n, values, reached, turns):
-    """Sample f of the four branches at n values of θ6; returns (the cosine of the largest turn
-    of θ1, θ2 or θ3 of a branch between two samples, whether a free angle took its fill)."""
-    step = TAU / n
+def _sampled(k, pre, fill, n, coarser, values, reached, turns):
+    """Sample f of the four branches at the n values θ6 = −π + i·2π/n into rows i of
+    ``values``, ``reached`` (n + 1, 4) and ``turns`` (n + 1, 4, 6) (row n: row 0 again), but
+    for the rows i that are multiples of n / ``coarser`` when ``coarser`` > 0: those hold the
+    samples of the coarser pass of ``coarser`` values already (the same θ6 to the bit: n /
+    ``coarser`` is a power of 2). Returns (the cosine of the largest turn of θ1, θ2 or θ3 of
+    a branch between two samples, whether a free angle took its fill at a new sample)."""
+    ratio = n // coarser if coarser > 0 else n + 1
+    every = MAX_SAMPLES // n
     singular = False
     for i in range(n):
-        theta = -math.pi + i * step
-        free = sample(k, pre, math.cos(theta), math.sin(theta), fill, values[i], reached[i],
-                      turns[i])  # fmt: skip
+        if i % ratio == 0 and coarser > 0:
+            continue
+        c6, s6 = CIRCLE[i * every, 0], CIRCLE[i * every, 1]
+        free = sample(k, pre, c6, s6, fill, values, reached, turns, i)
         singular = singular or free
-    values[n, :] = values[0, :]
-    reached[n, :] = reached[0, :]
-    turns[n, :, :] = turns[0, :, :]
+    for b in range(4):
+        values[n, b] = values[0, b]
+        reached[n, b] = reached[0, b]
+        for a in range(6):
+            turns[n, b, a] = turns[0, b, a]
     least = 1.0
     for i in range(n):
         for b in range(4):
@@ -458,20 +490,31 @@ def search(k, pre, fill, roots, branch_of):
     Returns:
         (count, singular): the roots found, and whether a free angle took its ``fill`` value.
     """
-    n = COARSE
+    # θ1–θ3 nearly still: f is nearly a sinusoid of θ6, COARSE samples do; else SAMPLES, then
+    # DENSER times as many while some turn exceeds MAX_TURN (the samples before kept)
+    n, coarser, singular = COARSE, 0, False
+    values = np.empty((1, 4))
+    reached = np.empty((1, 4), dtype=np.bool_)
+    turns = np.empty((1, 4, 6))
     while True:
-        values = np.empty((n + 1, 4))
-        reached = np.empty((n + 1, 4), dtype=np.bool_)
-        turns = np.empty((n + 1, 4, 6))
-        least, singular = _sampled(k, pre, fill, n, values, reached, turns)
-        if n == COARSE:
-            if least >= COS_STILL:
-                break  # θ1–θ3 nearly still: f is nearly a sinusoid of θ6, COARSE samples do
-            n = SAMPLES
-        elif least >= COS_TURN or n >= MAX_SAMPLES:
+        finer_values = np.empty((n + 1, 4))
+        finer_reached = np.empty((n + 1, 4), dtype=np.bool_)
+        finer_turns = np.empty((n + 1, 4, 6))
+        ratio = n // max(coarser, 1)
+        for i in range(coarser):  # the samples of the coarser pass, kept
+            for b in range(4):
+                finer_values[i * ratio, b] = values[i, b]
+                finer_reached[i * ratio, b] = reached[i, b]
+                for a in range(6):
+                    finer_turns[i * ratio, b, a] = turns[i, b, a]
+        values, reached, turns = finer_values, finer_reached, finer_turns
+        least, free = _sampled(k, pre, fill, n, coarser, values, reached, turns)
+        singular = singular or free
+        if n == COARSE and least >= COS_STILL or n > COARSE and least >= COS_TURN:
             break
-        else:
-            n *= DENSER
+        if n >= MAX_SAMPLES:
+            break
+        n, coarser = SAMPLES if n == COARSE else n * DENSER, n
     step = TAU / n
     xs = np.empty(n + 1)
     for i in range(n + 1):
@@ -479,12 +522,11 @@ def search(k, pre, fill, roots, branch_of):
     count = 0
     for b in range(4):
         curve = (0, b, b, 0.0, 0.0)
-        fs, ok = values[:, b].copy(), reached[:, b].copy()
-        count = _scan(k, pre, fill, curve, xs, fs, ok, True, roots, branch_of, count)
+        count = _scan(k, pre, fill, curve, xs, values, reached, b, True, roots, branch_of, count)
         for i in range(n):
-            if ok[i] != ok[i + 1]:
-                inside, outside = (xs[i], xs[i + 1]) if ok[i] else (xs[i + 1], xs[i])
+            if reached[i, b] != reached[i + 1, b]:
+                inside, outside = (xs[i], xs[i + 1]) if reached[i, b] else (xs[i + 1], xs[i])
                 count = _end_of_reach(k, pre, fill, b, inside, outside, 2.0 * step,
                                       roots, branch_of, count)  # fmt: skip
-        count = _windows(k, pre, fill, b, xs, fs, ok, roots, branch_of, count)
+        count = _windows(k, pre, fill, b, xs, values, reached, roots, branch_of, count)
     return count, singular
