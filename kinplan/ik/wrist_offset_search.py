@@ -493,21 +493,10 @@ def search(k, pre, fill, roots, branch_of):
     # θ1–θ3 nearly still: f is nearly a sinusoid of θ6, COARSE samples do; else SAMPLES, then
     # DENSER times as many while some turn exceeds MAX_TURN (the samples before kept)
     n, coarser, singular = COARSE, 0, False
-    values = np.empty((1, 4))
-    reached = np.empty((1, 4), dtype=np.bool_)
-    turns = np.empty((1, 4, 6))
+    values = np.empty((n + 1, 4))
+    reached = np.empty((n + 1, 4), dtype=np.bool_)
+    turns = np.empty((n + 1, 4, 6))
     while True:
-        finer_values = np.empty((n + 1, 4))
-        finer_reached = np.empty((n + 1, 4), dtype=np.bool_)
-        finer_turns = np.empty((n + 1, 4, 6))
-        ratio = n // max(coarser, 1)
-        for i in range(coarser):  # the samples of the coarser pass, kept
-            for b in range(4):
-                finer_values[i * ratio, b] = values[i, b]
-                finer_reached[i * ratio, b] = reached[i, b]
-                for a in range(6):
-                    finer_turns[i * ratio, b, a] = turns[i, b, a]
-        values, reached, turns = finer_values, finer_reached, finer_turns
         least, free = _sampled(k, pre, fill, n, coarser, values, reached, turns)
         singular = singular or free
         if n == COARSE and least >= COS_STILL or n > COARSE and least >= COS_TURN:
@@ -515,6 +504,17 @@ def search(k, pre, fill, roots, branch_of):
         if n >= MAX_SAMPLES:
             break
         n, coarser = SAMPLES if n == COARSE else n * DENSER, n
+        ratio = n // coarser
+        finer_values = np.empty((n + 1, 4))
+        finer_reached = np.empty((n + 1, 4), dtype=np.bool_)
+        finer_turns = np.empty((n + 1, 4, 6))
+        for i in range(coarser):  # the samples of the coarser pass, kept
+            for b in range(4):
+                finer_values[i * ratio, b] = values[i, b]
+                finer_reached[i * ratio, b] = reached[i, b]
+                for a in range(6):
+                    finer_turns[i * ratio, b, a] = turns[i, b, a]
+        values, reached, turns = finer_values, finer_reached, finer_turns
     step = TAU / n
     xs = np.empty(n + 1)
     for i in range(n + 1):
