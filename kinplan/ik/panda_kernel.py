@@ -33,7 +33,7 @@ import os
 
 import numpy as np
 
-from kinplan.compiled import jit, numba, product_into, rotation_about, turn_into
+from kinplan.compiled import inline, jit, numba
 from kinplan.ik.screws import CLAMP, FREE_TOL, HALF_TURN_SAFE, LIMIT_TOL, TAU
 
 #: Private switch for tests and benchmarks: False makes :func:`available` False.
@@ -73,20 +73,14 @@ def nearest_for_q7(
 
 
 # ---------------------------------------------------------------------------- compiled code
-@jit
-def _rotate_cs(v, axis, c, s):
-    """``v`` (3,) rotated about the unit ``axis`` by the angle of cosine ``c``, sine ``s``."""
-    ax, ay, az = axis[0], axis[1], axis[2]
-    x, y, z = v[0], v[1], v[2]
-    k = (ax * x + ay * y + az * z) * (1.0 - c)
-    out = np.empty(3)
-    out[0] = x * c + (ay * z - az * y) * s + ax * k
-    out[1] = y * c + (az * x - ax * z) * s + ay * k
-    out[2] = z * c + (ax * y - ay * x) * s + az * k
-    return out
+# The per-θ7 solve reads the solver's constants and the pose's terms as tuples of numbers
+# (:func:`_geometry`, read once a batch), and its helpers take and return numbers (vectors as
+# 3-tuples): an array passed to a compiled function, or a row taken out of one, has its
+# reference count kept atomically (see kinplan.compiled.inline), which cost a third of this
+# kernel's time.
 
 
-@jit
+@inline
 def _choice(value, ref, clipped, lower, upper, weight):
     """(found, q, w (q − ref)²): the 2π-equivalent of ``value`` within the limits nearest the
     clipped reference (``joint_choice`` and ``near_angle`` of :mod:`kinplan.ik.screws`)."""
@@ -113,20 +107,35 @@ def _choice(value, ref, clipped, lower, upper, weight):
     return True, q, weight * (q - ref) ** 2
 
 
-@jit
-def _pair(pair, u, v, free_a, free_b, out):
+@inline
+def _turn(axis, v, c, s):
+    """R(a, θ) v for the unit axis a = ``axis``, cos θ = ``c``, sin θ = ``s`` (3-tuples;
+    Rodrigues, the operations of :func:`kinplan.compiled.turn_into`)."""
+    ax, ay, az = axis
+    x, y, z = v
+    k = (ax * x + ay * y + az * z) * (1.0 - c)
+    return (
+        x * c + (ay * z - az * y) * s + ax * k,
+        y * c + (az * x - ax * z) * s + ay * k,
+        z * c + (ax * y - ay * x) * s + az * k,
+    )
+
+
+@inline
+def _pair(pair, u, v, free_a, free_b):
     """Angles (θa, θb) with ``Rb(θb) Ra(θa) u = v`` (Paden–Kahan subproblem 2, as
-    ``_AxisPair.solve``) into the rows of ``out`` (2, 2); returns how many (0, 1 or 2)."""
-    ax, ay, az, bx, by, bz = pair[0], pair[1], pair[2], pair[3], pair[4], pair[5]
-    c, nx, ny, nz, n2 = pair[6], pair[7], pair[8], pair[9], pair[10]
-    ux, uy, uz, vx, vy, vz = u[0], u[1], u[2], v[0], v[1], v[2]
+    ``_AxisPair.solve``) for the axis pair ``pair`` (a, b, a·b, a × b, |a × b|²: 11 numbers;
+    u, v: 3-tuples): (how many: 0, 1 or 2, θa and θb of the first, of the second)."""
+    ax, ay, az, bx, by, bz, c, nx, ny, nz, n2 = pair
+    ux, uy, uz = u
+    vx, vy, vz = v
     ka, kb = ux * ax + uy * ay + uz * az, vx * bx + vy * by + vz * bz
     alpha = (ka - c * kb) / n2
     beta = (kb - c * ka) / n2
     length2 = 0.5 * (ux * ux + uy * uy + uz * uz + vx * vx + vy * vy + vz * vz)
     rest = length2 - alpha * alpha - beta * beta - 2.0 * alpha * beta * c
     if rest < -CLAMP * max(length2, 1e-300):
-        return 0
+        return 0, 0.0, 0.0, 0.0, 0.0
     gamma = math.sqrt(max(rest, 0.0) / n2)
     un, ub = ux * nx + uy * ny + uz * nz, ux * bx + uy * by + uz * bz
     vn, va = vx * nx + vy * ny + vz * nz, vx * ax + vy * ay + vz * az
@@ -136,23 +145,25 @@ def _pair(pair, u, v, free_a, free_b, out):
     a_free = px * px + py * py + pz * pz < FREE_TOL**2
     px, py, pz = vx - kb * bx, vy - kb * by, vz - kb * bz
     b_free = px * px + py * py + pz * pz < FREE_TOL**2
-    count = 2 if gamma > 0.0 else 1
-    for i in range(count):
-        g = gamma if i == 0 else -gamma
-        out[i, 0] = free_a if a_free else math.atan2(sin_a + g * sin_a_g, cos_a + g * un)
-        out[i, 1] = free_b if b_free else math.atan2(sin_b + g * sin_b_g, cos_b + g * vn)
-    return count
+    first_a = free_a if a_free else math.atan2(sin_a + gamma * sin_a_g, cos_a + gamma * un)
+    first_b = free_b if b_free else math.atan2(sin_b + gamma * sin_b_g, cos_b + gamma * vn)
+    if not gamma > 0.0:
+        return 1, first_a, first_b, 0.0, 0.0
+    g = -gamma
+    second_a = free_a if a_free else math.atan2(sin_a + g * sin_a_g, cos_a + g * un)
+    second_b = free_b if b_free else math.atan2(sin_b + g * sin_b_g, cos_b + g * vn)
+    return 2, first_a, first_b, second_a, second_b
 
 
-@jit
+@inline
 def _angle_about(axis, a, b, free):
-    """The angle about the unit ``axis`` taking ``a`` towards ``b`` (subproblem 1), or
-    ``free`` when either lies on the axis (``_angle_about`` of :mod:`kinplan.ik.panda`)."""
-    ux, uy, uz = axis[0], axis[1], axis[2]
-    x, y, z = a[0], a[1], a[2]
+    """The angle about the unit ``axis`` taking ``a`` towards ``b`` (3-tuples; subproblem 1),
+    or ``free`` when either lies on the axis (``_angle_about`` of :mod:`kinplan.ik.panda`)."""
+    ux, uy, uz = axis
+    x, y, z = a
+    u, v, w = b
     k = ux * x + uy * y + uz * z
     x, y, z = x - k * ux, y - k * uy, z - k * uz
-    u, v, w = b[0], b[1], b[2]
     k = ux * u + uy * v + uz * w
     u, v, w = u - k * ux, v - k * uy, w - k * uz
     if x * x + y * y + z * z < FREE_TOL**2 or u * u + v * v + w * w < FREE_TOL**2:
@@ -162,60 +173,129 @@ def _angle_about(axis, a, b, free):
     )
 
 
-@jit
-def _matvec(m, v):
-    out = np.empty(3)
-    for i in range(3):
-        out[i] = m[i, 0] * v[0] + m[i, 1] * v[1] + m[i, 2] * v[2]
-    return out
+@inline
+def _rotation_p(axis, c, s, m):
+    """R_P = R_T M_Rᵀ Rot(ω7, −θ7) for ``axis`` ω7, cos and sin of −θ7 ``c``, ``s``, as a
+    9-tuple (row-major; the operations of :func:`kinplan.compiled.rotation_about` and
+    ``product_into``); ``m``: R_T M_Rᵀ as a 9-tuple (row-major)."""
+    x, y, z = axis
+    t = 1.0 - c
+    r00, r01, r02 = c + x * x * t, x * y * t - z * s, x * z * t + y * s
+    r10, r11, r12 = y * x * t + z * s, c + y * y * t, y * z * t - x * s
+    r20, r21, r22 = z * x * t - y * s, z * y * t + x * s, c + z * z * t
+    return (
+        ((0.0 + m[0] * r00) + m[1] * r10) + m[2] * r20,
+        ((0.0 + m[0] * r01) + m[1] * r11) + m[2] * r21,
+        ((0.0 + m[0] * r02) + m[1] * r12) + m[2] * r22,
+        ((0.0 + m[3] * r00) + m[4] * r10) + m[5] * r20,
+        ((0.0 + m[3] * r01) + m[4] * r11) + m[5] * r21,
+        ((0.0 + m[3] * r02) + m[4] * r12) + m[5] * r22,
+        ((0.0 + m[6] * r00) + m[7] * r10) + m[8] * r20,
+        ((0.0 + m[6] * r01) + m[7] * r11) + m[8] * r21,
+        ((0.0 + m[6] * r02) + m[7] * r12) + m[8] * r22,
+    )
+
+
+@inline
+def _times(m, v):
+    """m v for the 9-tuple ``m`` (row-major 3 × 3) and the 3-tuple ``v``."""
+    x, y, z = v
+    return (
+        m[0] * x + m[1] * y + m[2] * z,
+        m[3] * x + m[4] * y + m[5] * z,
+        m[6] * x + m[7] * y + m[8] * z,
+    )
+
+
+@inline
+def _row3(a, i):
+    """Row ``i`` of the array ``a`` as a 3-tuple (also :func:`_row7`, :func:`_row11`)."""
+    return a[i, 0], a[i, 1], a[i, 2]
+
+
+@inline
+def _row7(a, i):
+    return a[i, 0], a[i, 1], a[i, 2], a[i, 3], a[i, 4], a[i, 5], a[i, 6]
+
+
+@inline
+def _row11(a, i):
+    return (
+        a[i, 0], a[i, 1], a[i, 2], a[i, 3], a[i, 4], a[i, 5], a[i, 6], a[i, 7], a[i, 8],
+        a[i, 9], a[i, 10],
+    )  # fmt: skip
 
 
 @jit
-def _matvec_into(m, v, out):
-    """``out`` = m v for (3, 3) ``m`` and (3,) ``v``, ``out`` not ``v`` (:func:`_matvec`)."""
-    for i in range(3):
-        out[i] = m[i, 0] * v[0] + m[i, 1] * v[1] + m[i, 2] * v[2]
+def _geometry(axes, vectors, elbow, pairs, limits):
+    """The solver's constants (``PandaIK.kernel_constants``) as tuples: (axes (7 3-tuples);
+    p7, w, s − p4, w − p4, e3 (3-tuples); the elbow terms (4); the wrist and shoulder axis
+    pairs (11 each); lower, upper limits and weights (7 each))."""
+    return (
+        (
+            _row3(axes, 0), _row3(axes, 1), _row3(axes, 2), _row3(axes, 3), _row3(axes, 4),
+            _row3(axes, 5), _row3(axes, 6),
+        ),
+        (_row3(vectors, 0), _row3(vectors, 1), _row3(vectors, 2), _row3(vectors, 3),
+         _row3(vectors, 4)),
+        (elbow[0], elbow[1], elbow[2], elbow[3]),
+        (_row11(pairs, 0), _row11(pairs, 1)),
+        (_row7(limits, 0), _row7(limits, 1), _row7(limits, 2)),
+    )  # fmt: skip
 
 
-@jit
-def _scratch():
-    """The work arrays of :func:`_solve`: (vectors (8, 3), wrist rows (4, 6) and subproblem
-    angles (2, 2), matrices (2, 3, 3))."""
-    return np.empty((8, 3)), np.empty((6, 6)), np.empty((2, 3, 3))
+@inline
+def _pose_terms(seen, rotation_tm):
+    """M T⁻¹ s (3-tuple) and R_T M_Rᵀ (9-tuple, row-major) of :func:`_prepare`'s arrays."""
+    m = rotation_tm
+    return (seen[0], seen[1], seen[2]), (
+        m[0, 0], m[0, 1], m[0, 2], m[1, 0], m[1, 1], m[1, 2], m[2, 0], m[2, 1], m[2, 2]
+    )  # fmt: skip
+
+
+@inline
+def _clipped(q_ref, lower, upper):
+    """The reference (7,) as a 7-tuple and clipped into the limits, as
+    ``np.minimum(np.maximum(q_ref, lower), upper)``."""
+    r = (q_ref[0], q_ref[1], q_ref[2], q_ref[3], q_ref[4], q_ref[5], q_ref[6])
+    return r, (
+        np.minimum(np.maximum(r[0], lower[0]), upper[0]),
+        np.minimum(np.maximum(r[1], lower[1]), upper[1]),
+        np.minimum(np.maximum(r[2], lower[2]), upper[2]),
+        np.minimum(np.maximum(r[3], lower[3]), upper[3]),
+        np.minimum(np.maximum(r[4], lower[4]), upper[4]),
+        np.minimum(np.maximum(r[5], lower[5]), upper[5]),
+        np.minimum(np.maximum(r[6], lower[6]), upper[6]),
+    )
 
 
 @jit
 def _nearest(axes, vectors, elbow, pairs, limits, seen, rotation_tm, q7, q_ref, out):
     """:func:`nearest_for_q7` (compiled)."""
-    clipped = np.minimum(np.maximum(q_ref, limits[0]), limits[1])
-    vec, rows, mats = _scratch()
-    return _solve(axes, vectors, elbow, pairs, limits, seen, rotation_tm, q7, q_ref, clipped,
-                  out, vec, rows, mats)  # fmt: skip
+    geometry = _geometry(axes, vectors, elbow, pairs, limits)
+    ref, clipped = _clipped(q_ref, geometry[4][0], geometry[4][1])
+    seen_t, rotation_t = _pose_terms(seen, rotation_tm)
+    return _solve(geometry, seen_t, rotation_t, q7, ref, clipped, out, np.empty((4, 6)))
 
 
 @jit
-def _solve(
-    axes, vectors, elbow, pairs, limits, seen, rotation_tm, q7, q_ref, clipped, out, vec, rows,
-    mats,
-):  # fmt: skip
-    """:func:`_nearest` with the reference clipped into the limits (``clipped``) and its work
-    arrays (:func:`_scratch`) given."""
-    lower, upper, weights = limits[0], limits[1], limits[2]
-    a4, a5, a6, a7 = axes[3], axes[4], axes[5], axes[6]
-    p7, wrist, s4, w4, e3 = vectors[0], vectors[1], vectors[2], vectors[3], vectors[4]
-    y, v, u, g3, ge, h = vec[0], vec[1], vec[2], vec[3], vec[4], vec[5]
-    wrists, angles = rows[:4], rows[4:]
-    turn, rotation_p = mats[0], mats[1]
+def _solve(geometry, seen, rotation_tm, q7, q_ref, clipped, out, wrists):
+    """:func:`_nearest` of the constants as tuples (:func:`_geometry`), the pose's terms as
+    tuples (:func:`_pose_terms`), the reference and its clipped values as 7-tuples, and a work
+    array (4, 6) for the wrist part of each branch; ``out`` (7,) is written only with a
+    solution. Returns the solution's distance [rad²] (inf: none)."""
+    axes, vectors, elbow, pairs, limits = geometry
+    a1, a2, a3, a4, a5, a6, a7 = axes
+    p7, w, s4, w4, e3 = vectors
+    wrist_pair, shoulder_pair = pairs
+    lower, upper, weights = limits
     # y = exp(S7 θ7) M T⁻¹ s, v = y − w
     c7, s7 = math.cos(q7), math.sin(q7)
-    for i in range(3):
-        y[i] = seen[i] - p7[i]
-    turn_into(a7, y, c7, s7, y)
-    for i in range(3):
-        v[i] = (y[i] + p7[i]) - wrist[i]
+    y = _turn(a7, (seen[0] - p7[0], seen[1] - p7[1], seen[2] - p7[2]), c7, s7)
+    v = ((y[0] + p7[0]) - w[0], (y[1] + p7[1]) - w[1], (y[2] + p7[2]) - w[2])
     base = weights[6] * (q7 - q_ref[6]) ** 2
     # θ4 (up to two): |exp(−S4 θ4) s − w|² = |v|²
-    lengths, const, amplitude, phase = elbow[0], elbow[1], elbow[2], elbow[3]
+    lengths, const, amplitude, phase = elbow
     target = 0.5 * (lengths - (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])) - const
     ratio = target / amplitude
     if abs(ratio) > 1.0 + CLAMP:
@@ -234,19 +314,18 @@ def _solve(
             continue
         cost4 += base
         cos4, sin4 = math.cos(q4), -math.sin(q4)
-        turn_into(a4, s4, cos4, sin4, u)
-        for k in range(3):
-            u[k] -= w4[k]
-        found = _pair(pairs[0], u, v, -clipped[4], -clipped[5], angles)
+        u = _turn(a4, s4, cos4, sin4)
+        u = (u[0] - w4[0], u[1] - w4[1], u[2] - w4[2])
+        found, n5a, n6a, n5b, n6b = _pair(wrist_pair, u, v, -clipped[4], -clipped[5])
         for j in range(found):
             ok5, q5, cost5 = _choice(
-                -angles[j, 0], q_ref[4], clipped[4], lower[4], upper[4], weights[4]
-            )
+                -(n5a if j == 0 else n5b), q_ref[4], clipped[4], lower[4], upper[4], weights[4],
+            )  # fmt: skip
             if not ok5:
                 continue
             ok6, q6, cost6 = _choice(
-                -angles[j, 1], q_ref[5], clipped[5], lower[5], upper[5], weights[5]
-            )
+                -(n6a if j == 0 else n6b), q_ref[5], clipped[5], lower[5], upper[5], weights[5],
+            )  # fmt: skip
             if ok6:
                 wrists[count, 0] = cost4 + cost5 + cost6
                 wrists[count, 1] = q4
@@ -266,29 +345,23 @@ def _solve(
             j -= 1
         wrists[j + 1, 0], wrists[j + 1, 1], wrists[j + 1, 2] = r0, r1, r2
         wrists[j + 1, 3], wrists[j + 1, 4], wrists[j + 1, 5] = r3, r4, r5
+    if count == 0:
+        return np.inf
+    rotation_p = _rotation_p(a7, c7, -s7, rotation_tm)  # R_P = R_T M_Rᵀ Rot(ω7, −θ7)
     bound = np.inf
-    have_p = False
     for i in range(count):
         cost6, q4, q5, q6 = wrists[i, 0], wrists[i, 1], wrists[i, 2], wrists[i, 3]
         cos4, sin4 = wrists[i, 4], wrists[i, 5]
         if cost6 >= bound:
             break
-        if not have_p:  # R_P = R_T M_Rᵀ Rot(ω7, −θ7)
-            rotation_about(a7, c7, -s7, turn)
-            product_into(rotation_tm, turn, rotation_p)
-            have_p = True
         cos5, sin5, cos6, sin6 = math.cos(q5), -math.sin(q5), math.cos(q6), -math.sin(q6)
-        turn_into(a4, axes[2], cos4, sin4, h)
-        turn_into(a5, h, cos5, sin5, h)
-        turn_into(a6, h, cos6, sin6, h)
-        _matvec_into(rotation_p, h, g3)
-        turn_into(a4, e3, cos4, sin4, h)
-        turn_into(a5, h, cos5, sin5, h)
-        turn_into(a6, h, cos6, sin6, h)
-        _matvec_into(rotation_p, h, ge)
-        found = _pair(pairs[1], axes[2], g3, clipped[1], clipped[0], angles)
+        g3 = _times(rotation_p, _turn(a6, _turn(a5, _turn(a4, a3, cos4, sin4), cos5, sin5),
+                                      cos6, sin6))  # fmt: skip
+        ge = _times(rotation_p, _turn(a6, _turn(a5, _turn(a4, e3, cos4, sin4), cos5, sin5),
+                                      cos6, sin6))  # fmt: skip
+        found, t2a, t1a, t2b, t1b = _pair(shoulder_pair, a3, g3, clipped[1], clipped[0])
         for j in range(found):
-            t2, t1 = angles[j, 0], angles[j, 1]
+            t2, t1 = (t2a, t1a) if j == 0 else (t2b, t1b)
             ok1, q1, cost1 = _choice(t1, q_ref[0], clipped[0], lower[0], upper[0], weights[0])
             ok2, q2, cost2 = _choice(t2, q_ref[1], clipped[1], lower[1], upper[1], weights[1])
             if not (ok1 and ok2):
@@ -296,9 +369,9 @@ def _solve(
             total = cost6 + cost1 + cost2
             if total >= bound:
                 continue
-            turn_into(axes[0], ge, math.cos(-t1), math.sin(-t1), h)
-            turn_into(axes[1], h, math.cos(-t2), math.sin(-t2), h)
-            t3 = _angle_about(axes[2], e3, h, clipped[2])
+            h = _turn(a2, _turn(a1, ge, math.cos(-t1), math.sin(-t1)), math.cos(-t2),
+                      math.sin(-t2))  # fmt: skip
+            t3 = _angle_about(a3, e3, h, clipped[2])
             ok3, q3, cost3 = _choice(t3, q_ref[2], clipped[2], lower[2], upper[2], weights[2])
             if not ok3:
                 continue
@@ -316,7 +389,7 @@ def _solve(
 FOUND, NONE, NOT_FINITE = 1, 0, -2
 
 
-@jit
+@inline
 def _prepare(frame, position, rotation, seen, rotation_tm):
     """``M T⁻¹ s`` [m] into ``seen`` (3,) and ``R_T M_Rᵀ`` into ``rotation_tm`` (3, 3): the
     θ7-independent part of a pose (``PandaIK._prepare``, the same operations in the same
@@ -327,30 +400,28 @@ def _prepare(frame, position, rotation, seen, rotation_tm):
     x = rotation[0, 0] * d0 + rotation[1, 0] * d1 + rotation[2, 0] * d2  # R_Tᵀ (s − p_T)
     y = rotation[0, 1] * d0 + rotation[1, 1] * d1 + rotation[2, 1] * d2
     z = rotation[0, 2] * d0 + rotation[1, 2] * d1 + rotation[2, 2] * d2
-    for i in range(3):
-        m = frame[1 + i]  # row i of M_R
-        seen[i] = (m[0] * x + m[1] * y + m[2] * z) + frame[4, i]
+    for i in range(3):  # row 1 + i of frame: row i of M_R
+        seen[i] = (frame[1 + i, 0] * x + frame[1 + i, 1] * y + frame[1 + i, 2] * z) + frame[4, i]
         for j in range(3):  # (R_T M_Rᵀ)[i, j], M_Rᵀ in rows 5–7
             rotation_tm[i, j] = (
                 rotation[i, 0] * frame[5, j] + rotation[i, 1] * frame[6, j]
             ) + rotation[i, 2] * frame[7, j]
 
 
-@jit
+@inline
 def _intervals(axes, vectors, frame, lo7, hi7, seen, starts, ends):
     """The θ7 intervals [rad] within [lo7, hi7] where the elbow reaches, sorted and disjoint,
     into ``starts``/``ends``; returns how many (``PandaIK._elbow_q7_intervals`` and
     ``intervals_within``, the same operations in the same order)."""
-    a, c, p7 = axes[6], frame[8], vectors[0]
-    d0, d1, d2 = seen[0] - p7[0], seen[1] - p7[1], seen[2] - p7[2]
-    ad = a[0] * d0 + a[1] * d1 + a[2] * d2
-    ac = a[0] * c[0] + a[1] * c[1] + a[2] * c[2]
-    cos_part = (c[0] * d0 + c[1] * d1 + c[2] * d2) - ac * ad
-    x, y, z = a[1] * d2 - a[2] * d1, a[2] * d0 - a[0] * d2, a[0] * d1 - a[1] * d0  # a × d
-    sin_part = c[0] * x + c[1] * y + c[2] * z
-    mean = ((d0 * d0 + d1 * d1 + d2 * d2) + (c[0] * c[0] + c[1] * c[1] + c[2] * c[2])) + (
-        2.0 * ac
-    ) * ad
+    a0, a1, a2 = axes[6, 0], axes[6, 1], axes[6, 2]  # ω7
+    c0, c1, c2 = frame[8, 0], frame[8, 1], frame[8, 2]  # p7 − w
+    d0, d1, d2 = seen[0] - vectors[0, 0], seen[1] - vectors[0, 1], seen[2] - vectors[0, 2]
+    ad = a0 * d0 + a1 * d1 + a2 * d2
+    ac = a0 * c0 + a1 * c1 + a2 * c2
+    cos_part = (c0 * d0 + c1 * d1 + c2 * d2) - ac * ad
+    x, y, z = a1 * d2 - a2 * d1, a2 * d0 - a0 * d2, a0 * d1 - a1 * d0  # a × d
+    sin_part = c0 * x + c1 * y + c2 * z
+    mean = ((d0 * d0 + d1 * d1 + d2 * d2) + (c0 * c0 + c1 * c1 + c2 * c2)) + (2.0 * ac) * ad
     amplitude = 2.0 * math.sqrt(cos_part * cos_part + sin_part * sin_part)
     low, high = frame[9, 0], frame[9, 1]
     if amplitude < FREE_TOL:  # θ7 does not change the distance
@@ -392,7 +463,7 @@ def _intervals(axes, vectors, frame, lo7, hi7, seen, starts, ends):
     return merged
 
 
-@jit
+@inline
 def _project(value, starts, ends, count, margin):
     """``panda_intervals.project``: ``value`` if one of the ``count`` intervals holds it, else
     the nearest edge moved ``margin`` inside (the middle of a narrower interval)."""
@@ -410,7 +481,7 @@ def _project(value, starts, ends, count, margin):
     return best
 
 
-@jit
+@inline
 def stage_values(stage, bounds, stages, sizes, starts, ends, count, tried, n_tried, values):
     """The θ7 values [rad] of one stage after the first value and the middle
     (``PandaIK._q7_stages``): each clipped into the limits and moved into the intervals, those
@@ -457,40 +528,39 @@ def stage_values(stage, bounds, stages, sizes, starts, ends, count, tried, n_tri
     return fresh, n_tried
 
 
-@jit
-def _try(constants, seen, rotation_tm, values, count, q_ref, out, space):
+@inline
+def _try(geometry, seen, rotation_tm, values, count, q_ref, clipped, solution, wrists, out):
     """The nearest solution over the first ``count`` θ7 ``values`` (the first on ties), into
-    ``out``; returns whether there is one (``PandaIK._best``)."""
-    axes, vectors, elbow, pairs, limits = constants
-    clipped, work, vec, rows, mats = space[5], space[6], space[7], space[8], space[9]
+    ``out`` (``solution``, ``wrists``: scratch; the other arguments as :func:`_solve`'s);
+    returns whether there is one (``PandaIK._best``)."""
     best = np.inf
     for i in range(count):
-        cost = _solve(axes, vectors, elbow, pairs, limits, seen, rotation_tm, values[i], q_ref,
-                      clipped, work, vec, rows, mats)  # fmt: skip
+        cost = _solve(geometry, seen, rotation_tm, values[i], q_ref, clipped, solution, wrists)
         if cost < best:
             best = cost
-            out[:] = work
+            for j in range(7):
+                out[j] = solution[j]
     return best < np.inf
 
 
 @jit
 def _workspace(limits, stages, sizes):
     """The work arrays of :func:`_search`: (seen (3,), R_T M_Rᵀ (3, 3), interval starts and
-    ends, a stage's values, the values tried, the clipped reference (7,), a solution (7,), and
-    :func:`_scratch`'s three)."""
+    ends (2, room), a stage's values, the values tried, a solution (7,), :func:`_solve`'s
+    work array (4, 6), the search's settings (4,))."""
     lo7, hi7 = limits[0, 6], limits[1, 6]
     room = 2 * (int((hi7 - lo7 + math.pi) / TAU) + 3)  # pieces of ≤ π, each shifted by turns
     widest = 2
     for stage in range(1, sizes.size):
         widest = max(widest, sizes[stage])
-    vec, rows, mats = _scratch()
     return (
         np.empty(3), np.empty((3, 3)), np.empty((2, room)), np.empty(widest),
-        np.empty(2 + sizes[0] + stages.size), np.empty(7), np.empty(7), vec, rows, mats,
+        np.empty(2 + sizes[0] + stages.size), np.empty(7), np.empty((4, 6)),
+        np.empty(4),
     )  # fmt: skip
 
 
-@jit
+@inline
 def _finite(position, rotation, q_ref):
     """Whether the pose and the reference pass the Python path's checks: the sums of the
     position, then the rotation (row-major), then the reference are finite, added as there."""
@@ -533,21 +603,25 @@ def search(
     """
     if not _finite(position, rotation, q_ref):
         return NOT_FINITE
+    seen, rotation_tm, bounds, values, tried, solution, wrists, settings = _workspace(
+        limits, stages, sizes
+    )
     return _search(
-        (axes, vectors, elbow, pairs, limits), frame, stages, sizes, position, rotation, q_ref,
-        out, _workspace(limits, stages, sizes),
+        _geometry(axes, vectors, elbow, pairs, limits), axes, vectors, frame, stages, sizes,
+        position, rotation, q_ref, out, seen, rotation_tm, bounds[0], bounds[1], values, tried,
+        solution, wrists, settings,
     )  # fmt: skip
 
 
 @jit
-def _search(constants, frame, stages, sizes, position, rotation, q_ref, out, space):
-    """:func:`search` of finite input, its work arrays given (:func:`_workspace`)."""
-    axes, vectors, limits = constants[0], constants[1], constants[4]
-    seen, rotation_tm, bounds, values, tried, clipped = (
-        space[0], space[1], space[2], space[3], space[4], space[5]
-    )  # fmt: skip
-    starts, ends = bounds[0], bounds[1]
-    lo7, hi7 = limits[0, 6], limits[1, 6]
+def _search(
+    geometry, axes, vectors, frame, stages, sizes, position, rotation, q_ref, out, seen,
+    rotation_tm, starts, ends, values, tried, solution, wrists, settings,
+):  # fmt: skip
+    """:func:`search` of finite input, the constants also as tuples (:func:`_geometry`), its
+    work arrays given (:func:`_workspace`)."""
+    lower, upper = geometry[4][0], geometry[4][1]
+    lo7, hi7 = lower[6], upper[6]
     _prepare(frame, position, rotation, seen, rotation_tm)
     count = _intervals(axes, vectors, frame, lo7, hi7, seen, starts, ends)
     if count == 0:
@@ -569,23 +643,27 @@ def _search(constants, frame, stages, sizes, position, rotation, q_ref, out, spa
     else:
         first = end - 0.25 * (end - start)
     middle = 0.5 * (start + end)
-    for j in range(7):  # as np.minimum(np.maximum(q_ref, lower), upper)
-        clipped[j] = np.minimum(np.maximum(q_ref[j], limits[0, j]), limits[1, j])
+    ref, clipped = _clipped(q_ref, lower, upper)
+    seen_t, rotation_t = _pose_terms(seen, rotation_tm)
     values[0] = first
-    if _try(constants, seen, rotation_tm, values, 1, q_ref, out, space):
+    if _try(geometry, seen_t, rotation_t, values, 1, ref, clipped, solution, wrists, out):
         return FOUND
     values[0] = middle
-    if middle != first and _try(constants, seen, rotation_tm, values, 1, q_ref, out, space):
+    if middle != first and _try(
+        geometry, seen_t, rotation_t, values, 1, ref, clipped, solution, wrists, out
+    ):
         return FOUND
     # then q7_ref ± each step, then each grid: the values not tried before, moved into the set
     tried[0], tried[1] = first, middle  # then every fresh value
     n_tried = 2
-    settings = np.array([q7_ref, lo7, hi7, frame[9, 2]])
+    settings[0], settings[1], settings[2], settings[3] = q7_ref, lo7, hi7, frame[9, 2]
     for stage in range(sizes[0] + sizes.size - 1):
         fresh, n_tried = stage_values(
             stage, settings, stages, sizes, starts, ends, count, tried, n_tried, values
         )
-        if fresh and _try(constants, seen, rotation_tm, values, fresh, q_ref, out, space):
+        if fresh and _try(
+            geometry, seen_t, rotation_t, values, fresh, ref, clipped, solution, wrists, out
+        ):
             return FOUND
     return NONE
 
@@ -597,14 +675,21 @@ def search_many(
     """:func:`search` of many poses, each with its own reference: ``q`` (N, 7) [rad] and
     ``found`` (N,) written (rows of ``q`` without a solution are left as they are)."""
     out = np.empty(7)
-    space = _workspace(limits, stages, sizes)
-    constants = (axes, vectors, elbow, pairs, limits)
+    seen, rotation_tm, bounds, values, tried, solution, wrists, settings = _workspace(
+        limits, stages, sizes
+    )
+    starts, ends = bounds[0], bounds[1]
+    geometry = _geometry(axes, vectors, elbow, pairs, limits)  # read once: see _geometry
     for n in range(positions.shape[0]):
         position, rotation, ref = positions[n], rotations[n], refs[n]
         if not _finite(position, rotation, ref):
             found[n] = False
             continue
-        status = _search(constants, frame, stages, sizes, position, rotation, ref, out, space)
+        status = _search(
+            geometry, axes, vectors, frame, stages, sizes, position, rotation, ref, out, seen,
+            rotation_tm, starts, ends, values, tried, solution, wrists, settings,
+        )  # fmt: skip
         found[n] = status == FOUND
         if status == FOUND:
-            q[n] = out
+            for j in range(7):
+                q[n, j] = out[j]

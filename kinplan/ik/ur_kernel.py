@@ -30,7 +30,7 @@ import os
 
 import numpy as np
 
-from kinplan.compiled import jit, numba
+from kinplan.compiled import inline, jit, numba
 from kinplan.ik.screws import CLAMP, HALF_TURN_SAFE, LIMIT_TOL, TAU, TINY
 from kinplan.ik.ur_single import FAST_EDGE, FAST_WRIST, URFast
 
@@ -61,6 +61,13 @@ _SIZE = 43
 _OK, _NONE, _EDGE = 0, 1, 2
 # _nearest's modes: a single pose; a batch with the masks; a batch without them.
 SINGLE, MASKS, BOUND = 0, 1, 2
+# Rows of the (12, 12) work array of _pose, _elbow and _nearest (indexed, never sliced: a slice
+# is a new array whose reference count numba updates atomically, ~20 ns each time): per
+# shoulder branch (θ1, cos, sin, |sin(θ5 − δ)|) in rows 0–1; per (shoulder, wrist) pair (θ5,
+# θ6, cos θ5, sin θ5, cos θ6, sin θ6) in rows 2–5; (θ2, θ3, θ4) of both elbows in row 6; per
+# pair the chosen (θ1, θ5, θ6) in rows 7–10; row 11: per pair the θ1, θ5, θ6 part of the
+# distance (columns 0–3), the reference clipped into the limits (columns 6–11).
+_SHOULDER, _WRIST, _ANGLES, _PICKS, _HEADS, _CLIPPED = 0, 2, 6, 7, 11, 6
 
 
 def available() -> bool:
@@ -141,8 +148,8 @@ def _hypot(x, y):
     return h / scale
 
 
-@jit
-def _pose(c, values, shoulder, wrist, plain):
+@inline
+def _pose(c, values, work, plain):
     """θ1 of both shoulder branches and θ5, θ6 of the four (shoulder, wrist) pairs.
 
     ``plain``: the roundings of the plain-float path (:func:`~kinplan.ik.ur_single.fast_shoulder`,
@@ -152,9 +159,9 @@ def _pose(c, values, shoulder, wrist, plain):
 
     Reads ``values`` (15,): ``URFast.matrix @ R.ravel()`` (0–11), then the shoulder
     coordinates of c − p1 (12–14: along u1, x along a, y along b1) [m] (:func:`_fill`).
-    Writes ``shoulder`` (2, 4): per shoulder
-    branch (θ1, cos θ1, sin θ1, |sin(θ5 − δ)|); ``wrist`` (4, 6): per pair ``2·shoulder +
-    wrist`` (θ5, θ6, cos θ5, sin θ5, cos θ6, sin θ6). Angles are any 2π representative.
+    Writes rows ``_SHOULDER`` + s of ``work`` (12, 12): per shoulder branch s (θ1, cos θ1,
+    sin θ1, |sin(θ5 − δ)|); rows ``_WRIST`` + pair: per pair ``2·shoulder + wrist`` (θ5, θ6,
+    cos θ5, sin θ5, cos θ6, sin θ6). Angles are any 2π representative.
 
     Returns:
         ``_NONE`` when no θ1 keeps the shoulder offset (nothing else written), ``_EDGE`` when
@@ -184,13 +191,13 @@ def _pose(c, values, shoulder, wrist, plain):
             c1 = p - sign * m
             p, m = sin_base * ratio, cos_base * sin_half
             s1 = p + sign * m
-        shoulder[s, 0], shoulder[s, 1], shoulder[s, 2] = t1, c1, s1
+        work[_SHOULDER + s, 0], work[_SHOULDER + s, 1], work[_SHOULDER + s, 2] = t1, c1, s1
         # the wrist: θ5 = δ ± half5, cos/sin of half5 from its atan2 arguments
         b5 = c1 * values[3] + s1 * values[6]
         b6 = c1 * values[4] + s1 * values[7]
         b7 = c1 * values[5] + s1 * values[8]
         sine = _hypot(b5, b7) if plain else math.sqrt(b5 * b5 + b7 * b7)
-        shoulder[s, 3] = sine
+        work[_SHOULDER + s, 3] = sine
         half5 = math.atan2(sine, b6)
         norm = max(math.sqrt(sine * sine + b6 * b6), TINY)
         cos_half5, sin_half5 = b6 / norm, sine / norm
@@ -208,30 +215,41 @@ def _pose(c, values, shoulder, wrist, plain):
             sin6, cos6 = b7 * g5 - b5 * g7, b5 * g5 + b7 * g7
             t6 = math.atan2(sin6, cos6)
             row = 2 * s + w
-            wrist[row, 0], wrist[row, 1], wrist[row, 2], wrist[row, 3] = t5, t6, c5, s5
+            (
+                work[_WRIST + row, 0],
+                work[_WRIST + row, 1],
+                work[_WRIST + row, 2],
+                work[_WRIST + row, 3],
+            ) = t5, t6, c5, s5
             if plain:
-                wrist[row, 4], wrist[row, 5] = math.cos(t6), math.sin(t6)
+                work[_WRIST + row, 4], work[_WRIST + row, 5] = math.cos(t6), math.sin(t6)
             else:
                 norm6 = max(math.sqrt(sin6 * sin6 + cos6 * cos6), TINY)
-                wrist[row, 4], wrist[row, 5] = cos6 / norm6, sin6 / norm6
+                work[_WRIST + row, 4], work[_WRIST + row, 5] = cos6 / norm6, sin6 / norm6
     return status
 
 
-@jit
-def _elbow(c, values, shoulder, wrist, pair, angles, plain, full):
+@inline
+def _elbow(c, values, work, pair, plain, full):
     """θ2, θ3, θ4 of both elbow branches of one (shoulder, wrist) ``pair``: the planar target
     (:func:`~kinplan.ik.ur_single.fast_plane_axes`, ``fast_planar_target``) and the elbow
-    (``fast_elbow``), written into ``angles`` (6,) as (θ2, θ3, θ4) of elbow +1, then −1;
+    (``fast_elbow``), from the rows of ``work`` that :func:`_pose` wrote, written into row
+    ``_ANGLES`` of ``work`` (its first 6 columns) as (θ2, θ3, θ4) of elbow +1, then −1;
     ``plain`` as :func:`_pose` (``fast_elbow``'s two atan2 for ψ2, else one). ``full`` False:
-    only the outcome (``angles`` untouched), for a pair whose edge flag alone is needed.
+    only the outcome (row ``_ANGLES`` untouched), for a pair whose edge flag alone is needed.
 
     Returns:
-        ``_NONE`` when the elbow cannot reach (``angles`` NaN), ``_EDGE`` when |cos ψ3| is
+        ``_NONE`` when the elbow cannot reach (row ``_ANGLES`` NaN), ``_EDGE`` when |cos ψ3| is
         within ``FAST_EDGE`` of 1 (computed with the cosine clipped), else ``_OK``.
     """
     s = pair >> 1
-    c1, s1 = shoulder[s, 1], shoulder[s, 2]
-    c5, s5, c6, s6 = wrist[pair, 2], wrist[pair, 3], wrist[pair, 4], wrist[pair, 5]
+    c1, s1 = work[_SHOULDER + s, 1], work[_SHOULDER + s, 2]
+    c5, s5, c6, s6 = (
+        work[_WRIST + pair, 2],
+        work[_WRIST + pair, 3],
+        work[_WRIST + pair, 4],
+        work[_WRIST + pair, 5],
+    )
     m5 = c1 * values[6] - s1 * values[3]
     m6 = c1 * values[7] - s1 * values[4]
     m7 = c1 * values[8] - s1 * values[5]
@@ -259,7 +277,7 @@ def _elbow(c, values, shoulder, wrist, pair, angles, plain, full):
     if size > 1.0 + CLAMP + FAST_EDGE or cosine != cosine:
         if full:
             for j in range(6):
-                angles[j] = np.nan
+                work[_ANGLES, j] = np.nan
         return _NONE
     status = _EDGE if size > 1.0 - FAST_EDGE else _OK
     if not full:
@@ -286,10 +304,19 @@ def _elbow(c, values, shoulder, wrist, pair, angles, plain, full):
             )
         else:
             psi2 = math.atan2(cross0 - sign * cross1, dot0 + sign * dot1)
-        angles[3 * e] = c[_SIGNS] * psi2
-        angles[3 * e + 1] = c[_SIGNS + 1] * psi3
-        angles[3 * e + 2] = c[_SIGNS + 2] * (phi - psi2 - psi3)
+        work[_ANGLES, 3 * e] = c[_SIGNS] * psi2
+        work[_ANGLES, 3 * e + 1] = c[_SIGNS + 1] * psi3
+        work[_ANGLES, 3 * e + 2] = c[_SIGNS + 2] * (phi - psi2 - psi3)
     return status
+
+
+@jit
+def _joint(value, refs, r, work, limits, j):
+    """:func:`_choice` of joint ``j`` for reference ``refs[r]`` (its clipped value in the
+    work array's row ``_HEADS``, its limits and weight in ``limits``)."""
+    return _choice(
+        value, refs[r, j], work[_HEADS, _CLIPPED + j], limits[0, j], limits[1, j], limits[2, j]
+    )
 
 
 @jit
@@ -315,16 +342,18 @@ def _choice(value, ref, clipped, lower, upper, weight):
     return q, weight * (q - ref) ** 2
 
 
-@jit
-def _nearest(c, limits, values, ref, out, mode, work, order):
-    """The branch nearest ``ref`` (6,) of one pose, its solution written into ``out`` (6,).
+@inline
+def _nearest(c, limits, values, refs, q, r, mode, work, order):
+    """The branch nearest the reference ``refs[r]`` of one pose, its solution written into
+    ``q[r]`` (rows indexed, never sliced: see ``_SHOULDER``).
 
     Args:
         c: The packed constants (:func:`constants`).
         limits: Rows lower, upper [rad] and weights, shape (3, 6).
         values: The pose's terms (15,), see :func:`_pose`.
-        ref: Reference configuration [rad] (6,).
-        out: Written with the solution (NaN when none).
+        refs: Reference configurations [rad] (M, 6); row ``r`` is this pose's.
+        q: Solutions (M, 6); row ``r`` written with this pose's (NaN when none).
+        r: The row of ``refs`` and ``q``.
         mode: :data:`SINGLE`: as ``URIK._nearest_fast``, its roundings (``plain`` of
             :func:`_pose`) and its branch and bound (the (shoulder, wrist) pairs in increasing
             order of their θ1, θ5, θ6 distance, the planar step only while they can beat the
@@ -333,67 +362,55 @@ def _nearest(c, limits, values, ref, out, mode, work, order):
             any pair is near the elbow edge). :data:`BOUND`: the roundings and left flags of
             ``fast_nearest_many``, the branch and bound of ``_nearest_fast`` (the same branch
             and q; mask partial: not for the caller).
-        work, order: Scratch, shapes (12, 12) float and (4,) int.
+        work, order: Scratch, shapes (12, 12) float (rows ``_SHOULDER`` …) and (4,) int.
 
     Returns:
         (branch (−1: none within the limits, :data:`LEFT`: near a singularity), mask).
     """
-    shoulder, wrist, angles = work[0:2, :4], work[2:6, :6], work[6, :6]
-    picks, heads, clipped = work[7:11, :3], work[11, :4], work[11, 6:12]
     for j in range(6):
-        out[j] = np.nan
-        clipped[j] = min(max(ref[j], limits[0, j]), limits[1, j])
+        q[r, j] = np.nan
+        work[_HEADS, _CLIPPED + j] = min(max(refs[r, j], limits[0, j]), limits[1, j])
     single, bound = mode == SINGLE, mode != MASKS
-    status = _pose(c, values, shoulder, wrist, single)
+    status = _pose(c, values, work, single)
     if status == _NONE:
         return -1, 0
-    if status == _EDGE or shoulder[0, 3] < FAST_WRIST or shoulder[1, 3] < FAST_WRIST:
+    if status == _EDGE or work[_SHOULDER, 3] < FAST_WRIST or work[_SHOULDER + 1, 3] < FAST_WRIST:
         return LEFT, 0
     # the θ1, θ5, θ6 parts of the distance, per pair
-    first = _choice(shoulder[0, 0], ref[0], clipped[0], limits[0, 0], limits[1, 0], limits[2, 0])
-    second = _choice(shoulder[1, 0], ref[0], clipped[0], limits[0, 0], limits[1, 0], limits[2, 0])
+    first = _joint(work[_SHOULDER, 0], refs, r, work, limits, 0)
+    second = _joint(work[_SHOULDER + 1, 0], refs, r, work, limits, 0)
     for pair in range(4):
         q1, cost1 = first if pair < 2 else second
-        q5, cost5 = _choice(
-            wrist[pair, 0], ref[4], clipped[4], limits[0, 4], limits[1, 4], limits[2, 4]
-        )
-        q6, cost6 = _choice(
-            wrist[pair, 1], ref[5], clipped[5], limits[0, 5], limits[1, 5], limits[2, 5]
-        )
-        heads[pair] = (cost1 + cost5) + cost6
-        picks[pair, 0], picks[pair, 1], picks[pair, 2] = q1, q5, q6
+        q5, cost5 = _joint(work[_WRIST + pair, 0], refs, r, work, limits, 4)
+        q6, cost6 = _joint(work[_WRIST + pair, 1], refs, r, work, limits, 5)
+        work[_HEADS, pair] = (cost1 + cost5) + cost6
+        work[_PICKS + pair, 0], work[_PICKS + pair, 1], work[_PICKS + pair, 2] = q1, q5, q6
         order[pair] = pair
     if bound:  # by head, then pair index (an insertion sort of four)
         for i in range(1, 4):
             j = i
-            while j > 0 and heads[order[j]] < heads[order[j - 1]]:
+            while j > 0 and work[_HEADS, order[j]] < work[_HEADS, order[j - 1]]:
                 order[j], order[j - 1] = order[j - 1], order[j]
                 j -= 1
     best, best_cost, mask = -1, np.inf, 0
     for i in range(4):
         pair = order[i]
-        head = heads[pair]
+        head = work[_HEADS, pair]
         # once a head cannot beat the best, neither can the later ones (sorted, best fixed)
         beaten = bound and (head == np.inf or head > best_cost)
         if beaten and single:
             break
-        status = _elbow(c, values, shoulder, wrist, pair, angles, single, not beaten)
+        status = _elbow(c, values, work, pair, single, not beaten)
         if status == _EDGE:
             return LEFT, 0
         if beaten or status == _NONE or head == np.inf:
             continue
         for e in range(2):
-            q2, cost2 = _choice(
-                angles[3 * e], ref[1], clipped[1], limits[0, 1], limits[1, 1], limits[2, 1]
-            )
+            q2, cost2 = _joint(work[_ANGLES, 3 * e], refs, r, work, limits, 1)
             if cost2 == np.inf or (bound and head + cost2 > best_cost):
                 continue
-            q3, cost3 = _choice(
-                angles[3 * e + 1], ref[2], clipped[2], limits[0, 2], limits[1, 2], limits[2, 2]
-            )
-            q4, cost4 = _choice(
-                angles[3 * e + 2], ref[3], clipped[3], limits[0, 3], limits[1, 3], limits[2, 3]
-            )
+            q3, cost3 = _joint(work[_ANGLES, 3 * e + 1], refs, r, work, limits, 2)
+            q4, cost4 = _joint(work[_ANGLES, 3 * e + 2], refs, r, work, limits, 3)
             cost = ((head + cost2) + cost3) + cost4
             if cost == np.inf:
                 continue
@@ -401,24 +418,24 @@ def _nearest(c, limits, values, ref, out, mode, work, order):
             mask |= 1 << index
             if cost < best_cost or (cost == best_cost and index < best):
                 best, best_cost = index, cost
-                out[0], out[1], out[2] = picks[pair, 0], q2, q3
-                out[3], out[4], out[5] = q4, picks[pair, 1], picks[pair, 2]
+                q[r, 0], q[r, 1], q[r, 2] = work[_PICKS + pair, 0], q2, q3
+                q[r, 3], q[r, 4], q[r, 5] = q4, work[_PICKS + pair, 1], work[_PICKS + pair, 2]
     return best, mask
 
 
-@jit
-def _finite(values, ref):
-    """Whether the pose's terms and the reference are all finite (a NaN or inf anywhere in
-    the pose reaches some term: ``URFast.matrix`` has no zero column)."""
+@inline
+def _finite(values, refs, r):
+    """Whether the pose's terms and the reference ``refs[r]`` are all finite (a NaN or inf
+    anywhere in the pose reaches some term: ``URFast.matrix`` has no zero column)."""
     total = 0.0
-    for r in range(15):
-        total += values[r]
+    for i in range(15):
+        total += values[i]
     for j in range(6):
-        total += ref[j]
+        total += refs[r, j]
     return math.isfinite(total)
 
 
-@jit
+@inline
 def _fill(c, terms, along, i, values):
     """``values`` (15,) of pose ``i`` from the array path's products: ``terms`` (12, N) =
     ``URFast.matrix @ R.ravel()`` and ``along`` (3, N) = shoulder axes @ P, per pose (the
@@ -450,10 +467,11 @@ def nearest(c, limits, terms, position, ref, out):
     for r in range(3):  # in the order of fast_shoulder's sums
         a = 3 * r
         values[12 + r] = terms[9 + r] + c[a] * px + c[a + 1] * py + c[a + 2] * pz - c[_P1 + r]
-    if not _finite(values, ref):
+    refs, q = ref.reshape((1, 6)), out.reshape((1, 6))
+    if not _finite(values, refs, 0):
         return NOT_FINITE
     work, order = np.empty((12, 12)), np.empty(4, dtype=np.int64)
-    branch, _ = _nearest(c, limits, values, ref, out, SINGLE, work, order)
+    branch, _ = _nearest(c, limits, values, refs, q, 0, SINGLE, work, order)
     return branch
 
 
@@ -471,8 +489,8 @@ def nearest_many(c, limits, terms, along, refs, q, branch, mask, left, masks):
     work, order = np.empty((12, 12)), np.empty(4, dtype=np.int64)
     for i in range(refs.shape[0]):
         _fill(c, terms, along, i, values)
-        if _finite(values, refs[i]):
-            best, bits = _nearest(c, limits, values, refs[i], q[i], mode, work, order)
+        if _finite(values, refs, i):
+            best, bits = _nearest(c, limits, values, refs, q, i, mode, work, order)
         else:
             best, bits = -1, 0
             q[i, :] = np.nan
@@ -490,20 +508,20 @@ def branch_many(c, terms, along, branches, q, edge):
     :func:`_fill`."""
     values = np.empty(15)
     work = np.empty((12, 12))
-    shoulder, wrist, angles = work[0:2, :4], work[2:6, :6], work[6, :6]
     for i in range(branches.shape[0]):
         b = branches[i]
         pair, s = b >> 1, b >> 2
         _fill(c, terms, along, i, values)
-        status = _pose(c, values, shoulder, wrist, False)
+        status = _pose(c, values, work, False)
         if status == _NONE:
             q[i, :] = np.nan
             edge[i] = False
             continue
-        elbow = _elbow(c, values, shoulder, wrist, pair, angles, False, True)
+        elbow = _elbow(c, values, work, pair, False, True)
         # as fast_branch_many: an elbow out of reach counts as an edge too (q NaN there)
-        near = status == _EDGE or shoulder[s, 3] < FAST_WRIST or elbow != _OK
+        near = status == _EDGE or work[_SHOULDER + s, 3] < FAST_WRIST or elbow != _OK
         e = 3 * (b & 1)
-        q[i, 0], q[i, 1], q[i, 2] = shoulder[s, 0], angles[e], angles[e + 1]
-        q[i, 3], q[i, 4], q[i, 5] = angles[e + 2], wrist[pair, 0], wrist[pair, 1]
+        q[i, 0], q[i, 1], q[i, 2] = work[_SHOULDER + s, 0], work[_ANGLES, e], work[_ANGLES, e + 1]
+        q[i, 3], q[i, 4] = work[_ANGLES, e + 2], work[_WRIST + pair, 0]
+        q[i, 5] = work[_WRIST + pair, 1]
         edge[i] = near
