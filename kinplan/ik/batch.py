@@ -229,7 +229,7 @@ class BatchSolver:
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         count = len(positions)
         method = self.method(rotations is None)
-        q = np.clip(seeds, self.lower, self.upper)
+        q = np.empty_like(seeds)  # every method below writes every row of its part
         success = np.zeros(count, dtype=bool)
         branches = np.full(count, -1, dtype=np.int8)
         masks = np.zeros(count, dtype=np.uint16)
@@ -283,7 +283,9 @@ class BatchSolver:
         else:
             q, branch, mask = self._all_branch_choice(positions, rotations, seeds)
         found = branch >= 0
-        q = np.where(found[:, None], q, np.clip(seeds, self.lower, self.upper))
+        missing = np.flatnonzero(~found)  # no solution: the seed clipped into the limits
+        if missing.size:
+            q[missing] = np.clip(seeds[missing], self.lower, self.upper)
         q, success = self._verify(positions, rotations, q, found, tolerances)
         return q, success, branch.astype(np.int8), mask
 
