@@ -135,47 +135,61 @@ def screw_kinematics(q, directions, points, tool, pose, jacobian):
     """Tool pose (4, 4) and LOCAL_WORLD_ALIGNED Jacobian (6, nq) at ``q`` [rad] by the product
     of exponentials T(q) = exp(S1 q1) ⋯ exp(Sn qn) M of the joint screws at q = 0 (unit axes
     ``directions`` through ``points`` [m], tool pose ``tool`` at q = 0), written into ``pose``
-    and ``jacobian``. Joint i's column is (ωᵢ × (p_tool − xᵢ), ωᵢ)."""
+    and ``jacobian``. Joint i's column is (ωᵢ × (p_tool − xᵢ), ωᵢ).
+
+    The running rotation and translation are kept in numbers, not arrays (no allocation, no
+    reference counts: this runs once an iteration of the numerical IK); the operations are
+    those of :func:`rotation_about` and :func:`product_into`, in their order."""
     nq = q.shape[0]
-    rotation = np.eye(3)
-    translation = np.zeros(3)
-    origins = np.empty((nq, 3))
-    step = np.empty((3, 3))
-    turned = np.empty((3, 3))
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
+    t0 = t1 = t2 = 0.0
     for i in range(nq):
         px, py, pz = points[i, 0], points[i, 1], points[i, 2]
-        for a in range(3):
-            jacobian[3 + a, i] = (
-                rotation[a, 0] * directions[i, 0]
-                + rotation[a, 1] * directions[i, 1]
-                + rotation[a, 2] * directions[i, 2]
-            )
-            origins[i, a] = (
-                rotation[a, 0] * px + rotation[a, 1] * py + rotation[a, 2] * pz + translation[a]
-            )
-        rotation_about(directions[i], np.cos(q[i]), np.sin(q[i]), step)
-        sx = px - (step[0, 0] * px + step[0, 1] * py + step[0, 2] * pz)
-        sy = py - (step[1, 0] * px + step[1, 1] * py + step[1, 2] * pz)
-        sz = pz - (step[2, 0] * px + step[2, 1] * py + step[2, 2] * pz)
-        for a in range(3):
-            translation[a] += rotation[a, 0] * sx + rotation[a, 1] * sy + rotation[a, 2] * sz
-        product_into(rotation, step, turned)
-        rotation, turned = turned, rotation
-    product_into(rotation, tool[:3, :3], pose[:3, :3])
-    for a in range(3):
-        pose[a, 3] = (
-            rotation[a, 0] * tool[0, 3]
-            + rotation[a, 1] * tool[1, 3]
-            + rotation[a, 2] * tool[2, 3]
-            + translation[a]
+        x, y, z = directions[i, 0], directions[i, 1], directions[i, 2]
+        jacobian[3, i] = r00 * x + r01 * y + r02 * z
+        jacobian[4, i] = r10 * x + r11 * y + r12 * z
+        jacobian[5, i] = r20 * x + r21 * y + r22 * z
+        # joint i's origin x_i, kept in the linear rows until the tool position is known
+        jacobian[0, i] = r00 * px + r01 * py + r02 * pz + t0
+        jacobian[1, i] = r10 * px + r11 * py + r12 * pz + t1
+        jacobian[2, i] = r20 * px + r21 * py + r22 * pz + t2
+        c, s = np.cos(q[i]), np.sin(q[i])
+        t = 1.0 - c
+        s00, s01, s02 = c + x * x * t, x * y * t - z * s, x * z * t + y * s
+        s10, s11, s12 = y * x * t + z * s, c + y * y * t, y * z * t - x * s
+        s20, s21, s22 = z * x * t - y * s, z * y * t + x * s, c + z * z * t
+        sx = px - (s00 * px + s01 * py + s02 * pz)
+        sy = py - (s10 * px + s11 * py + s12 * pz)
+        sz = pz - (s20 * px + s21 * py + s22 * pz)
+        t0 += r00 * sx + r01 * sy + r02 * sz
+        t1 += r10 * sx + r11 * sy + r12 * sz
+        t2 += r20 * sx + r21 * sy + r22 * sz
+        r00, r01, r02, r10, r11, r12, r20, r21, r22 = (
+            ((0.0 + r00 * s00) + r01 * s10) + r02 * s20,
+            ((0.0 + r00 * s01) + r01 * s11) + r02 * s21,
+            ((0.0 + r00 * s02) + r01 * s12) + r02 * s22,
+            ((0.0 + r10 * s00) + r11 * s10) + r12 * s20,
+            ((0.0 + r10 * s01) + r11 * s11) + r12 * s21,
+            ((0.0 + r10 * s02) + r11 * s12) + r12 * s22,
+            ((0.0 + r20 * s00) + r21 * s10) + r22 * s20,
+            ((0.0 + r20 * s01) + r21 * s11) + r22 * s21,
+            ((0.0 + r20 * s02) + r21 * s12) + r22 * s22,
         )
+    for j in range(3):
+        m0, m1, m2 = tool[0, j], tool[1, j], tool[2, j]
+        pose[0, j] = ((0.0 + r00 * m0) + r01 * m1) + r02 * m2
+        pose[1, j] = ((0.0 + r10 * m0) + r11 * m1) + r12 * m2
+        pose[2, j] = ((0.0 + r20 * m0) + r21 * m1) + r22 * m2
+    pose[0, 3] = r00 * tool[0, 3] + r01 * tool[1, 3] + r02 * tool[2, 3] + t0
+    pose[1, 3] = r10 * tool[0, 3] + r11 * tool[1, 3] + r12 * tool[2, 3] + t1
+    pose[2, 3] = r20 * tool[0, 3] + r21 * tool[1, 3] + r22 * tool[2, 3] + t2
     pose[3, 0] = pose[3, 1] = pose[3, 2] = 0.0
     pose[3, 3] = 1.0
     for i in range(nq):
         wx, wy, wz = jacobian[3, i], jacobian[4, i], jacobian[5, i]
-        rx = pose[0, 3] - origins[i, 0]
-        ry = pose[1, 3] - origins[i, 1]
-        rz = pose[2, 3] - origins[i, 2]
+        rx = pose[0, 3] - jacobian[0, i]
+        ry = pose[1, 3] - jacobian[1, i]
+        rz = pose[2, 3] - jacobian[2, i]
         jacobian[0, i] = wy * rz - wz * ry
         jacobian[1, i] = wz * rx - wx * rz
         jacobian[2, i] = wx * ry - wy * rx

@@ -26,7 +26,7 @@ import os
 
 import numpy as np
 
-from kinplan.compiled import jit, numba
+from kinplan.compiled import inline, jit, numba
 from kinplan.compiled import screw_kinematics as kinematics
 
 #: Private switch for tests and benchmarks: False makes :func:`available` False.
@@ -46,6 +46,12 @@ def available() -> bool:
 def log_rotation(m, out):
     """The rotation vector of the rotation matrix ``m`` (as ``pinocchio.log3``) into ``out``
     (3,), for every angle in [0, π]."""
+    out[0], out[1], out[2] = _log3(m)
+
+
+@inline
+def _log3(m):
+    """:func:`log_rotation` of ``m`` as a 3-tuple."""
     vx = 0.5 * (m[2, 1] - m[1, 2])
     vy = 0.5 * (m[0, 2] - m[2, 0])
     vz = 0.5 * (m[1, 0] - m[0, 1])
@@ -54,48 +60,54 @@ def log_rotation(m, out):
     angle = math.atan2(sine, cosine)
     if cosine > -0.9:  # the antisymmetric part is well conditioned
         factor = angle / sine if sine > 1e-8 else 1.0 + angle * angle / 6.0
-        out[0], out[1], out[2] = factor * vx, factor * vy, factor * vz
-        return
+        return factor * vx, factor * vy, factor * vz
     # near a half turn: the axis from the symmetric part, its sign from the antisymmetric one
     big = 0
     for i in range(1, 3):
         if m[i, i] > m[big, big]:
             big = i
-    axis = np.empty(3)
-    for i in range(3):
-        axis[i] = 0.5 * (m[i, big] + m[big, i])
-    axis[big] = m[big, big] - cosine
-    norm = math.sqrt(axis[0] ** 2 + axis[1] ** 2 + axis[2] ** 2)
-    if axis[0] * vx + axis[1] * vy + axis[2] * vz < 0.0:
+    a0, a1, a2 = (
+        0.5 * (m[0, big] + m[big, 0]),
+        0.5 * (m[1, big] + m[big, 1]),
+        0.5 * (m[2, big] + m[big, 2]),
+    )
+    if big == 0:
+        a0 = m[0, 0] - cosine
+    elif big == 1:
+        a1 = m[1, 1] - cosine
+    else:
+        a2 = m[2, 2] - cosine
+    norm = math.sqrt(a0**2 + a1**2 + a2**2)
+    if a0 * vx + a1 * vy + a2 * vz < 0.0:
         norm = -norm
-    for i in range(3):
-        out[i] = angle * axis[i] / norm
+    return angle * a0 / norm, angle * a1 / norm, angle * a2 / norm
 
 
 @jit
-def _cholesky_solve(a, b, n):
+def _cholesky_solve(a, b, n, low, y, x):
     """x with a x = b for the symmetric positive definite leading (n, n) block of ``a``
-    (copied); NaN when it is not positive definite."""
-    low = np.zeros((n, n))
+    (factored into ``low`` (n, n); ``y`` (n,) scratch), written into ``x`` (n,) and returned;
+    NaN when it is not positive definite. Work arrays given: this runs once or twice an
+    iteration."""
     for j in range(n):
         total = a[j, j]
         for k in range(j):
             total -= low[j, k] * low[j, k]
         if not total > 0.0:
-            return np.full(n, np.nan)
+            for i in range(n):
+                x[i] = np.nan
+            return x
         low[j, j] = math.sqrt(total)
         for i in range(j + 1, n):
             total = a[i, j]
             for k in range(j):
                 total -= low[i, k] * low[j, k]
             low[i, j] = total / low[j, j]
-    y = np.empty(n)
     for i in range(n):
         total = b[i]
         for k in range(i):
             total -= low[i, k] * y[k]
         y[i] = total / low[i, i]
-    x = np.empty(n)
     for i in range(n - 1, -1, -1):
         total = y[i]
         for k in range(i + 1, n):
@@ -136,6 +148,7 @@ def descend(q0, target, with_rotation, limits, screws, tool, settings, q):
     error = np.zeros(6)
     normal = np.empty((nq, nq))
     gradient = np.empty(nq)
+    low, scratch, dq = np.zeros((nq, nq)), np.empty(nq), np.empty(nq)  # Cholesky's
     best_cost = np.inf
     stalled = 0
     perr2 = frob2 = np.inf
@@ -162,7 +175,7 @@ def descend(q0, target, with_rotation, limits, screws, tool, settings, q):
                         + target[a, 1] * pose[b, 1]
                         + target[a, 2] * pose[b, 2]
                     )
-            log_rotation(relative, error[3:])
+            error[3], error[4], error[5] = _log3(relative)
             rerr2 = error[3] ** 2 + error[4] ** 2 + error[5] ** 2
         if it == max_iterations:
             break
@@ -185,7 +198,7 @@ def descend(q0, target, with_rotation, limits, screws, tool, settings, q):
                     total += jacobian[r, i] * jacobian[r, j]
                 normal[i, j] = normal[j, i] = total
             normal[i, i] += damping
-        dq = _cholesky_solve(normal, gradient, nq)
+        _cholesky_solve(normal, gradient, nq, low, scratch, dq)
         if touching:  # joints on a limit pushed outwards leave the step (active set)
             blocked = False
             for i in range(nq):
@@ -197,7 +210,7 @@ def descend(q0, target, with_rotation, limits, screws, tool, settings, q):
                     normal[i, i] = 1.0
                     gradient[i] = 0.0
             if blocked:
-                dq = _cholesky_solve(normal, gradient, nq)
+                _cholesky_solve(normal, gradient, nq, low, scratch, dq)
         step = 0.0
         for i in range(nq):
             step = max(step, abs(dq[i]))
