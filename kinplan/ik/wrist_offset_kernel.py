@@ -27,7 +27,17 @@ from kinplan.compiled import numba
 from kinplan.ik import wrist_offset_branches
 from kinplan.ik.screws import TAU
 from kinplan.ik.spherical_wrist_kernel import nearest_of, pose_finite
-from kinplan.ik.wrist_offset_branches import angle_to, branch, inline, jit, prepare, turn, wrap
+from kinplan.ik.wrist_offset_branches import (
+    angle_to3,
+    branch,
+    branch_geometry,
+    geometry,
+    inline,
+    jit,
+    pose_terms,
+    turn3,
+    wrap,
+)
 from kinplan.ik.wrist_offset_search import search
 
 #: Solution slots per pose (NaN rows past the solutions found).
@@ -45,34 +55,34 @@ def available() -> bool:
 
 # ---------------------------------------------------------------------------- solutions
 @inline
-def _solution(k, pre, theta6, b, fill, q):
-    """The joint angles [rad] of root ``theta6`` of branch ``b``, written into ``q`` (6,);
-    returns their cosines and sines (cos θ1, sin θ1, …, cos θ6, sin θ6)."""
+def _solution(k, search_k, pre, theta6, b, fill):
+    """The joint angles [rad] (a 6-tuple) of root ``theta6`` of branch ``b``, and their
+    cosines and sines (cos θ1, sin θ1, …, cos θ6, sin θ6). ``k`` is the geometry as tuples
+    (:func:`geometry`), ``search_k`` the branches' rows of it (:func:`branch_geometry`)."""
     c6, s6 = math.cos(theta6), math.sin(theta6)
-    _, _, _, cm, sm, c2, s2, c3, s3 = branch(k, pre, c6, s6, b, fill)
+    moving = (pre[0], pre[1], pre[2], pre[3], pre[4], pre[5])
+    _, _, _, cm, sm, c2, s2, c3, s3 = branch(search_k, moving, c6, s6, b, fill)
     # W h5 = R3ᵀ R2ᵀ R1ᵀ (R_T R_Mᵀ R6ᵀ h5), W x5 likewise
-    wx = pre[3, 0] + c6 * pre[4, 0] + s6 * pre[5, 0]
-    wy = pre[3, 1] + c6 * pre[4, 1] + s6 * pre[5, 1]
-    wz = pre[3, 2] + c6 * pre[4, 2] + s6 * pre[5, 2]
-    ux = pre[6, 0] + c6 * pre[7, 0] + s6 * pre[8, 0]
-    uy = pre[6, 1] + c6 * pre[7, 1] + s6 * pre[8, 1]
-    uz = pre[6, 2] + c6 * pre[7, 2] + s6 * pre[8, 2]
-    wx, wy, wz = turn(k, 0, wx, wy, wz, cm, sm)
-    wx, wy, wz = turn(k, 1, wx, wy, wz, c2, -s2)
-    wx, wy, wz = turn(k, 2, wx, wy, wz, c3, -s3)
-    ux, uy, uz = turn(k, 0, ux, uy, uz, cm, sm)
-    ux, uy, uz = turn(k, 1, ux, uy, uz, c2, -s2)
-    ux, uy, uz = turn(k, 2, ux, uy, uz, c3, -s3)
-    c4, s4, _ = angle_to(k, 3, k[4, 0], k[4, 1], k[4, 2], wx, wy, wz)
-    ux, uy, uz = turn(k, 3, ux, uy, uz, c4, -s4)
-    c5, s5, _ = angle_to(k, 4, k[22, 0], k[22, 1], k[22, 2], ux, uy, uz)
-    q[0] = math.atan2(-sm, cm)
-    q[1] = math.atan2(s2, c2)
-    q[2] = math.atan2(s3, c3)
-    q[3] = math.atan2(s4, c4)
-    q[4] = math.atan2(s5, c5)
-    q[5] = wrap(theta6)
-    return cm, -sm, c2, s2, c3, s3, c4, s4, c5, s5, c6, s6
+    wx = pre[3][0] + c6 * pre[4][0] + s6 * pre[5][0]
+    wy = pre[3][1] + c6 * pre[4][1] + s6 * pre[5][1]
+    wz = pre[3][2] + c6 * pre[4][2] + s6 * pre[5][2]
+    ux = pre[6][0] + c6 * pre[7][0] + s6 * pre[8][0]
+    uy = pre[6][1] + c6 * pre[7][1] + s6 * pre[8][1]
+    uz = pre[6][2] + c6 * pre[7][2] + s6 * pre[8][2]
+    wx, wy, wz = turn3(k[0], wx, wy, wz, cm, sm)
+    wx, wy, wz = turn3(k[1], wx, wy, wz, c2, -s2)
+    wx, wy, wz = turn3(k[2], wx, wy, wz, c3, -s3)
+    ux, uy, uz = turn3(k[0], ux, uy, uz, cm, sm)
+    ux, uy, uz = turn3(k[1], ux, uy, uz, c2, -s2)
+    ux, uy, uz = turn3(k[2], ux, uy, uz, c3, -s3)
+    c4, s4, _ = angle_to3(k[3], k[4][0], k[4][1], k[4][2], wx, wy, wz)
+    ux, uy, uz = turn3(k[3], ux, uy, uz, c4, -s4)
+    c5, s5, _ = angle_to3(k[4], k[22][0], k[22][1], k[22][2], ux, uy, uz)
+    q = (
+        math.atan2(-sm, cm), math.atan2(s2, c2), math.atan2(s3, c3), math.atan2(s4, c4),
+        math.atan2(s5, c5), wrap(theta6),
+    )  # fmt: skip
+    return q, (cm, -sm, c2, s2, c3, s3, c4, s4, c5, s5, c6, s6)
 
 
 @inline
@@ -81,12 +91,12 @@ def _screw_step(k, joint, c, s, rot, tx, ty, tz):
     (tx, ty, tz) [m] the rotation and translation of ``e1 ⋯ e(j−1)``, those of ``e1 ⋯ ej`` for
     joint j = ``joint`` at cos θ = c, sin θ = s (Rodrigues about the unit axis ``k[joint]``
     through ``k[6 + joint]``). Scalars only, no scratch array."""
-    x, y, z = k[joint, 0], k[joint, 1], k[joint, 2]
+    x, y, z = k[joint][0], k[joint][1], k[joint][2]
     t = 1.0 - c
     a00, a01, a02 = c + x * x * t, x * y * t - z * s, x * z * t + y * s
     a10, a11, a12 = y * x * t + z * s, c + y * y * t, y * z * t - x * s
     a20, a21, a22 = z * x * t - y * s, z * y * t + x * s, c + z * z * t
-    px, py, pz = k[6 + joint, 0], k[6 + joint, 1], k[6 + joint, 2]
+    px, py, pz = k[6 + joint][0], k[6 + joint][1], k[6 + joint][2]
     sx = px - (a00 * px + a01 * py + a02 * pz)
     sy = py - (a10 * px + a11 * py + a12 * pz)
     sz = pz - (a20 * px + a21 * py + a22 * pz)
@@ -126,16 +136,16 @@ def _reaches(k, tool, cs, position, rotation):
     rot, tx, ty, tz = _screw_step(k, 4, cs[8], cs[9], rot, tx, ty, tz)
     rot, tx, ty, tz = _screw_step(k, 5, cs[10], cs[11], rot, tx, ty, tz)
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = rot
-    mx, my, mz = tool[0, 3], tool[1, 3], tool[2, 3]
+    mx, my, mz = tool[0][3], tool[1][3], tool[2][3]
     miss = (r00 * mx + r01 * my + r02 * mz + tx - position[0]) ** 2
     miss += (r10 * mx + r11 * my + r12 * mz + ty - position[1]) ** 2
     miss += (r20 * mx + r21 * my + r22 * mz + tz - position[2]) ** 2
     spin = 0.0
     for j in range(3):
-        t0, t1, t2 = tool[0, j], tool[1, j], tool[2, j]
-        spin += (r00 * t0 + r01 * t1 + r02 * t2 - rotation[0, j]) ** 2
-        spin += (r10 * t0 + r11 * t1 + r12 * t2 - rotation[1, j]) ** 2
-        spin += (r20 * t0 + r21 * t1 + r22 * t2 - rotation[2, j]) ** 2
+        t0, t1, t2 = tool[0][j], tool[1][j], tool[2][j]
+        spin += (r00 * t0 + r01 * t1 + r02 * t2 - rotation[0][j]) ** 2
+        spin += (r10 * t0 + r11 * t1 + r12 * t2 - rotation[1][j]) ** 2
+        spin += (r20 * t0 + r21 * t1 + r22 * t2 - rotation[2][j]) ** 2
     return miss <= VERIFY_TOL * VERIFY_TOL and spin <= 2.0 * VERIFY_TOL * VERIFY_TOL
 
 
@@ -157,28 +167,56 @@ def branches(k, tool, position, rotation, fill, raw, ok):
     Returns:
         Whether some joint was free (took its ``fill`` value) at a sample or root.
     """
-    pre = np.empty((9, 3))
-    prepare(k, position, rotation, pre)
+    return _branches(geometry(k), _tool(tool), position, rotation, fill, raw, ok)
+
+
+@inline
+def _tool(tool):
+    """The tool pose (4, 4) as a tuple of its first three rows (4-tuples)."""
+    return (
+        (tool[0, 0], tool[0, 1], tool[0, 2], tool[0, 3]),
+        (tool[1, 0], tool[1, 1], tool[1, 2], tool[1, 3]),
+        (tool[2, 0], tool[2, 1], tool[2, 2], tool[2, 3]),
+    )
+
+
+@jit
+def _branches(g, tool, position, rotation, fill, raw, ok):
+    """:func:`branches` of the geometry and the tool as tuples (:func:`geometry`,
+    :func:`_tool`): the pose is read into tuples once, and the search and the solutions take
+    them (no array passed per sample, root or solution: no reference counts)."""
+    p = (position[0], position[1], position[2])
+    r = (
+        (rotation[0, 0], rotation[0, 1], rotation[0, 2]),
+        (rotation[1, 0], rotation[1, 1], rotation[1, 2]),
+        (rotation[2, 0], rotation[2, 1], rotation[2, 2]),
+    )
+    f = (fill[0], fill[1])
+    pre = pose_terms(g, p, r)
+    search_k = branch_geometry(g)
     roots = np.empty(SLOTS)
     branch_of = np.empty(SLOTS, dtype=np.int64)
-    count, singular = search(k, pre, fill, roots, branch_of)
+    moving = (pre[0], pre[1], pre[2], pre[3], pre[4], pre[5])
+    count, singular = search(search_k, moving, f, roots, branch_of)
     # sorted by branch then θ6 (insertion sort: stable, ≤ SLOTS roots)
-    for r in range(1, count):
-        root, b = roots[r], branch_of[r]
+    for i in range(1, count):
+        root, b = roots[i], branch_of[i]
         key = b * 16.0 + (root + math.pi) / TAU
-        i = r
-        while i > 0 and branch_of[i - 1] * 16.0 + (roots[i - 1] + math.pi) / TAU > key:
-            roots[i], branch_of[i] = roots[i - 1], branch_of[i - 1]
-            i -= 1
-        roots[i], branch_of[i] = root, b
+        j = i
+        while j > 0 and branch_of[j - 1] * 16.0 + (roots[j - 1] + math.pi) / TAU > key:
+            roots[j], branch_of[j] = roots[j - 1], branch_of[j - 1]
+            j -= 1
+        roots[j], branch_of[j] = root, b
     row = 0
-    for r in range(count):
-        cs = _solution(k, pre, roots[r], branch_of[r], fill, raw[row])
-        if _reaches(k, tool, cs, position, rotation):
+    for i in range(count):
+        q, cs = _solution(g, search_k, pre, roots[i], branch_of[i], f)
+        for j in range(6):
+            raw[row, j] = q[j]
+        if _reaches(g, tool, cs, p, r):
             ok[row] = True
             row += 1
-    for r in range(row, SLOTS):
-        ok[r] = False
+    for i in range(row, SLOTS):
+        ok[i] = False
     return singular
 
 
@@ -187,8 +225,9 @@ def raw_many(k, tool, positions, rotations, fills, raw, singular):
     """:func:`branches` of many poses: ``raw`` (N, SLOTS, 6) [rad] with NaN rows where no
     solution, ``singular`` (N,)."""
     ok = np.empty(SLOTS, dtype=np.bool_)
+    g, tool_rows = geometry(k), _tool(tool)
     for n in range(positions.shape[0]):
-        singular[n] = branches(k, tool, positions[n], rotations[n], fills[n], raw[n], ok)
+        singular[n] = _branches(g, tool_rows, positions[n], rotations[n], fills[n], raw[n], ok)
         for r in range(SLOTS):
             if not ok[r]:
                 raw[n, r, :] = np.nan
@@ -224,8 +263,9 @@ def nearest_many(k, tool, limits, positions, rotations, refs, q, row, mask):
     raw = np.empty((SLOTS, 6))
     ok = np.empty(SLOTS, dtype=np.bool_)
     out = np.empty(6)
+    g, tool_rows = geometry(k), _tool(tool)
     for n in range(positions.shape[0]):
-        branches(k, tool, positions[n], rotations[n], refs[n], raw, ok)
+        _branches(g, tool_rows, positions[n], rotations[n], refs[n], raw, ok)
         best, bits = nearest_of(raw, ok, limits, refs[n], out)
         row[n] = best
         mask[n] = bits

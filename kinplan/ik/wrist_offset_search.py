@@ -462,8 +462,15 @@ def _sampled(k, pre, fill, n, coarser, values, reached, turns):
         if i % ratio == 0 and coarser > 0:
             continue
         c6, s6 = CIRCLE[i * every, 0], CIRCLE[i * every, 1]
-        free = sample(k, pre, c6, s6, fill, values, reached, turns, i)
+        free, (f0, f1, f2, f3), (ok0, ok1, ok2, ok3), (t0, t1, t2, t3) = sample(
+            k, pre, c6, s6, fill
+        )
         singular = singular or free
+        values[i, 0], values[i, 1], values[i, 2], values[i, 3] = f0, f1, f2, f3
+        reached[i, 0], reached[i, 1], reached[i, 2], reached[i, 3] = ok0, ok1, ok2, ok3
+        for a in range(6):
+            turns[i, 0, a], turns[i, 1, a] = t0[a], t1[a]
+            turns[i, 2, a], turns[i, 3, a] = t2[a], t3[a]
     for b in range(4):
         values[n, b] = values[0, b]
         reached[n, b] = reached[0, b]
