@@ -109,9 +109,10 @@ def prepare(k, position, rotation, pre):
 # once a batch, once a pose), not arrays: an array passed to a compiled function, or to an
 # inlined one (its parameters are new variables), has its reference count kept atomically
 # (see kinplan.compiled.inline), 22 % of this search's time before.
-@inline
+@jit
 def geometry(k):
-    """The packed geometry ``k`` (36, 3) as a tuple of 36 3-tuples (its rows)."""
+    """The packed geometry ``k`` (36, 3) as a tuple of 36 3-tuples (its rows); a call, once a
+    batch (compiled once, not inlined into each kernel)."""
     return (
         (k[0, 0], k[0, 1], k[0, 2]),
         (k[1, 0], k[1, 1], k[1, 2]),

@@ -38,7 +38,7 @@ from kinplan.ik.wrist_offset_branches import (
     turn3,
     wrap,
 )
-from kinplan.ik.wrist_offset_search import search
+from kinplan.ik.wrist_offset_search import search, workspace
 
 #: Solution slots per pose (NaN rows past the solutions found).
 SLOTS = 16
@@ -167,10 +167,13 @@ def branches(k, tool, position, rotation, fill, raw, ok):
     Returns:
         Whether some joint was free (took its ``fill`` value) at a sample or root.
     """
-    return _branches(geometry(k), _tool(tool), position, rotation, fill, raw, ok)
+    roots, branch_of = np.empty(SLOTS), np.empty(SLOTS, dtype=np.int64)
+    return _branches(
+        geometry(k), _tool(tool), position, rotation, fill, raw, ok, roots, branch_of, workspace()
+    )
 
 
-@inline
+@jit
 def _tool(tool):
     """The tool pose (4, 4) as a tuple of its first three rows (4-tuples)."""
     return (
@@ -181,7 +184,7 @@ def _tool(tool):
 
 
 @jit
-def _branches(g, tool, position, rotation, fill, raw, ok):
+def _branches(g, tool, position, rotation, fill, raw, ok, roots, branch_of, work):
     """:func:`branches` of the geometry and the tool as tuples (:func:`geometry`,
     :func:`_tool`): the pose is read into tuples once, and the search and the solutions take
     them (no array passed per sample, root or solution: no reference counts)."""
@@ -194,10 +197,8 @@ def _branches(g, tool, position, rotation, fill, raw, ok):
     f = (fill[0], fill[1])
     pre = pose_terms(g, p, r)
     search_k = branch_geometry(g)
-    roots = np.empty(SLOTS)
-    branch_of = np.empty(SLOTS, dtype=np.int64)
     moving = (pre[0], pre[1], pre[2], pre[3], pre[4], pre[5])
-    count, singular = search(search_k, moving, f, roots, branch_of)
+    count, singular = search(search_k, moving, f, roots, branch_of, work)
     # sorted by branch then θ6 (insertion sort: stable, ≤ SLOTS roots)
     for i in range(1, count):
         root, b = roots[i], branch_of[i]
@@ -226,8 +227,12 @@ def raw_many(k, tool, positions, rotations, fills, raw, singular):
     solution, ``singular`` (N,)."""
     ok = np.empty(SLOTS, dtype=np.bool_)
     g, tool_rows = geometry(k), _tool(tool)
+    roots, branch_of = np.empty(SLOTS), np.empty(SLOTS, dtype=np.int64)
+    work = workspace()  # allocated once a batch
     for n in range(positions.shape[0]):
-        singular[n] = _branches(g, tool_rows, positions[n], rotations[n], fills[n], raw[n], ok)
+        singular[n] = _branches(
+            g, tool_rows, positions[n], rotations[n], fills[n], raw[n], ok, roots, branch_of, work
+        )
         for r in range(SLOTS):
             if not ok[r]:
                 raw[n, r, :] = np.nan
@@ -251,7 +256,10 @@ def nearest(k, tool, limits, position, rotation, ref, out):
         return NOT_FINITE
     raw = np.empty((SLOTS, 6))
     ok = np.empty(SLOTS, dtype=np.bool_)
-    branches(k, tool, position, rotation, ref, raw, ok)
+    roots, branch_of = np.empty(SLOTS), np.empty(SLOTS, dtype=np.int64)
+    _branches(
+        geometry(k), _tool(tool), position, rotation, ref, raw, ok, roots, branch_of, workspace()
+    )  # as nearest_many calls it: one compiled specialisation
     best, _ = nearest_of(raw, ok, limits, ref, out)
     return best
 
@@ -264,8 +272,12 @@ def nearest_many(k, tool, limits, positions, rotations, refs, q, row, mask):
     ok = np.empty(SLOTS, dtype=np.bool_)
     out = np.empty(6)
     g, tool_rows = geometry(k), _tool(tool)
+    roots, branch_of = np.empty(SLOTS), np.empty(SLOTS, dtype=np.int64)
+    work = workspace()  # allocated once a batch
     for n in range(positions.shape[0]):
-        _branches(g, tool_rows, positions[n], rotations[n], refs[n], raw, ok)
+        _branches(
+            g, tool_rows, positions[n], rotations[n], refs[n], raw, ok, roots, branch_of, work
+        )
         best, bits = nearest_of(raw, ok, limits, refs[n], out)
         row[n] = best
         mask[n] = bits

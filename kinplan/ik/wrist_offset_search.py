@@ -488,11 +488,23 @@ def _sampled(k, pre, fill, n, coarser, values, reached, turns):
     return least, singular
 
 
+@inline
+def workspace():
+    """The arrays of :func:`search`'s first pass (:data:`COARSE` samples), allocated once a
+    batch: (values, reached, turns, xs)."""
+    return (
+        np.empty((COARSE + 1, 4)),
+        np.empty((COARSE + 1, 4), dtype=np.bool_),
+        np.empty((COARSE + 1, 4, 6)),
+        np.empty(COARSE + 1),
+    )
+
+
 @jit
-def search(k, pre, fill, roots, branch_of):
+def search(k, pre, fill, roots, branch_of, work):
     """Every root of f_0…f_3 over a full turn of θ6 for the pose of ``pre``
     (:func:`~kinplan.ik.wrist_offset_branches.prepare`): θ6 [rad] into ``roots`` and its branch
-    into ``branch_of`` (capacity ``len(roots)``).
+    into ``branch_of`` (capacity ``len(roots)``); ``work`` from :func:`workspace` (written).
 
     Returns:
         (count, singular): the roots found, and whether a free angle took its ``fill`` value.
@@ -500,9 +512,7 @@ def search(k, pre, fill, roots, branch_of):
     # θ1–θ3 nearly still: f is nearly a sinusoid of θ6, COARSE samples do; else SAMPLES, then
     # DENSER times as many while some turn exceeds MAX_TURN (the samples before kept)
     n, coarser, singular = COARSE, 0, False
-    values = np.empty((n + 1, 4))
-    reached = np.empty((n + 1, 4), dtype=np.bool_)
-    turns = np.empty((n + 1, 4, 6))
+    values, reached, turns, xs = work
     while True:
         least, free = _sampled(k, pre, fill, n, coarser, values, reached, turns)
         singular = singular or free
@@ -523,7 +533,8 @@ def search(k, pre, fill, roots, branch_of):
                     finer_turns[i * ratio, b, a] = turns[i, b, a]
         values, reached, turns = finer_values, finer_reached, finer_turns
     step = TAU / n
-    xs = np.empty(n + 1)
+    if n > COARSE:
+        xs = np.empty(n + 1)
     for i in range(n + 1):
         xs[i] = -math.pi + i * step
     count = 0
