@@ -52,56 +52,20 @@ def inline(function):
 @inline
 def turn(k, row, x, y, z, c, s):
     """R(h, θ)·(x, y, z) for the unit axis h = ``k[row]`` and cos θ = c, sin θ = s (rows are
-    indexed, never sliced: a slice costs numba a reference count)."""
-    ax, ay, az = k[row, 0], k[row, 1], k[row, 2]
-    t = (ax * x + ay * y + az * z) * (1.0 - c)
-    return (
-        x * c + (ay * z - az * y) * s + ax * t,
-        y * c + (az * x - ax * z) * s + ay * t,
-        z * c + (ax * y - ay * x) * s + az * t,
-    )
+    indexed, never sliced: a slice costs numba a reference count); :func:`turn3`."""
+    return turn3((k[row, 0], k[row, 1], k[row, 2]), x, y, z, c, s)
 
 
 @inline
 def angle_to(k, row, px, py, pz, qx, qy, qz):
     """Subproblem 1 as (cos θ, sin θ, across): θ turns p about the unit axis ``k[row]``
-    towards q; ``across`` is |p⊥|·|q⊥| (0: free, then (1, 0))."""
-    ax, ay, az = k[row, 0], k[row, 1], k[row, 2]
-    kp = ax * px + ay * py + az * pz
-    kq = ax * qx + ay * qy + az * qz
-    cosine = px * qx + py * qy + pz * qz - kp * kq
-    sine = ax * (py * qz - pz * qy) + ay * (pz * qx - px * qz) + az * (px * qy - py * qx)
-    radius = math.sqrt(cosine * cosine + sine * sine)
-    if radius == 0.0:
-        return 1.0, 0.0, 0.0
-    return cosine / radius, sine / radius, radius
-
-
-@inline
-def across(k, row, x, y, z):
-    """|v⊥|² of (x, y, z) across the unit axis ``k[row]``."""
-    a = k[row, 0] * x + k[row, 1] * y + k[row, 2] * z
-    return x * x + y * y + z * z - a * a
+    towards q; ``across`` is |p⊥|·|q⊥| (0: free, then (1, 0)); :func:`angle_to3`."""
+    return angle_to3((k[row, 0], k[row, 1], k[row, 2]), px, py, pz, qx, qy, qz)
 
 
 @inline
 def wrap(angle):
     return angle - TAU * np.round(angle / TAU)
-
-
-@jit
-def prepare(k, position, rotation, pre):
-    """The pose's terms (rows of ``pre`` (9, 3)): ``c_T(θ6) = B0 + cos θ6 B1 + sin θ6 B2``,
-    ``R_T R_Mᵀ R6(θ6)ᵀ h5 = E0 + cos E1 + sin E2`` and the same for x5 (G0, G1, G2)."""
-    for r in range(9):
-        for i in range(3):
-            pre[r, i] = (
-                rotation[i, 0] * k[13 + r, 0]
-                + rotation[i, 1] * k[13 + r, 1]
-                + rotation[i, 2] * k[13 + r, 2]
-            )
-    for i in range(3):
-        pre[0, i] += position[i]
 
 
 # ---------------------------------------------------------------------------- as tuples
@@ -155,7 +119,8 @@ def geometry(k):
 
 @inline
 def pose_terms(k, position, rotation):
-    """:func:`prepare` as a tuple of 9 3-tuples (the same operations: the same bits), of the
+    """The pose's terms, 9 3-tuples: ``c_T(θ6) = B0 + cos θ6 B1 + sin θ6 B2``,
+    ``R_T R_Mᵀ R6(θ6)ᵀ h5 = E0 + cos E1 + sin E2`` and the same for x5 (G0, G1, G2), of the
     geometry as tuples (:func:`geometry`) and the pose as tuples (3, and 3 rows of 3)."""
     p0, p1, p2 = position
     (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = rotation
@@ -210,7 +175,7 @@ def pose_terms(k, position, rotation):
 
 @inline
 def turn3(axis, x, y, z, c, s):
-    """:func:`turn` about the unit axis ``axis`` (a 3-tuple)."""
+    """R(h, θ)·(x, y, z) for the unit axis h = ``axis`` (a 3-tuple), cos θ = c, sin θ = s."""
     ax, ay, az = axis
     t = (ax * x + ay * y + az * z) * (1.0 - c)
     return (
@@ -222,7 +187,8 @@ def turn3(axis, x, y, z, c, s):
 
 @inline
 def angle_to3(axis, px, py, pz, qx, qy, qz):
-    """:func:`angle_to` about the unit axis ``axis`` (a 3-tuple)."""
+    """Subproblem 1 as (cos θ, sin θ, across): θ turns p about the unit axis ``axis`` (a
+    3-tuple) towards q; ``across`` is |p⊥|·|q⊥| (0: free, then (1, 0))."""
     ax, ay, az = axis
     kp = ax * px + ay * py + az * pz
     kq = ax * qx + ay * qy + az * qz
@@ -236,7 +202,7 @@ def angle_to3(axis, px, py, pz, qx, qy, qz):
 
 @inline
 def across3(axis, x, y, z):
-    """:func:`across` of the unit axis ``axis`` (a 3-tuple)."""
+    """|v⊥|² of (x, y, z) across the unit axis ``axis`` (a 3-tuple)."""
     a = axis[0] * x + axis[1] * y + axis[2] * z
     return x * x + y * y + z * z - a * a
 

@@ -503,7 +503,7 @@ def workspace():
 @jit
 def search(k, pre, fill, roots, branch_of, work):
     """Every root of f_0…f_3 over a full turn of θ6 for the pose of ``pre``
-    (:func:`~kinplan.ik.wrist_offset_branches.prepare`): θ6 [rad] into ``roots`` and its branch
+    (:func:`~kinplan.ik.wrist_offset_branches.pose_terms`): θ6 [rad] into ``roots`` and its branch
     into ``branch_of`` (capacity ``len(roots)``); ``work`` from :func:`workspace` (written).
 
     Returns:
