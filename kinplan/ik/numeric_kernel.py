@@ -26,8 +26,11 @@ import os
 
 import numpy as np
 
-from kinplan.compiled import inline, jit, numba
-from kinplan.compiled import screw_kinematics as kinematics
+from kinplan.compiled import inline, jit, numba, screw_kinematics
+
+#: :func:`kinplan.compiled.screw_kinematics` inlined into the iteration (a call there passed six
+#: arrays, each with its reference count kept: see :func:`kinplan.compiled.inline`).
+kinematics = screw_kinematics if numba is None else inline(screw_kinematics.py_func)
 
 #: Private switch for tests and benchmarks: False makes :func:`available` False.
 ENABLED = os.environ.get("KINPLAN_JIT", "1") != "0"
@@ -83,7 +86,7 @@ def _log3(m):
     return angle * a0 / norm, angle * a1 / norm, angle * a2 / norm
 
 
-@jit
+@inline
 def _cholesky_solve(a, b, n, low, y, x):
     """x with a x = b for the symmetric positive definite leading (n, n) block of ``a``
     (factored into ``low`` (n, n); ``y`` (n,) scratch), written into ``x`` (n,) and returned;
