@@ -34,6 +34,7 @@ import os
 import numpy as np
 
 from kinplan.compiled import inline, jit, numba
+from kinplan.ik.panda_geometry import rotate_cs
 from kinplan.ik.screws import CLAMP, FREE_TOL, HALF_TURN_SAFE, LIMIT_TOL, TAU
 
 #: Private switch for tests and benchmarks: False makes :func:`available` False.
@@ -107,18 +108,9 @@ def _choice(value, ref, clipped, lower, upper, weight):
     return True, q, weight * (q - ref) ** 2
 
 
-@inline
-def _turn(axis, v, c, s):
-    """R(a, θ) v for the unit axis a = ``axis``, cos θ = ``c``, sin θ = ``s`` (3-tuples;
-    Rodrigues, the operations of :func:`kinplan.compiled.turn_into`)."""
-    ax, ay, az = axis
-    x, y, z = v
-    k = (ax * x + ay * y + az * z) * (1.0 - c)
-    return (
-        x * c + (ay * z - az * y) * s + ax * k,
-        y * c + (az * x - ax * z) * s + ay * k,
-        z * c + (ax * y - ay * x) * s + az * k,
-    )
+#: ``rotate_cs(v, axis, c, s)``: v turned about the unit axis by the angle of cosine c and sine
+#: s (3-tuples; Rodrigues), the Python path's own function compiled inline.
+_rotate = inline(rotate_cs)
 
 
 @inline
@@ -291,7 +283,7 @@ def _solve(geometry, seen, rotation_tm, q7, q_ref, clipped, out, wrists):
     lower, upper, weights = limits
     # y = exp(S7 θ7) M T⁻¹ s, v = y − w
     c7, s7 = math.cos(q7), math.sin(q7)
-    y = _turn(a7, (seen[0] - p7[0], seen[1] - p7[1], seen[2] - p7[2]), c7, s7)
+    y = _rotate((seen[0] - p7[0], seen[1] - p7[1], seen[2] - p7[2]), a7, c7, s7)
     v = ((y[0] + p7[0]) - w[0], (y[1] + p7[1]) - w[1], (y[2] + p7[2]) - w[2])
     base = weights[6] * (q7 - q_ref[6]) ** 2
     # θ4 (up to two): |exp(−S4 θ4) s − w|² = |v|²
@@ -314,7 +306,7 @@ def _solve(geometry, seen, rotation_tm, q7, q_ref, clipped, out, wrists):
             continue
         cost4 += base
         cos4, sin4 = math.cos(q4), -math.sin(q4)
-        u = _turn(a4, s4, cos4, sin4)
+        u = _rotate(s4, a4, cos4, sin4)
         u = (u[0] - w4[0], u[1] - w4[1], u[2] - w4[2])
         found, n5a, n6a, n5b, n6b = _pair(wrist_pair, u, v, -clipped[4], -clipped[5])
         for j in range(found):
@@ -355,10 +347,10 @@ def _solve(geometry, seen, rotation_tm, q7, q_ref, clipped, out, wrists):
         if cost6 >= bound:
             break
         cos5, sin5, cos6, sin6 = math.cos(q5), -math.sin(q5), math.cos(q6), -math.sin(q6)
-        g3 = _times(rotation_p, _turn(a6, _turn(a5, _turn(a4, a3, cos4, sin4), cos5, sin5),
-                                      cos6, sin6))  # fmt: skip
-        ge = _times(rotation_p, _turn(a6, _turn(a5, _turn(a4, e3, cos4, sin4), cos5, sin5),
-                                      cos6, sin6))  # fmt: skip
+        h4 = _rotate(a3, a4, cos4, sin4)
+        g3 = _times(rotation_p, _rotate(_rotate(h4, a5, cos5, sin5), a6, cos6, sin6))
+        h4 = _rotate(e3, a4, cos4, sin4)
+        ge = _times(rotation_p, _rotate(_rotate(h4, a5, cos5, sin5), a6, cos6, sin6))
         found, t2a, t1a, t2b, t1b = _pair(shoulder_pair, a3, g3, clipped[1], clipped[0])
         for j in range(found):
             t2, t1 = (t2a, t1a) if j == 0 else (t2b, t1b)
@@ -369,8 +361,8 @@ def _solve(geometry, seen, rotation_tm, q7, q_ref, clipped, out, wrists):
             total = cost6 + cost1 + cost2
             if total >= bound:
                 continue
-            h = _turn(a2, _turn(a1, ge, math.cos(-t1), math.sin(-t1)), math.cos(-t2),
-                      math.sin(-t2))  # fmt: skip
+            h = _rotate(ge, a1, math.cos(-t1), math.sin(-t1))
+            h = _rotate(h, a2, math.cos(-t2), math.sin(-t2))
             t3 = _angle_about(a3, e3, h, clipped[2])
             ok3, q3, cost3 = _choice(t3, q_ref[2], clipped[2], lower[2], upper[2], weights[2])
             if not ok3:
