@@ -360,10 +360,18 @@ def _command(template: list[str], token: str, out: Path) -> list[str]:
     return [part.replace("{out}", str(out)).replace("{}", token) for part in template]
 
 
+#: A progress line of work that ran longer than ``PROGRESS_DELAY`` (3 s) off a terminal
+#: (``kinplan.apps.cli.batch_commands.PlainProgress``): a reach map in a fresh checkout, whose
+#: first run compiles numba's kernels, prints one.
+PROGRESS_LINE = re.compile(
+    r"kinplan: (?!error:|warning:)[^:]+: \d+/\d+ \w+( \(\d+ %\))?, \d+\.\d s"
+)
+
+
 def _run_command(argv: list[str]) -> None:
-    """``kinplan ARGV``: 0 (its stderr lines only notes and warnings), or exactly one
-    ``kinplan: error: ...`` line with exit 1 (a failure) or 2 (a malformed command line); never
-    argparse's usage block, a traceback, an internal error or a Python name."""
+    """``kinplan ARGV``: 0 (its stderr lines only notes, warnings and progress lines), or
+    exactly one ``kinplan: error: ...`` line with exit 1 (a failure) or 2 (a malformed command
+    line); never argparse's usage block, a traceback, an internal error or a Python name."""
     out, err = io.StringIO(), io.StringIO()
     with warnings.catch_warnings(record=True):
         warnings.simplefilter("always")
@@ -373,7 +381,10 @@ def _run_command(argv: list[str]) -> None:
     lines = text.splitlines()
     assert "Traceback" not in text + out.getvalue(), (argv, text)
     if code == 0:
-        assert all(line.startswith(("note: ", "kinplan: warning: ")) for line in lines), text
+        assert all(
+            line.startswith(("note: ", "kinplan: warning: ")) or PROGRESS_LINE.fullmatch(line)
+            for line in lines
+        ), text
         return
     assert code in (1, 2), (argv, code, text)
     assert len(lines) == 1 and lines[0].startswith("kinplan: error: "), (argv, text)
