@@ -1,5 +1,6 @@
 """What the closed-form IK tests measure a solution by: its pose errors, whether a list of
-solutions holds a configuration, and how near a configuration is to a singularity."""
+solutions holds a configuration, how near a configuration is to a singularity; and the two
+checks every closed-form family runs (the nearest-solution rule, ``ik`` against ``ik_batch``)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,8 @@ import numpy as np
 import pinocchio as pin
 
 import kinplan
-from kinplan.ik.screws import wrap_angle
+from kinplan.ik import ClosedFormIK
+from kinplan.ik.screws import wrap_angle, wrap_near
 
 
 def pose_errors(robot: kinplan.Robot, q: np.ndarray, target: pin.SE3) -> tuple[float, float]:
@@ -37,3 +39,45 @@ def typical_sigma(robot: kinplan.Robot, samples: int = 200) -> float:
     rng = np.random.default_rng(3)
     return float(np.median([smallest_sigma(robot, robot.random_configuration(rng))
                             for _ in range(samples)]))  # fmt: skip
+
+
+def check_nearest_rule(
+    robot: kinplan.Robot, solver: ClosedFormIK, target: pin.SE3, ref: np.ndarray
+) -> np.ndarray:
+    """``solver.nearest`` of ``target`` from ``ref``: equal to the base class's choice over the
+    same solutions (per joint the equivalent within the limits nearest the reference, then the
+    least Σ wᵢ Δqᵢ², ties to the lower row) to 1e-12 rad, which is the least weighted distance
+    over the solutions (to 1e-9); returned."""
+    found = solver.nearest(target.translation, target.rotation, ref)
+    base = ClosedFormIK.nearest(solver, target.translation, target.rotation, ref)
+    assert found is not None and base is not None
+    np.testing.assert_allclose(found, base, rtol=0, atol=1e-12)
+    solutions = solver.solutions(target.translation, target.rotation)
+    near = wrap_near(solutions, ref, robot.lower, robot.upper)
+    distance = np.nan_to_num(((near - ref) ** 2) @ solver.weights, nan=np.inf)
+    assert abs(((found - ref) ** 2) @ solver.weights - distance.min()) < 1e-9
+    return found
+
+
+def check_ik_and_batch(
+    robot: kinplan.Robot, rng: np.random.Generator, count: int, threads: int | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``count`` random reachable targets from random seeds: ``Robot.ik`` solves each by the
+    closed form (within 1e-6 m and 1e-6 rad, within the limits) and ``Robot.ik_batch`` (on
+    ``threads``) by its closed-form method, with the same answers to 1e-9 rad. Returns the
+    targets (N, 4, 4), the seeds and the batch's answers."""
+    qs = np.array([robot.random_configuration(rng) for _ in range(count)])
+    targets = np.array([robot.fk(q).homogeneous for q in qs])
+    seeds = np.array([robot.random_configuration(rng) for _ in range(count)])
+    loop = []
+    for target, seed_q in zip(targets, seeds):
+        result = robot.ik(pin.SE3(target), seed_q)
+        assert result.success and result.method == "analytic"
+        assert result.position_error <= 1e-6 and result.rotation_error <= 1e-6
+        assert robot.within_limits(result.q, tolerance=0.0)
+        loop.append(result.q)
+    assert robot.batch_solver.method(False) == "closed-form"
+    q, success = robot.ik_batch(targets, seeds, threads=threads)
+    assert success.all()
+    np.testing.assert_allclose(q, np.array(loop), atol=1e-9)
+    return targets, seeds, q

@@ -22,12 +22,19 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from general_wrist_arms import general_arm_urdf
-from ik_checks import contains, pose_errors, smallest_sigma, typical_sigma
+from ik_checks import (
+    check_ik_and_batch,
+    check_nearest_rule,
+    contains,
+    pose_errors,
+    smallest_sigma,
+    typical_sigma,
+)
 
 import kinplan
 from kinplan.ik import ClosedFormIK, GeneralWristIK, closed_form_report, wrap_angle
 from kinplan.ik.base import self_check
-from kinplan.ik.screws import screws_at_zero, wrap_near
+from kinplan.ik.screws import screws_at_zero
 from kinplan.ik.spherical_general_geometry import (
     GENERAL,
     MEETING_12,
@@ -303,14 +310,7 @@ def test_nearest_follows_the_closed_form_rule(folder, mode, seed):
     for _ in range(200):
         target = robot.fk(robot.random_configuration(rng))
         ref = robot.random_configuration(rng) + rng.normal(0.0, 0.5, 6)
-        found = solver.nearest(target.translation, target.rotation, ref)
-        base = ClosedFormIK.nearest(solver, target.translation, target.rotation, ref)
-        assert found is not None and base is not None
-        np.testing.assert_allclose(found, base, rtol=0, atol=1e-12)
-        solutions = solver.solutions(target.translation, target.rotation)
-        near = wrap_near(solutions, ref, robot.lower, robot.upper)
-        distance = np.nan_to_num(((near - ref) ** 2) @ solver.weights, nan=np.inf)
-        assert abs(((found - ref) ** 2) @ solver.weights - distance.min()) < 1e-9
+        found = check_nearest_rule(robot, solver, target, ref)
         positions.append(target.translation)
         rotations.append(target.rotation)
         refs.append(ref)
@@ -349,20 +349,7 @@ def test_robot_ik_and_batch_on_random_targets(folder, mode, seed):
     robot = arm(mode, seed, folder)
     rng = np.random.default_rng(47)
     count = 300
-    qs = np.array([robot.random_configuration(rng) for _ in range(count)])
-    targets = np.array([robot.fk(q).homogeneous for q in qs])
-    seeds = np.array([robot.random_configuration(rng) for _ in range(count)])
-    loop = []
-    for target, seed_q in zip(targets, seeds):
-        result = robot.ik(pin.SE3(target), seed_q)
-        assert result.success and result.method == "analytic"
-        assert result.position_error <= 1e-6 and result.rotation_error <= 1e-6
-        assert robot.within_limits(result.q, tolerance=0.0)
-        loop.append(result.q)
-    assert robot.batch_solver.method(False) == "closed-form"
-    q, success = robot.ik_batch(targets, seeds, threads=1)
-    assert success.all()
-    np.testing.assert_allclose(q, np.array(loop), atol=1e-9)
+    targets, seeds, q = check_ik_and_batch(robot, rng, count, threads=1)
     q2, success2 = robot.ik_batch(targets, seeds, threads=2)
     assert success2.all()
     np.testing.assert_allclose(q2, q, atol=1e-12)

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from ik_checks import contains, pose_errors
+from ik_checks import check_ik_and_batch, contains, pose_errors
 from wrist_arms import wrist_arm_urdf
 
 import kinplan
@@ -231,20 +231,7 @@ def test_robot_ik_and_batch_on_random_targets(folder, seed, skew, lateral):
     robot = arm(seed, skew, lateral, folder)
     rng = np.random.default_rng(200 + seed)
     count = 500
-    qs = np.array([robot.random_configuration(rng) for _ in range(count)])
-    targets = np.array([robot.fk(q).homogeneous for q in qs])
-    seeds = np.array([robot.random_configuration(rng) for _ in range(count)])
-    loop = []
-    for target, seed_q in zip(targets, seeds):
-        result = robot.ik(pin.SE3(target), seed_q)
-        assert result.success and result.method == "analytic"
-        assert result.position_error <= 1e-6 and result.rotation_error <= 1e-6
-        assert robot.within_limits(result.q, tolerance=0.0)
-        loop.append(result.q)
-    assert robot.batch_solver.method(False) == "closed-form"
-    q, success = robot.ik_batch(targets, seeds)
-    assert success.all()
-    np.testing.assert_allclose(q, np.array(loop), atol=1e-9)
+    check_ik_and_batch(robot, rng, count)
 
 
 @pytest.mark.parametrize("seed, skew, lateral", ARMS[:3])

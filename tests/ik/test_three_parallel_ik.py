@@ -23,12 +23,19 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from ik_checks import contains, pose_errors, smallest_sigma, typical_sigma
+from ik_checks import (
+    check_ik_and_batch,
+    check_nearest_rule,
+    contains,
+    pose_errors,
+    smallest_sigma,
+    typical_sigma,
+)
 from parallel_arms import parallel_arm_urdf, skewed_ur5_urdf
 
 import kinplan
-from kinplan.ik import URIK, ClosedFormIK, ThreeParallelIK, closed_form_report, wrap_angle
-from kinplan.ik.screws import Screws, screws_at_zero, wrap_near
+from kinplan.ik import URIK, ThreeParallelIK, closed_form_report, wrap_angle
+from kinplan.ik.screws import Screws, screws_at_zero
 from kinplan.ik.three_parallel_geometry import three_parallel_geometry
 from kinplan.ik.three_parallel_quartic import MOST, real_roots
 from kinplan.ik.ur_geometry import ur_geometry
@@ -246,14 +253,7 @@ def test_nearest_follows_the_closed_form_rule(folder, kind, which):
     for _ in range(150):
         target = robot.fk(robot.random_configuration(rng))
         ref = robot.random_configuration(rng) + rng.normal(0.0, 0.5, 6)
-        found = solver.nearest(target.translation, target.rotation, ref)
-        numpy_path = ClosedFormIK.nearest(solver, target.translation, target.rotation, ref)
-        assert found is not None and numpy_path is not None
-        np.testing.assert_allclose(found, numpy_path, rtol=0, atol=1e-12)
-        solutions = solver.solutions(target.translation, target.rotation)
-        near = wrap_near(solutions, ref, robot.lower, robot.upper)
-        distance = np.nan_to_num(((near - ref) ** 2) @ solver.weights, nan=np.inf)
-        assert abs(((found - ref) ** 2) @ solver.weights - distance.min()) < 1e-9
+        found = check_nearest_rule(robot, solver, target, ref)
         positions.append(target.translation)
         rotations.append(target.rotation)
         refs.append(ref)
@@ -288,19 +288,7 @@ def test_robot_ik_and_batch_on_random_targets(folder, kind, which):
     robot = robot_of(kind, which, folder)
     rng = np.random.default_rng(47)
     count = 300
-    qs = np.array([robot.random_configuration(rng) for _ in range(count)])
-    targets = np.array([robot.fk(q).homogeneous for q in qs])
-    seeds = np.array([robot.random_configuration(rng) for _ in range(count)])
-    loop = []
-    for target, seed_q in zip(targets, seeds):
-        result = robot.ik(pin.SE3(target), seed_q)
-        assert result.success and result.method == "analytic"
-        assert result.position_error <= 1e-6 and result.rotation_error <= 1e-6
-        assert robot.within_limits(result.q, tolerance=0.0)
-        loop.append(result.q)
-    q, success = robot.ik_batch(targets, seeds)
-    assert success.all()
-    np.testing.assert_allclose(q, np.array(loop), atol=1e-9)
+    check_ik_and_batch(robot, rng, count)
 
 
 @pytest.mark.parametrize("kind, which", [ALL[0], ALL[5]], ids=[ALL_IDS[0], ALL_IDS[5]])

@@ -19,12 +19,19 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from ik_checks import contains, pose_errors, smallest_sigma, typical_sigma
+from ik_checks import (
+    check_ik_and_batch,
+    check_nearest_rule,
+    contains,
+    pose_errors,
+    smallest_sigma,
+    typical_sigma,
+)
 from wrist_arms import wrist_arm_urdf
 
 import kinplan
-from kinplan.ik import ClosedFormIK, closed_form_report, wrap_angle
-from kinplan.ik.screws import screws_at_zero, wrap_near
+from kinplan.ik import closed_form_report, wrap_angle
+from kinplan.ik.screws import screws_at_zero
 from kinplan.ik.wrist_offset import OffsetWristIK
 from kinplan.ik.wrist_offset_geometry import MEETING, PARALLEL, offset_wrist_geometry
 
@@ -229,14 +236,7 @@ def test_nearest_follows_the_closed_form_rule(folder, kind, which):
     for _ in range(300):
         target = robot.fk(robot.random_configuration(rng))
         ref = robot.random_configuration(rng) + rng.normal(0.0, 0.5, 6)
-        found = solver.nearest(target.translation, target.rotation, ref)
-        expected = ClosedFormIK.nearest(solver, target.translation, target.rotation, ref)
-        assert found is not None and expected is not None
-        np.testing.assert_allclose(found, expected, rtol=0, atol=1e-12)
-        solutions = solver.solutions(target.translation, target.rotation)
-        near = wrap_near(solutions, ref, robot.lower, robot.upper)
-        distance = np.nan_to_num(((near - ref) ** 2) @ solver.weights, nan=np.inf)
-        assert abs(((found - ref) ** 2) @ solver.weights - distance.min()) < 1e-9
+        found = check_nearest_rule(robot, solver, target, ref)
         # the numerical solver, polishing from the closed form's answer, stays on it
         result = robot.ik_solver.solve(target.translation, target.rotation, found,
                                        1e-10, 1e-10, 100, 0)  # fmt: skip
@@ -268,20 +268,7 @@ def test_robot_ik_and_batch_on_random_targets(folder, kind, which):
     robot = robot_for(kind, which, folder)
     rng = np.random.default_rng(47)
     count = 400
-    qs = np.array([robot.random_configuration(rng) for _ in range(count)])
-    targets = np.array([robot.fk(q).homogeneous for q in qs])
-    seeds = np.array([robot.random_configuration(rng) for _ in range(count)])
-    loop = []
-    for target, seed_q in zip(targets, seeds):
-        result = robot.ik(pin.SE3(target), seed_q)
-        assert result.success and result.method == "analytic"
-        assert result.position_error <= 1e-6 and result.rotation_error <= 1e-6
-        assert robot.within_limits(result.q, tolerance=0.0)
-        loop.append(result.q)
-    assert robot.batch_solver.method(False) == "closed-form"
-    q, success = robot.ik_batch(targets, seeds)
-    assert success.all()
-    np.testing.assert_allclose(q, np.array(loop), atol=1e-9)
+    check_ik_and_batch(robot, rng, count)
 
 
 @pytest.mark.parametrize("kind, which", ALL[:2] + ALL[4:5], ids=ALL_IDS[:2] + ALL_IDS[4:5])
