@@ -95,23 +95,6 @@ def turn_into(axis, v, c, s, out):
 
 
 @jit
-def rotation_about(axis, c, s, out):
-    """The rotation about the unit ``axis`` (3,) by the angle of cosine ``c`` and sine ``s``
-    (Rodrigues), written into ``out`` (3, 3)."""
-    x, y, z = axis[0], axis[1], axis[2]
-    t = 1.0 - c
-    out[0, 0] = c + x * x * t
-    out[0, 1] = x * y * t - z * s
-    out[0, 2] = x * z * t + y * s
-    out[1, 0] = y * x * t + z * s
-    out[1, 1] = c + y * y * t
-    out[1, 2] = y * z * t - x * s
-    out[2, 0] = z * x * t - y * s
-    out[2, 1] = z * y * t + x * s
-    out[2, 2] = c + z * z * t
-
-
-@jit
 def product_into(a, b, out):
     """``out`` = a b for small matrices (``out`` must not share memory with a or b)."""
     for i in range(a.shape[0]):
@@ -138,8 +121,8 @@ def screw_kinematics(q, directions, points, tool, pose, jacobian):
     and ``jacobian``. Joint i's column is (ωᵢ × (p_tool − xᵢ), ωᵢ).
 
     The running rotation and translation are kept in numbers, not arrays (no allocation, no
-    reference counts: this runs once an iteration of the numerical IK); the operations are
-    those of :func:`rotation_about` and :func:`product_into`, in their order."""
+    reference counts: this runs once an iteration of the numerical IK): per joint the
+    Rodrigues rotation, then the running rotation times it as :func:`product_into` sums."""
     nq = q.shape[0]
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
     t0 = t1 = t2 = 0.0

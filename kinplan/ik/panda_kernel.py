@@ -34,7 +34,7 @@ import os
 import numpy as np
 
 from kinplan.compiled import inline, jit, numba
-from kinplan.ik.panda_geometry import rotate_cs
+from kinplan.ik.panda_geometry import matmul, matvec, rotate_cs, rotation_matrix_cs
 from kinplan.ik.screws import CLAMP, FREE_TOL, HALF_TURN_SAFE, LIMIT_TOL, TAU
 
 #: Private switch for tests and benchmarks: False makes :func:`available` False.
@@ -108,9 +108,14 @@ def _choice(value, ref, clipped, lower, upper, weight):
     return True, q, weight * (q - ref) ** 2
 
 
-#: ``rotate_cs(v, axis, c, s)``: v turned about the unit axis by the angle of cosine c and sine
-#: s (3-tuples; Rodrigues), the Python path's own function compiled inline.
+#: The Python path's own tuple helpers compiled inline (:mod:`kinplan.ik.panda_geometry`):
+#: ``rotate_cs(v, axis, c, s)`` turns v about the unit axis by the angle of cosine c and sine s
+#: (Rodrigues), ``rotation_matrix_cs(axis, c, s)`` is that rotation as a row-major 9-tuple,
+#: ``matmul`` and ``matvec`` multiply 9-tuples and 3-tuples.
 _rotate = inline(rotate_cs)
+_rotation = inline(rotation_matrix_cs)
+_matmul = inline(matmul)
+_matvec = inline(matvec)
 
 
 @inline
@@ -162,40 +167,6 @@ def _angle_about(axis, a, b, free):
         return free
     return math.atan2(
         ux * (y * w - z * v) + uy * (z * u - x * w) + uz * (x * v - y * u), x * u + y * v + z * w
-    )
-
-
-@inline
-def _rotation_p(axis, c, s, m):
-    """R_P = R_T M_Rᵀ Rot(ω7, −θ7) for ``axis`` ω7, cos and sin of −θ7 ``c``, ``s``, as a
-    9-tuple (row-major; the operations of :func:`kinplan.compiled.rotation_about` and
-    ``product_into``); ``m``: R_T M_Rᵀ as a 9-tuple (row-major)."""
-    x, y, z = axis
-    t = 1.0 - c
-    r00, r01, r02 = c + x * x * t, x * y * t - z * s, x * z * t + y * s
-    r10, r11, r12 = y * x * t + z * s, c + y * y * t, y * z * t - x * s
-    r20, r21, r22 = z * x * t - y * s, z * y * t + x * s, c + z * z * t
-    return (
-        ((0.0 + m[0] * r00) + m[1] * r10) + m[2] * r20,
-        ((0.0 + m[0] * r01) + m[1] * r11) + m[2] * r21,
-        ((0.0 + m[0] * r02) + m[1] * r12) + m[2] * r22,
-        ((0.0 + m[3] * r00) + m[4] * r10) + m[5] * r20,
-        ((0.0 + m[3] * r01) + m[4] * r11) + m[5] * r21,
-        ((0.0 + m[3] * r02) + m[4] * r12) + m[5] * r22,
-        ((0.0 + m[6] * r00) + m[7] * r10) + m[8] * r20,
-        ((0.0 + m[6] * r01) + m[7] * r11) + m[8] * r21,
-        ((0.0 + m[6] * r02) + m[7] * r12) + m[8] * r22,
-    )
-
-
-@inline
-def _times(m, v):
-    """m v for the 9-tuple ``m`` (row-major 3 × 3) and the 3-tuple ``v``."""
-    x, y, z = v
-    return (
-        m[0] * x + m[1] * y + m[2] * z,
-        m[3] * x + m[4] * y + m[5] * z,
-        m[6] * x + m[7] * y + m[8] * z,
     )
 
 
@@ -339,7 +310,7 @@ def _solve(geometry, seen, rotation_tm, q7, q_ref, clipped, out, wrists):
         wrists[j + 1, 3], wrists[j + 1, 4], wrists[j + 1, 5] = r3, r4, r5
     if count == 0:
         return np.inf
-    rotation_p = _rotation_p(a7, c7, -s7, rotation_tm)  # R_P = R_T M_Rᵀ Rot(ω7, −θ7)
+    rotation_p = _matmul(rotation_tm, _rotation(a7, c7, -s7))  # R_P = R_T M_Rᵀ Rot(ω7, −θ7)
     bound = np.inf
     for i in range(count):
         cost6, q4, q5, q6 = wrists[i, 0], wrists[i, 1], wrists[i, 2], wrists[i, 3]
@@ -348,9 +319,9 @@ def _solve(geometry, seen, rotation_tm, q7, q_ref, clipped, out, wrists):
             break
         cos5, sin5, cos6, sin6 = math.cos(q5), -math.sin(q5), math.cos(q6), -math.sin(q6)
         h4 = _rotate(a3, a4, cos4, sin4)
-        g3 = _times(rotation_p, _rotate(_rotate(h4, a5, cos5, sin5), a6, cos6, sin6))
+        g3 = _matvec(rotation_p, _rotate(_rotate(h4, a5, cos5, sin5), a6, cos6, sin6))
         h4 = _rotate(e3, a4, cos4, sin4)
-        ge = _times(rotation_p, _rotate(_rotate(h4, a5, cos5, sin5), a6, cos6, sin6))
+        ge = _matvec(rotation_p, _rotate(_rotate(h4, a5, cos5, sin5), a6, cos6, sin6))
         found, t2a, t1a, t2b, t1b = _pair(shoulder_pair, a3, g3, clipped[1], clipped[0])
         for j in range(found):
             t2, t1 = (t2a, t1a) if j == 0 else (t2b, t1b)

@@ -561,10 +561,3 @@ def _failed(margin):
         False, (margin, margin, margin, margin), (False, False, False, False),
         (_UNUSED, _UNUSED, _UNUSED, _UNUSED),
     )  # fmt: skip
-
-
-@jit
-def value(k, pre, theta, b, fill):
-    """(f_b(θ6), ok) at ``theta`` [rad]."""
-    out = branch(k, pre, math.cos(theta), math.sin(theta), b, fill)
-    return out[0], out[1]
