@@ -246,17 +246,17 @@ class BatchSolver:
                     positions[part], rot, seeds[part], tolerances
                 )
             elif method == "levenberg-marquardt":
-                q[part], success[part], polished = self._numerical(
-                    positions[part], rot, seeds[part], tolerances, max_iterations, max_restarts
-                )
+                q[part], success[part], done = self._numerical(
+                    positions[part], rot, seeds[part], tolerances, max_iterations, max_restarts,
+                    rescue,
+                )  # fmt: skip
                 left = np.flatnonzero(~success[part])
-                if rescue and max_restarts > 0 and left.size:
+                if not done and rescue and max_restarts > 0 and left.size:
                     index = left + start
                     rot = None if rotations is None else rotations[index]
                     q[index], success[index] = self._rescue(
-                        positions[index], rot, q[index], seeds[index], tolerances,
-                        max_iterations, polish=not polished,
-                    )  # fmt: skip
+                        positions[index], rot, q[index], seeds[index], tolerances, max_iterations
+                    )
             else:
                 q[part], success[part] = self._loop(
                     positions[part], rot, seeds[part], tolerances, max_iterations, max_restarts
@@ -341,24 +341,27 @@ class BatchSolver:
         return q, success
 
     # ------------------------------------------------------------ numerical
-    def _numerical(self, positions, rotations, seeds, tolerances, max_iterations, max_restarts):
+    def _numerical(
+        self, positions, rotations, seeds, tolerances, max_iterations, max_restarts, rescue
+    ):
         """The seeded attempt, then the Halton restarts of :meth:`kinplan.ik.IKSolver.solve`
         for the targets still unsolved.
 
         Serial revolute arms run :meth:`kinplan.ik.IKSolver.compiled_solve_many`: the compiled
-        solve of :meth:`kinplan.Robot.ik` target by target (attempts, restarts and the polish
-        of the best attempt). Other arms (or without numba) run the steps on all targets at
-        once with numpy: several restarts side by side when few targets are left (up to
-        :data:`RESTARTS_AT_ONCE`, about :data:`SIDE_BY_SIDE_ROWS` rows), each target keeping
-        its first converged restart in restart order (else its best one, earliest on ties):
-        the answers of trying them one after the other, in fewer numpy passes.
+        solve of :meth:`kinplan.Robot.ik` target by target (attempts, restarts and, with
+        ``rescue``, the rescue). Other arms (or without numba) run the steps on
+        all targets at once with numpy: several restarts side by side when few targets are
+        left (up to :data:`RESTARTS_AT_ONCE`, about :data:`SIDE_BY_SIDE_ROWS` rows), each
+        target keeping its first converged restart in restart order (else its best one,
+        earliest on ties): the answers of trying them one after the other, in fewer numpy
+        passes.
 
         Returns:
-            (q, success, polished): ``polished`` when the failures' best attempts were
-            polished already (the compiled solve).
+            (q, success, done): ``done`` when nothing is left to try (the compiled solve ran
+            the rescue, or ``rescue`` was False).
         """
         compiled = self.robot.ik_solver.compiled_solve_many(
-            positions, rotations, seeds, tolerances[0], tolerances[1], max_iterations, max_restarts
+            positions, rotations, seeds, *tolerances, max_iterations, max_restarts, rescue
         )
         if compiled is not None:  # serial revolute arms: the compiled solve of ik, per target
             q, converged = compiled
@@ -366,7 +369,7 @@ class BatchSolver:
             position2, frobenius2 = self.kinematics.errors(q, positions, rotations)
             success = converged & (position2 <= tolerances[0] ** 2)
             success &= frobenius2 <= frobenius_tolerance(tolerances[1])
-            return q, success, max_restarts > 0  # the failures' best attempt polished
+            return q, success, True
         q, success, score = self._descend(positions, rotations, seeds, tolerances, max_iterations)
         attempt = 1
         while attempt <= max_restarts:
@@ -395,18 +398,15 @@ class BatchSolver:
             attempt += width
         return q, success, False
 
-    def _rescue(self, positions, rotations, q_best, seeds, tolerances, max_iterations, *, polish):
+    def _rescue(self, positions, rotations, q_best, seeds, tolerances, max_iterations):
         """What :meth:`kinplan.ik.IKSolver.solve` tries when every attempt failed, on all such
-        targets at once: polish the best attempt with Gauss–Newton-like steps (unless ``polish``
-        is False: the compiled solve polished it); then solve from the seed ignoring the limits
-        and turn the revolute joints by whole turns into them."""
+        targets at once: polish the best attempt with Gauss–Newton-like steps; then solve from
+        the seed ignoring the limits and turn the revolute joints by whole turns into them."""
         floor, patience = POLISH_DAMPING_FLOOR, POLISH_STALL_ITERATIONS
         long = POLISH_ITERATIONS * max_iterations
-        q, success = np.array(q_best, dtype=float), np.zeros(len(positions), dtype=bool)
-        if polish:
-            q, success, _ = self._descend(
-                positions, rotations, q_best, tolerances, long, floor=floor, patience=patience
-            )
+        q, success, _ = self._descend(
+            positions, rotations, q_best, tolerances, long, floor=floor, patience=patience
+        )
         left = np.flatnonzero(~success)
         if left.size == 0:
             return q, success

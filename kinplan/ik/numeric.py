@@ -538,33 +538,30 @@ class IKSolver:
         max_iterations: int,
         max_restarts: int,
     ) -> IKResult | None:
-        """The seeded attempt, the restarts and the polish compiled
-        (:mod:`kinplan.ik.numeric_kernel`), for serial revolute arms: the result when it
-        converged (its errors measured by Pinocchio), else None (the Python loop then runs the
-        whole solve, with the solve without limits). None also without numba, for other arms
-        and for a target with a NaN."""
+        """The whole solve compiled (:mod:`kinplan.ik.numeric_kernel`) for serial revolute
+        arms: the seeded attempt, the restarts and the rescue, with the errors of the answer
+        measured by Pinocchio; None without numba and for other arms (the Python loop then
+        runs), and when Pinocchio and the kernel disagree about convergence at the tolerance's
+        last digits (the Python loop decides then)."""
         inputs = self._kernel_inputs(
             position_tolerance, rotation_tolerance, max_iterations, max_restarts
         )
         if inputs is None:
             return None
-        kernel, screws, tool, settings, polish, restarts = inputs
+        kernel, screws, tool, settings, restarts = inputs
         target = np.eye(4)
         target[:3, 3] = position
         if rotation is not None:
             target[:3, :3] = rotation
         q = np.empty(self.nq)
-        limits = self._limits
         ok, attempts, its, _, _ = kernel.solve(
-            np.asarray(q_seed, dtype=float), target, rotation is not None, limits, screws,
-            tool, settings, polish, restarts, q,
+            np.asarray(q_seed, dtype=float), target, rotation is not None, self._limits, screws,
+            tool, settings, restarts, True, q,
         )  # fmt: skip
-        if not ok:
-            return None
         perr, rerr = self.errors(q, position, rotation)
-        if perr > position_tolerance or rerr > rotation_tolerance:
+        if ok != (perr <= position_tolerance and rerr <= rotation_tolerance):
             return None
-        return IKResult(q, True, perr, rerr, its, attempts)
+        return IKResult(q, ok, perr, rerr, its, attempts)
 
     def _kernel_inputs(
         self,
@@ -572,10 +569,10 @@ class IKSolver:
         rotation_tolerance: float,
         max_iterations: int,
         max_restarts: int,
-    ) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
-        """(kernel module, screws, tool pose at q = 0, settings, polish settings, restart
-        configurations) of the compiled solve (:mod:`kinplan.ik.numeric_kernel`), or None
-        without numba and for arms other than serial chains of revolute joints."""
+    ) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+        """(kernel module, screws, tool pose at q = 0, settings (4, 7), restart configurations)
+        of the compiled solve (:mod:`kinplan.ik.numeric_kernel`), or None without numba and for
+        arms other than serial chains of revolute joints."""
         if self._kernel is None:
             from kinplan.ik import numeric_kernel  # numba loads on first use
 
@@ -584,16 +581,23 @@ class IKSolver:
         if not isinstance(self._kernel, tuple):
             return None
         kernel, screws, tool = self._kernel
+        tolerances = (position_tolerance**2, frobenius_tolerance(rotation_tolerance))
+        long = POLISH_ITERATIONS * max_iterations
+        # rows: the attempts, the polish of the best, the attempt without limits, its polish
+        # (the Python loop's descend arguments for each: see solve_checked and _rescue)
         settings = np.array(
-            [position_tolerance**2, frobenius_tolerance(rotation_tolerance), max_iterations,
-             DAMPING_GAIN, DAMPING_FLOOR, STALL_ITERATIONS, MAX_STEP]
+            [
+                [*tolerances, max_iterations, DAMPING_GAIN, DAMPING_FLOOR, STALL_ITERATIONS],
+                [*tolerances, long, DAMPING_GAIN, POLISH_DAMPING_FLOOR, POLISH_STALL_ITERATIONS],
+                [*tolerances, long, DAMPING_GAIN, DAMPING_FLOOR, STALL_ITERATIONS],
+                [*tolerances, max_iterations, DAMPING_GAIN, POLISH_DAMPING_FLOOR,
+                 POLISH_STALL_ITERATIONS],
+            ]
         )  # fmt: skip
-        polish = settings.copy()
-        polish[2] = POLISH_ITERATIONS * max_iterations if max_restarts > 0 else 0
-        polish[4], polish[5] = POLISH_DAMPING_FLOOR, POLISH_STALL_ITERATIONS
+        settings = np.hstack([settings, np.full((4, 1), MAX_STEP)])
         if max_restarts > 0:
             self.restart_configuration(max_restarts)  # the Halton starts, made once
-        return kernel, screws, tool, settings, polish, self._restarts[:max_restarts]
+        return kernel, screws, tool, settings, self._restarts[:max_restarts]
 
     @property
     def compiled(self) -> bool:
@@ -610,9 +614,10 @@ class IKSolver:
         rotation_tolerance: float,
         max_iterations: int,
         max_restarts: int,
+        rescue: bool = True,
     ) -> tuple[np.ndarray, np.ndarray] | None:
         """The compiled solve of :meth:`_compiled_solve` for many targets (inputs checked and
-        finite): the seeded attempt, the restarts and the polish of each, as :meth:`solve`
+        finite): the seeded attempt, the restarts and the rescue of each, as :meth:`solve`
         runs them for one target. What ``Robot.ik_batch`` runs for arms without a closed form.
 
         Args:
@@ -621,9 +626,10 @@ class IKSolver:
             seeds: Start configurations [rad], shape (N, nq).
             position_tolerance, rotation_tolerance: Convergence thresholds [m], [rad].
             max_iterations, max_restarts: As :meth:`solve`.
+            rescue: Whether targets every attempt failed get the rescue (as :meth:`solve`).
 
         Returns:
-            (q (N, nq) [rad]: the converged configuration, else the polished best attempt;
+            (q (N, nq) [rad]: the converged configuration, else the best attempt;
             converged (N,) bool, by the kernel's kinematics, which agree with Pinocchio to
             1e-12), or None when the compiled solve is not available.
         """
@@ -632,7 +638,7 @@ class IKSolver:
         )
         if inputs is None:
             return None
-        kernel, screws, tool, settings, polish, restarts = inputs
+        kernel, screws, tool, settings, restarts = inputs
         count = len(positions)
         targets = np.zeros((count, 4, 4))
         targets[:, 3, 3] = 1.0
@@ -643,7 +649,7 @@ class IKSolver:
         converged = np.zeros(count, dtype=bool)
         kernel.solve_many(
             np.ascontiguousarray(seeds, dtype=float), targets, rotations is not None,
-            self._limits, screws, tool, settings, polish, np.ascontiguousarray(restarts), q,
+            self._limits, screws, tool, settings, np.ascontiguousarray(restarts), rescue, q,
             converged,
         )  # fmt: skip
         return q, converged

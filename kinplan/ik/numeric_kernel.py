@@ -1,5 +1,7 @@
 """The numerical IK of :class:`kinplan.ik.IKSolver` compiled (numba), for serial arms of
-revolute joints: the seeded attempt, the Halton restarts and the polish of the best attempt.
+revolute joints: the seeded attempt, the Halton restarts and, when all fail, the rescue (the
+polish of the best attempt, the attempt from the seed without limits turned into them by whole
+turns).
 
 :meth:`IKSolver.solve <kinplan.ik.numeric.IKSolver.solve>` iterates Levenberg–Marquardt steps
 on Pinocchio from Python, ~20 µs an iteration on a quiet machine (the Python around the
@@ -9,9 +11,9 @@ of the joint screws at q = 0 (checked against Pinocchio's tool pose and Jacobian
 solver is built, :func:`screw_constants`), the error ``[p* − p; log(R* Rᵀ)]``, the damped
 normal equations ``(JᵀJ + λI) Δq = Jᵀe`` with λ = ``DAMPING_GAIN``·½‖e‖² + floor solved by
 Cholesky, the joint limits as an active set, the step cap, the stall rule; then restarts from
-the configurations the caller passes (the solver's Halton set) and, when all fail, a polish of
-the best attempt with the polish floor and patience. The rest of a failed solve (the solve
-without limits, turned into them by whole turns) stays in Python. Answers are those of the
+the configurations the caller passes (the solver's Halton set) and, when all fail, the rescue:
+a polish of the best attempt with the polish floor and patience, then the attempt from the seed
+without limits, turned into them by whole turns and polished there. Answers are those of the
 Python loop in another rounding (``tests/ik/test_numeric_kernel.py``).
 
 numba loads with this module, which :class:`~kinplan.ik.numeric.IKSolver` imports on its first
@@ -229,29 +231,43 @@ def descend(q0, target, with_rotation, limits, screws, tool, settings, q):
     return False, it, perr2, frob2
 
 
+#: Rows of the ``settings`` of :func:`solve`: the attempts (the seed's and the restarts'), the
+#: polish of the best attempt, the attempt without limits from the seed, and the polish of its
+#: answer turned into the limits.
+ATTEMPT, POLISH, FREE, FINAL = 0, 1, 2, 3
+
+
 @jit
-def solve(q_seed, target, with_rotation, limits, screws, tool, settings, polish, restarts, q):
-    """The seeded attempt, then the restarts, then the polish of the best attempt.
+def solve(q_seed, target, with_rotation, limits, screws, tool, settings, restarts, rescue, q):
+    """:meth:`IKSolver.solve <kinplan.ik.numeric.IKSolver.solve>` compiled: the seeded
+    attempt, then the restarts; when none converges (``rescue`` and restarts given), the
+    rescue: the
+    polish of the best attempt, then the attempt from the seed without limits, its revolute
+    joints turned by whole turns into the limits and polished there.
 
     Args:
-        q_seed, target, with_rotation, limits, screws, tool, settings: As :func:`descend`.
-        polish: ``settings`` of the polish (its iterations, floor and patience).
+        q_seed, target, with_rotation, limits, screws, tool: As :func:`descend`.
+        settings: Rows :data:`ATTEMPT`, :data:`POLISH`, :data:`FREE`, :data:`FINAL` (4, 7): the
+            ``settings`` of :func:`descend` for each step.
         restarts: Start configurations of the restarts (R, nq), in order.
-        q: Written with the answer (the best attempt when none converged).
+        rescue: Whether the rescue runs when all attempts fail.
+        q: Written with the answer: the converged configuration, else the best attempt.
 
     Returns:
-        (converged, attempts (1 = the seed; R + 2 = the polish), iterations, position error²,
-        ‖R* − R‖_F²).
+        (converged, attempts (1 = the seed; R + 2 = the rescue; R + 1 when all failed),
+        iterations (the rescue's counted only when it converged, as the Python loop counts
+        them), position error² [m²], ‖R* − R‖_F² of ``q``).
     """
     nq = q_seed.shape[0]
+    count = restarts.shape[0]
     attempt_q = np.empty(nq)
     best_q = np.empty(nq)
-    best_score = np.inf
+    best_score = best_perr2 = best_frob2 = np.inf
     total = 0
-    for attempt in range(restarts.shape[0] + 1):
+    for attempt in range(count + 1):
         start = q_seed if attempt == 0 else restarts[attempt - 1]
         ok, its, perr2, frob2 = descend(
-            start, target, with_rotation, limits, screws, tool, settings, attempt_q
+            start, target, with_rotation, limits, screws, tool, settings[ATTEMPT], attempt_q
         )
         total += its
         if ok:
@@ -259,23 +275,49 @@ def solve(q_seed, target, with_rotation, limits, screws, tool, settings, polish,
             return True, attempt + 1, total, perr2, frob2
         score = math.sqrt(perr2) + 2.0 * math.asin(min(math.sqrt(frob2) / math.sqrt(8.0), 1.0))
         if score < best_score:
-            best_score = score
+            best_score, best_perr2, best_frob2 = score, perr2, frob2
             best_q[:] = attempt_q
-    ok, its, perr2, frob2 = descend(best_q, target, with_rotation, limits, screws, tool, polish, q)
-    return ok, restarts.shape[0] + 2, total + its, perr2, frob2
+    if rescue and count > 0:  # the rescue (none without restarts)
+        ok, its, perr2, frob2 = descend(
+            best_q, target, with_rotation, limits, screws, tool, settings[POLISH], q
+        )
+        if ok:
+            return True, count + 2, total + its, perr2, frob2
+        rescue = its
+        unbounded = np.empty((2, nq))
+        unbounded[0, :], unbounded[1, :] = -np.inf, np.inf
+        ok, its, perr2, frob2 = descend(
+            q_seed, target, with_rotation, unbounded, screws, tool, settings[FREE], attempt_q
+        )
+        rescue += its
+        if ok:
+            within = True
+            for i in range(nq):  # whole turns into the limits (all joints revolute here)
+                turns = np.ceil((limits[0, i] - attempt_q[i]) / (2.0 * math.pi) - 1e-12)
+                if math.isfinite(turns):
+                    attempt_q[i] = attempt_q[i] + 2.0 * math.pi * turns
+                within = within and limits[0, i] <= attempt_q[i] <= limits[1, i]
+            if within:
+                ok, its, perr2, frob2 = descend(
+                    attempt_q, target, with_rotation, limits, screws, tool, settings[FINAL], q
+                )
+                if ok:
+                    return True, count + 2, total + rescue + its, perr2, frob2
+    q[:] = best_q
+    return False, count + 1, total, best_perr2, best_frob2
 
 
 @jit
 def solve_many(
-    q_seeds, targets, with_rotation, limits, screws, tool, settings, polish, restarts, q, ok
+    q_seeds, targets, with_rotation, limits, screws, tool, settings, restarts, rescue, q, ok
 ):
     """:func:`solve` of many targets, one after the other (``Robot.ik_batch`` of arms without a
     closed form): row k of ``q`` (N, nq) and ``ok`` (N,) bool are the answer of target
     ``targets[k]`` (4, 4) from seed ``q_seeds[k]``; the other arguments as :func:`solve`."""
     for k in range(q_seeds.shape[0]):
         ok[k] = solve(
-            q_seeds[k], targets[k], with_rotation, limits, screws, tool, settings, polish,
-            restarts, q[k],
+            q_seeds[k], targets[k], with_rotation, limits, screws, tool, settings, restarts,
+            rescue, q[k],
         )[0]  # fmt: skip
 
 
