@@ -361,8 +361,9 @@ class BatchSolver:
             the rescue, or ``rescue`` was False).
         """
         compiled = self.robot.ik_solver.compiled_solve_many(
-            positions, rotations, seeds, *tolerances, max_iterations, max_restarts, rescue
-        )
+            positions, rotations, seeds, tolerances[0], tolerances[1], max_iterations,
+            max_restarts, rescue,
+        )  # fmt: skip
         if compiled is not None:  # serial revolute arms: the compiled solve of ik, per target
             q, converged = compiled
             assert self.kinematics is not None  # the numerical method needs it (method())
