@@ -55,13 +55,18 @@ def available() -> bool:
 
 # ---------------------------------------------------------------------------- solutions
 @inline
-def _solution(k, search_k, pre, theta6, b, fill):
+def _solution(k, search_k, pre, theta6, b, fill, known):
     """The joint angles [rad] (a 6-tuple) of root ``theta6`` of branch ``b``, and their
     cosines and sines (cos θ1, sin θ1, …, cos θ6, sin θ6). ``k`` is the geometry as tuples
-    (:func:`geometry`), ``search_k`` the branches' rows of it (:func:`branch_geometry`)."""
-    c6, s6 = math.cos(theta6), math.sin(theta6)
-    moving = (pre[0], pre[1], pre[2], pre[3], pre[4], pre[5])
-    _, _, _, cm, sm, c2, s2, c3, s3 = branch(search_k, moving, c6, s6, b, fill)
+    (:func:`geometry`), ``search_k`` the branches' rows of it (:func:`branch_geometry`);
+    ``known``: cos, sin of θ6, −θ1, θ2, θ3 at the root as the search found them (the same
+    branch evaluation), or NaN where it did not evaluate the branch there."""
+    if known[0] == known[0]:
+        c6, s6, cm, sm, c2, s2, c3, s3 = known
+    else:
+        c6, s6 = math.cos(theta6), math.sin(theta6)
+        moving = (pre[0], pre[1], pre[2], pre[3], pre[4], pre[5])
+        _, _, _, cm, sm, c2, s2, c3, s3 = branch(search_k, moving, c6, s6, b, fill)
     # W h5 = R3ᵀ R2ᵀ R1ᵀ (R_T R_Mᵀ R6ᵀ h5), W x5 likewise
     wx = pre[3][0] + c6 * pre[4][0] + s6 * pre[5][0]
     wy = pre[3][1] + c6 * pre[4][1] + s6 * pre[5][1]
@@ -167,7 +172,7 @@ def branches(k, tool, position, rotation, fill, raw, ok):
     Returns:
         Whether some joint was free (took its ``fill`` value) at a sample or root.
     """
-    roots, branch_of = np.empty(SLOTS), np.empty(SLOTS, dtype=np.int64)
+    roots, branch_of = np.empty((SLOTS, 9)), np.empty(SLOTS, dtype=np.int64)
     return _branches(
         geometry(k), _tool(tool), position, rotation, fill, raw, ok, roots, branch_of, workspace()
     )
@@ -199,18 +204,33 @@ def _branches(g, tool, position, rotation, fill, raw, ok, roots, branch_of, work
     search_k = branch_geometry(g)
     moving = (pre[0], pre[1], pre[2], pre[3], pre[4], pre[5])
     count, singular = search(search_k, moving, f, roots, branch_of, work)
-    # sorted by branch then θ6 (insertion sort: stable, ≤ SLOTS roots)
+    # sorted by branch then θ6 (insertion sort: stable, ≤ SLOTS roots of 9 columns)
     for i in range(1, count):
-        root, b = roots[i], branch_of[i]
-        key = b * 16.0 + (root + math.pi) / TAU
+        b = branch_of[i]
+        key = b * 16.0 + (roots[i, 0] + math.pi) / TAU
         j = i
-        while j > 0 and branch_of[j - 1] * 16.0 + (roots[j - 1] + math.pi) / TAU > key:
-            roots[j], branch_of[j] = roots[j - 1], branch_of[j - 1]
+        while j > 0 and branch_of[j - 1] * 16.0 + (roots[j - 1, 0] + math.pi) / TAU > key:
             j -= 1
-        roots[j], branch_of[j] = root, b
+        if j == i:
+            continue
+        held = (
+            roots[i, 0], roots[i, 1], roots[i, 2], roots[i, 3], roots[i, 4],
+            roots[i, 5], roots[i, 6], roots[i, 7], roots[i, 8],
+        )  # fmt: skip
+        for m in range(i, j, -1):
+            branch_of[m] = branch_of[m - 1]
+            for c in range(9):
+                roots[m, c] = roots[m - 1, c]
+        branch_of[j] = b
+        for c in range(9):
+            roots[j, c] = held[c]
     row = 0
     for i in range(count):
-        q, cs = _solution(g, search_k, pre, roots[i], branch_of[i], f)
+        known = (
+            roots[i, 1], roots[i, 2], roots[i, 3], roots[i, 4],
+            roots[i, 5], roots[i, 6], roots[i, 7], roots[i, 8],
+        )  # fmt: skip
+        q, cs = _solution(g, search_k, pre, roots[i, 0], branch_of[i], f, known)
         for j in range(6):
             raw[row, j] = q[j]
         if _reaches(g, tool, cs, p, r):
@@ -227,7 +247,7 @@ def raw_many(k, tool, positions, rotations, fills, raw, singular):
     solution, ``singular`` (N,)."""
     ok = np.empty(SLOTS, dtype=np.bool_)
     g, tool_rows = geometry(k), _tool(tool)
-    roots, branch_of = np.empty(SLOTS), np.empty(SLOTS, dtype=np.int64)
+    roots, branch_of = np.empty((SLOTS, 9)), np.empty(SLOTS, dtype=np.int64)
     work = workspace()  # allocated once a batch
     for n in range(positions.shape[0]):
         singular[n] = _branches(
@@ -256,7 +276,7 @@ def nearest(k, tool, limits, position, rotation, ref, out):
         return NOT_FINITE
     raw = np.empty((SLOTS, 6))
     ok = np.empty(SLOTS, dtype=np.bool_)
-    roots, branch_of = np.empty(SLOTS), np.empty(SLOTS, dtype=np.int64)
+    roots, branch_of = np.empty((SLOTS, 9)), np.empty(SLOTS, dtype=np.int64)
     _branches(
         geometry(k), _tool(tool), position, rotation, ref, raw, ok, roots, branch_of, workspace()
     )  # as nearest_many calls it: one compiled specialisation
@@ -272,7 +292,7 @@ def nearest_many(k, tool, limits, positions, rotations, refs, q, row, mask):
     ok = np.empty(SLOTS, dtype=np.bool_)
     out = np.empty(6)
     g, tool_rows = geometry(k), _tool(tool)
-    roots, branch_of = np.empty(SLOTS), np.empty(SLOTS, dtype=np.int64)
+    roots, branch_of = np.empty((SLOTS, 9)), np.empty(SLOTS, dtype=np.int64)
     work = workspace()  # allocated once a batch
     for n in range(positions.shape[0]):
         _branches(

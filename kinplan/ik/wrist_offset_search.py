@@ -99,45 +99,58 @@ def _at(k, pre, fill, curve, x):
 
 @inline
 def _at_inline(k, pre, fill, curve, x):
-    """:func:`_at` with the branch inlined (for Brent's method, the most frequent caller)."""
+    """:func:`_at` with the branch inlined (for Brent's method, the most frequent caller), and
+    the cosines and sines there (:data:`UNKNOWN` layout: cos, sin of θ6, −θ1, θ2, θ3)."""
     theta, row = _place(curve, x)
-    out = branch_inline(k, pre, math.cos(theta), math.sin(theta), row, fill)
-    return out[0], out[1]
+    c6, s6 = math.cos(theta), math.sin(theta)
+    out = branch_inline(k, pre, c6, s6, row, fill)
+    return out[0], out[1], (c6, s6, out[3], out[4], out[5], out[6], out[7], out[8])
+
+
+#: The cosines and sines of a root not known (its solution evaluates its branch again): the
+#: columns 1–8 of a row of ``roots``, cos, sin of θ6, −θ1, θ2, θ3 where known.
+UNKNOWN = (np.nan, np.nan, np.nan, np.nan, np.nan, np.nan, np.nan, np.nan)
 
 
 @inline
-def _add(roots, branch_of, count, curve, x):
-    """Append the root at ``x`` of the curve unless already listed; the new count."""
+def _add(roots, branch_of, count, curve, x, known):
+    """Append the root at ``x`` of the curve unless already listed: θ6 into ``roots[count, 0]``
+    and ``known`` (the cosines and sines at it, as :func:`_at_inline` gives them, or
+    :data:`UNKNOWN`) into its columns 1–8; the new count."""
     if x != x or count >= roots.shape[0]:
         return count
     theta, row = _place(curve, x)
     for r in range(count):
-        if branch_of[r] == row and abs(wrap(roots[r] - theta)) < 1e-10:
+        if branch_of[r] == row and abs(wrap(roots[r, 0] - theta)) < 1e-10:
             return count
-    roots[count] = theta
+    roots[count, 0] = theta
+    for j in range(8):
+        roots[count, 1 + j] = known[j]
     branch_of[count] = row
     return count + 1
 
 
 @jit
 def _brent(k, pre, fill, curve, a, fa, c, fc):
-    """The root in [a, c] (f(a), f(c) of opposite signs) to ROOT_TOL (Brent's method);
-    NaN if the curve stops reaching inside the bracket."""
-    bb, fb = c, fc
-    cc, fcc = a, fa
+    """The root in [a, c] (f(a), f(c) of opposite signs) to ROOT_TOL (Brent's method), and the
+    cosines and sines there (:data:`UNKNOWN` if not evaluated there); NaN if the curve stops
+    reaching inside the bracket."""
+    bb, fb, tb = c, fc, UNKNOWN
+    cc, fcc, tcc = a, fa, UNKNOWN
+    ta = UNKNOWN
     d = e = bb - a
     for _ in range(100):
         if (fb > 0.0) == (fcc > 0.0):
-            cc, fcc = a, fa
+            cc, fcc, tcc = a, fa, ta
             d = e = bb - a
         if abs(fcc) < abs(fb):
-            a, fa = bb, fb
-            bb, fb = cc, fcc
-            cc, fcc = a, fa
+            a, fa, ta = bb, fb, tb
+            bb, fb, tb = cc, fcc, tcc
+            cc, fcc, tcc = a, fa, ta
         tol = ROOT_TOL
         m = 0.5 * (cc - bb)
         if abs(m) <= tol or abs(fb) <= ROOT_F:
-            return bb
+            return bb, tb
         if abs(e) >= tol and abs(fa) > abs(fb):
             s = fb / fa
             if a == cc:
@@ -156,12 +169,12 @@ def _brent(k, pre, fill, curve, a, fa, c, fc):
                 d = e = m
         else:
             d = e = m
-        a, fa = bb, fb
+        a, fa, ta = bb, fb, tb
         bb += d if abs(d) > tol else (tol if m > 0.0 else -tol)
-        fb, ok = _at_inline(k, pre, fill, curve, bb)
+        fb, ok, tb = _at_inline(k, pre, fill, curve, bb)
         if not ok:
-            return np.nan
-    return bb
+            return np.nan, UNKNOWN
+    return bb, tb
 
 
 @jit
@@ -236,12 +249,12 @@ def _bracket(k, pre, fill, curve, lo, flo, hi, fhi, roots, branch_of, count):
     if gm != gm or gm >= min(sign * flo, sign * fhi):
         return count
     if gm <= 0.0:
-        count = _add(roots, branch_of, count, curve,
-                     _brent(k, pre, fill, curve, lo, flo, xm, sign * gm))  # fmt: skip
-        return _add(roots, branch_of, count, curve,
-                    _brent(k, pre, fill, curve, xm, sign * gm, hi, fhi))  # fmt: skip
+        root, known = _brent(k, pre, fill, curve, lo, flo, xm, sign * gm)
+        count = _add(roots, branch_of, count, curve, root, known)
+        root, known = _brent(k, pre, fill, curve, xm, sign * gm, hi, fhi)
+        return _add(roots, branch_of, count, curve, root, known)
     if gm <= TANGENT_TOL:
-        return _add(roots, branch_of, count, curve, xm)
+        return _add(roots, branch_of, count, curve, xm, UNKNOWN)
     return count
 
 
@@ -255,10 +268,12 @@ def _flat(k, pre, fill, curve, a, fa, c, fc, roots, branch_of, count):
     if not ok:
         return count
     if fm == 0.0:
-        return _add(roots, branch_of, count, curve, middle)
+        return _add(roots, branch_of, count, curve, middle, UNKNOWN)
     if (fm < 0.0) != (fa < 0.0):
-        count = _add(roots, branch_of, count, curve, _brent(k, pre, fill, curve, a, fa, middle, fm))
-        return _add(roots, branch_of, count, curve, _brent(k, pre, fill, curve, middle, fm, c, fc))
+        root, known = _brent(k, pre, fill, curve, a, fa, middle, fm)
+        count = _add(roots, branch_of, count, curve, root, known)
+        root, known = _brent(k, pre, fill, curve, middle, fm, c, fc)
+        return _add(roots, branch_of, count, curve, root, known)
     sign = 1.0 if fa > 0.0 else -1.0
     g0, g1, g2 = sign * fa, sign * fm, sign * fc
     curvature = g0 - 2.0 * g1 + g2
@@ -304,12 +319,12 @@ def _to_edge(k, pre, fill, curve, i, xs, fs, ok, col, roots, branch_of, count):
     f_end, _ = _at(k, pre, fill, curve, inside)
     start = xs[i] if ok[i, col] else xs[i + 1]
     if f_end == 0.0:
-        return _add(roots, branch_of, count, curve, inside)
+        return _add(roots, branch_of, count, curve, inside, UNKNOWN)
     if f_in == 0.0 or start == inside:
         return count
     if (f_in < 0.0) != (f_end < 0.0):
-        root = _brent(k, pre, fill, curve, start, f_in, inside, f_end)
-        return _add(roots, branch_of, count, curve, root)
+        root, known = _brent(k, pre, fill, curve, start, f_in, inside, f_end)
+        return _add(roots, branch_of, count, curve, root, known)
     return _bracket(k, pre, fill, curve, start, f_in, inside, f_end, roots, branch_of, count)
 
 
@@ -323,14 +338,14 @@ def _scan(k, pre, fill, curve, xs, fs, ok, col, periodic, roots, branch_of, coun
     for i in range(n):
         f0, f1, ok0, ok1 = fs[i, col], fs[i + 1, col], ok[i, col], ok[i + 1, col]
         if ok0 and f0 == 0.0:
-            count = _add(roots, branch_of, count, curve, xs[i])
+            count = _add(roots, branch_of, count, curve, xs[i], UNKNOWN)
         if ok0 != ok1 and curve[0] == 1:  # a joined curve leaving its reach
             count = _to_edge(k, pre, fill, curve, i, xs, fs, ok, col, roots, branch_of, count)
         if not (ok0 and ok1) or f1 == 0.0:
             continue
         if (f0 < 0.0 < f1) or (f1 < 0.0 < f0):
-            root = _brent(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1)
-            count = _add(roots, branch_of, count, curve, root)
+            root, known = _brent(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1)
+            count = _add(roots, branch_of, count, curve, root, known)
         elif max(abs(f0), abs(f1)) < FLAT and f0 != 0.0:
             count = _flat(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1, roots, branch_of, count)
     for i in range(0 if periodic else 1, n):
@@ -503,8 +518,10 @@ def workspace():
 @jit
 def search(k, pre, fill, roots, branch_of, work):
     """Every root of f_0…f_3 over a full turn of θ6 for the pose of ``pre``
-    (:func:`~kinplan.ik.wrist_offset_branches.pose_terms`): θ6 [rad] into ``roots`` and its branch
-    into ``branch_of`` (capacity ``len(roots)``); ``work`` from :func:`workspace` (written).
+    (:func:`~kinplan.ik.wrist_offset_branches.pose_terms`): θ6 [rad] into column 0 of ``roots``
+    (capacity ``len(roots)``, 9 columns: then cos, sin of θ6, −θ1, θ2, θ3 at the root where
+    the search evaluated its branch there, else NaN) and its branch into ``branch_of``;
+    ``work`` from :func:`workspace` (written).
 
     Returns:
         (count, singular): the roots found, and whether a free angle took its ``fill`` value.
