@@ -454,6 +454,43 @@ def branch_inline(k, pre, c6, s6, b, fill):
 
 
 @inline
+def reach(k, pre, c6, s6, b, fill):
+    """Whether branch ``b`` reaches ``c_T`` at the θ6 of cosine ``c6``, sine ``s6``, decided as
+    :func:`branch_inline` decides it (the same stages, the same tests) at about half its cost
+    (no angle of the elbow or the wrist, no residual): (ok, the stage that fails (0: none),
+    the margin of stage 1, that of stage 2 (stage 1's where stage 1 fails)); a margin is what
+    :func:`branch_inline` returns for the failing stage, ≥ 0 where the stage passes."""
+    first = b // 2
+    ctx, cty, ctz, _, _, _ = _moving(pre, c6, s6)
+    if k[6][0] == 0.0:  # axes 2 ∥ 3
+        vx, vy, vz, a, bb, ratio, radius, rhs = _parallel_shoulder(k, ctx, cty, ctz)
+        if radius < FREE_TOL:
+            m1 = FREE_ROOM - abs(rhs)
+            if abs(rhs) > FREE_ROOM:
+                return False, 1, m1, m1
+            cm, sm = math.cos(fill[0]), -math.sin(fill[0])
+        else:
+            m1 = 1.0 + CLAMP - abs(ratio)
+            if abs(ratio) > 1.0 + CLAMP:
+                return False, 1, m1, m1
+            cm, sm = _pair(a, bb, ratio, first)
+        _, _, _, cosine = _parallel_elbow(k, vx, vy, vz, cm, sm)
+        m2 = 1.0 + CLAMP - abs(cosine)
+        if abs(cosine) > 1.0 + CLAMP:
+            return False, 2, m1, m2
+        return True, 0, m1, m2
+    yx, yy, yz, dd, ratio = _meeting_elbow(k, ctx, cty, ctz)
+    m1 = 1.0 + CLAMP - abs(ratio)
+    if abs(ratio) > 1.0 + CLAMP:
+        return False, 1, m1, m1
+    _, _, xx, xy, xz, _, _, _ = _meeting_third(k, ratio, first)
+    _, _, _, _, m2 = _meeting_cone(k, xx, xy, xz, yx, yy, yz, dd)
+    if m2 < 0.0:
+        return False, 2, m1, m2
+    return True, 0, m1, m2
+
+
+@inline
 def _parallel_first(k, vx, vy, vz, a, bb, ratio, radius, dx, dy, dz, first, fill):
     """The two branches 2·first, 2·first + 1 of axes 2 ∥ 3 at one θ6 (θ1 of ``first``
     shared): (f or the elbow's margin for each, reached, their (cos, sin of −θ1, θ2, θ3),
