@@ -441,9 +441,9 @@ class BatchSolver:
         patience: int = STALL_ITERATIONS,
         clamp: bool = True,
     ):
-        """:meth:`kinplan.ik.IKSolver.descend` on all targets at once (``floor``: the damping
-        λ₀; ``patience``: iterations without progress before a target stops; ``clamp=False``
-        ignores the limits).
+        """:meth:`kinplan.ik.IKSolver.descend` with ``turn`` (as an IK solve runs it) on all
+        targets at once (``floor``: the damping λ₀; ``patience``: iterations without progress
+        before a target stops; ``clamp=False`` ignores the limits).
 
         Returns:
             (q, converged, score) with score the position plus rotation error [m + rad] of q.
@@ -460,6 +460,7 @@ class BatchSolver:
         best_cost = np.full(count, np.inf)
         stalled = np.zeros(count, dtype=int)
         touching = np.ones(count, dtype=bool)  # q may sit on a limit: the active set is checked
+        once = np.zeros((count, nq), dtype=bool)  # joints turned into the limits
         active = np.arange(count)
         eye = np.eye(nq)
         kinematics = self.kinematics
@@ -510,6 +511,13 @@ class BatchSolver:
             step = np.abs(dq).max(axis=1)
             dq *= np.where(step > MAX_STEP, MAX_STEP / np.maximum(step, 1e-300), 1.0)[:, None]
             free_q = qa + dq
+            if clamp:  # revolute joints beyond a limit turned into the limits (once) if they fit
+                beyond = kinematics.revolute & ~once[active] & ((free_q < lower) | (free_q > upper))
+                if beyond.any():
+                    turned = lower + np.mod(free_q - lower, TAU)
+                    beyond &= turned <= upper
+                    free_q = np.where(beyond, turned, free_q)
+                    once[active] |= beyond
             q[active] = np.clip(free_q, lower, upper)
             touching[active] = np.any(q[active] != free_q, axis=1)
         return q, converged, score

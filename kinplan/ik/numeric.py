@@ -3,7 +3,10 @@
 The solver minimises the tool-pose error e = [p* − p; log(R* Rᵀ)] (world-aligned, at the tip)
 with steps (JᵀJ + λI) Δq = Jᵀe, where λ = ½‖e‖² + λ₀ (Sugihara's error-dependent damping):
 Gauss–Newton close to the solution (quadratic convergence), gradient-like far from it and near
-singularities. Every iterate is clamped into the joint limits. One Pinocchio pass
+singularities. Every iterate is kept within the joint limits: a revolute joint that a step
+takes beyond a limit is turned by whole turns into them where it fits (the same tool pose:
+limits of ±π would otherwise stop an attempt that has to cross ±π), once an attempt (an optimum
+on a limit at ±π would have it swing across and back), else clamped. One Pinocchio pass
 (``computeJointJacobians``) per iteration gives both the tool pose and its Jacobian; the 6×6 (or
 nq×nq) system is solved by a Cholesky factorisation.
 
@@ -11,8 +14,7 @@ When the attempt from the seed fails, the solver restarts from configurations of
 sequence spread over the joint limits (deterministic: the same input gives the same answer).
 When every attempt fails, the best one is polished with undamped steps (a near-singular target
 converges slowly under the damping), and a solution found ignoring the limits is tried with its
-revolute joints turned by whole turns into them (limits of ±π cut many solutions off from the
-starts).
+revolute joints turned by whole turns into them.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import pinocchio as pin
 from kinplan import checks
 from kinplan.errors import InputError
 from kinplan.ik.base import AnalyticIK
+from kinplan.ik.screws import TAU
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 #: Damping λ = DAMPING_GAIN·½‖e‖² + DAMPING_FLOOR of the normal equations (Sugihara-style).
@@ -322,6 +325,7 @@ class IKSolver:
         *,
         damping_floor: float | None = None,
         stall_iterations: int | None = None,
+        turn: bool = False,
     ) -> tuple[np.ndarray, bool, float, float, int, Evaluation]:
         """Iterate from ``q`` (not modified) until converged, stalled or out of iterations.
 
@@ -333,6 +337,10 @@ class IKSolver:
             damping_floor: λ₀ of the damping (default :data:`DAMPING_FLOOR`).
             stall_iterations: Iterations without progress before giving up (default
                 :data:`STALL_ITERATIONS`).
+            turn: With ``clamp``, a revolute joint that a step takes beyond a limit is first
+                turned by whole turns into the limits (the same tool pose) when that lands
+                inside them; only where it does not is it clamped. What an IK solve does (an
+                attempt is not a path); a path follower keeps False.
 
         Returns:
             (q, converged, position_error [m], rotation_error [rad], iterations, the
@@ -341,6 +349,7 @@ class IKSolver:
         lower, upper = (self.lower, self.upper) if clamp else (self._no_lower, self._no_upper)
         q = np.minimum(np.maximum(q, lower), upper)
         touching = True  # whether q may sit on a limit (then the active set is checked)
+        once = np.zeros(self.nq, dtype=bool)  # joints turned into the limits (turn)
         rows = 3 if rotation is None else 6
         diagonal = self._diagonal
         e = None  # the error vector, made when a step is needed
@@ -399,9 +408,22 @@ class IKSolver:
             if step > MAX_STEP:
                 dq *= MAX_STEP / step
             free_q = q + dq
+            if turn and clamp:
+                free_q, once = self._turned(free_q, once)
             q = np.minimum(np.maximum(free_q, lower), upper)
             touching = bool((q != free_q).any())
         return q, False, math.sqrt(perr2), math.sqrt(rerr2), it, evaluation
+
+    def _turned(self, q: np.ndarray, once: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``q`` with each revolute joint beyond a limit, not turned before (``once``), turned
+        by whole turns into the limits where that lands inside them (see :meth:`descend`'s
+        ``turn``); and ``once`` with the joints turned now."""
+        beyond = self._revolute & ~once & ((q < self.lower) | (q > self.upper))
+        if not beyond.any():
+            return q, once
+        turned = self.lower + np.mod(q - self.lower, TAU)
+        beyond &= turned <= self.upper
+        return np.where(beyond, turned, q), once | beyond
 
     def solve(
         self,
@@ -509,8 +531,9 @@ class IKSolver:
         for attempt in range(max_restarts + 1):
             start = q_seed if attempt == 0 else self.restart_configuration(attempt)
             q, ok, perr, rerr, its, _ = self.descend(
-                start, position, rotation, position_tolerance, rotation_tolerance, max_iterations
-            )
+                start, position, rotation, position_tolerance, rotation_tolerance,
+                max_iterations, turn=True,
+            )  # fmt: skip
             total += its
             score = perr + rerr
             if best is None or score < best[0]:
@@ -570,7 +593,7 @@ class IKSolver:
         max_iterations: int,
         max_restarts: int,
     ) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
-        """(kernel module, screws, tool pose at q = 0, settings (4, 7), restart configurations)
+        """(kernel module, screws, tool pose at q = 0, settings (4, 8), restart configurations)
         of the compiled solve (:mod:`kinplan.ik.numeric_kernel`), or None without numba and for
         arms other than serial chains of revolute joints."""
         if self._kernel is None:
@@ -594,7 +617,7 @@ class IKSolver:
                  POLISH_STALL_ITERATIONS],
             ]
         )  # fmt: skip
-        settings = np.hstack([settings, np.full((4, 1), MAX_STEP)])
+        settings = np.hstack([settings, np.full((4, 1), MAX_STEP), np.ones((4, 1))])  # turn
         if max_restarts > 0:
             self.restart_configuration(max_restarts)  # the Halton starts, made once
         return kernel, screws, tool, settings, self._restarts[:max_restarts]
@@ -678,6 +701,7 @@ class IKSolver:
             POLISH_ITERATIONS * max_iterations,
             damping_floor=POLISH_DAMPING_FLOOR,
             stall_iterations=POLISH_STALL_ITERATIONS,
+            turn=True,
         )
         if ok:
             return q, perr, rerr, its
@@ -699,5 +723,6 @@ class IKSolver:
             max_iterations,
             damping_floor=POLISH_DAMPING_FLOOR,
             stall_iterations=POLISH_STALL_ITERATIONS,
+            turn=True,
         )
         return (q, perr, rerr, its + polish_its) if ok else None

@@ -29,6 +29,7 @@ import os
 import numpy as np
 
 from kinplan.compiled import inline, jit, numba, screw_kinematics
+from kinplan.ik.screws import TAU
 
 #: :func:`kinplan.compiled.screw_kinematics` inlined into the iteration (a call there passed six
 #: arrays, each with its reference count kept: see :func:`kinplan.compiled.inline`).
@@ -134,7 +135,10 @@ def descend(q0, target, with_rotation, limits, screws, tool, settings, q):
         screws: Rows of directions then points (2·nq, 3).
         tool: Tool pose at q = 0 (4, 4).
         settings: (position tolerance² [m²], ‖R* − R‖_F² tolerance, max iterations, damping
-            gain, damping floor, stall patience, step cap [rad]).
+            gain, damping floor, stall patience, step cap [rad], turn: 1 to turn a joint that
+            a step takes beyond a limit by whole turns into the limits where that lands inside
+            them, once an attempt, before clamping (``turn`` of the Python loop's descend),
+            else 0).
         q: Written with the last iterate.
 
     Returns:
@@ -144,6 +148,7 @@ def descend(q0, target, with_rotation, limits, screws, tool, settings, q):
     directions, points = screws[:nq], screws[nq:]
     tol_p2, tol_f2, max_iterations = settings[0], settings[1], int(settings[2])
     gain, floor, patience, max_step = settings[3], settings[4], int(settings[5]), settings[6]
+    turn = settings[7] != 0.0
     rows = 6 if with_rotation else 3
     for i in range(nq):
         q[i] = min(max(q0[i], limits[0, i]), limits[1, i])
@@ -154,6 +159,7 @@ def descend(q0, target, with_rotation, limits, screws, tool, settings, q):
     normal = np.empty((nq, nq))
     gradient = np.empty(nq)
     low, scratch, dq = np.zeros((nq, nq)), np.empty(nq), np.empty(nq)  # Cholesky's
+    once = np.zeros(nq, dtype=np.bool_)  # joints turned into the limits (turn)
     best_cost = np.inf
     stalled = 0
     perr2 = frob2 = np.inf
@@ -225,6 +231,10 @@ def descend(q0, target, with_rotation, limits, screws, tool, settings, q):
         touching = False
         for i in range(nq):
             free = q[i] + scale * dq[i]
+            if turn and not once[i] and (free < limits[0, i] or free > limits[1, i]):
+                turned = limits[0, i] + (free - limits[0, i]) % TAU  # the same tool pose
+                if turned <= limits[1, i]:
+                    free, once[i] = turned, True
             clamped = min(max(free, limits[0, i]), limits[1, i])
             touching = touching or clamped != free
             q[i] = clamped
@@ -247,7 +257,7 @@ def solve(q_seed, target, with_rotation, limits, screws, tool, settings, restart
 
     Args:
         q_seed, target, with_rotation, limits, screws, tool: As :func:`descend`.
-        settings: Rows :data:`ATTEMPT`, :data:`POLISH`, :data:`FREE`, :data:`FINAL` (4, 7): the
+        settings: Rows :data:`ATTEMPT`, :data:`POLISH`, :data:`FREE`, :data:`FINAL` (4, 8): the
             ``settings`` of :func:`descend` for each step.
         restarts: Start configurations of the restarts (R, nq), in order.
         rescue: Whether the rescue runs when all attempts fail.

@@ -14,11 +14,17 @@ Columns:
     poses/s: ``ik_batch`` over the N targets (median of the rounds), its default threads (one
         per core for 8,192 targets or more: :mod:`kinplan.ik.batch_threads`).
     1 thread /s: the same with ``threads=1``.
-    target: issue 18's bar: UR5 ≥ 500k poses/s, panda ≥ 100k poses/s, numerical arms ≥ 10× the
-        loop (planar 2R: no bar, shown for reference).
-    of target: poses/s over the bar (or batch/loop over 10× for numerical arms); ≥ 1 is met.
+    target: issue 18's bar: UR5 ≥ 500k poses/s, panda ≥ 100k poses/s, numerical arms ≥ 10× a
+        Python loop over ``ik`` (planar 2R: no bar, shown for reference).
+    of target: poses/s over the bar (or batch over the Python-LM loop over 10× for numerical
+        arms); ≥ 1 is met.
     loop over ik: ``Robot.ik`` target by target on the first n_loop targets, same seeds.
     batch/loop: the two rates' ratio.
+    Python-LM loop: for numerical arms, the same loop with ``ik``'s compiled solve switched off
+        (``IKSolver._kernel = False``): the Python Levenberg–Marquardt that ``ik`` ran when
+        issue 18 set its bar (the same steps and answers; ``tests/ik/test_numeric_kernel.py``),
+        and the batch's rate over it. ``ik`` itself now runs the whole solve compiled, so the
+        batch can only add the second core and save ``ik``'s per-call Python over it.
     success: the batch's, over all N targets (the loop's on its targets in brackets).
     max error: of the batch's successes, tool position [m] / rotation [rad], by the vectorised
         FK (itself checked against Pinocchio to 1e-12 by the tests).
@@ -78,7 +84,9 @@ def case_row(
     seeds = np.array([robot.random_configuration(rng) for _ in range(n_batch)]) if seeded else None
     robot.ik_batch(array[:10], q_seed=None if seeds is None else seeds[:10])  # builds the solver
     robot.ik(one_by_one[0])
-    batch_rates, single_rates, loop_rates = [], [], []
+    batch_rates, single_rates, loop_rates, python_rates = [], [], [], []
+    closed = robot.batch_solver.method(False).startswith("closed-form")
+    solver = robot.ik_solver
     q = success = None
     results = []
     for r in range(rounds):
@@ -96,11 +104,17 @@ def case_row(
                     for k, t in enumerate(one_by_one)
                 ]
                 loop_rates.append(n_loop / (time.perf_counter() - started))
+                if not closed:  # the Python Levenberg–Marquardt (issue 18's reference)
+                    kernel, solver._kernel = solver._kernel, False
+                    started = time.perf_counter()
+                    for k, t in enumerate(one_by_one):
+                        robot.ik(t, q_seed=None if seeds is None else seeds[k])
+                    python_rates.append(n_loop / (time.perf_counter() - started))
+                    solver._kernel = kernel
     assert q is not None and success is not None
     batch_rate, loop_rate = float(np.median(batch_rates)), float(np.median(loop_rates))
     position2, frobenius2 = kinematics.errors(q[success], positions[success], rotations[success])
     rotation_error = 2.0 * np.arcsin(np.minimum(np.sqrt(frobenius2.max(initial=0.0)) / 8**0.5, 1))
-    closed = robot.batch_solver.method(False).startswith("closed-form")
     tolerance = 1e-9 if closed else 1e-6
     agree = sum(
         res.success == ok and (not ok or np.abs(res.q - row).max() < tolerance)
@@ -110,7 +124,9 @@ def case_row(
     if bar is None:
         target, of_target = "–", "–"
     elif bar[0] == "loop":
-        target, of_target = f"{bar[1]:.0f}× loop", f"{batch_rate / loop_rate / bar[1]:.2f}"
+        python_rate = float(np.median(python_rates))
+        of_target = f"{batch_rate / python_rate / bar[1]:.2f}"
+        target = f"{bar[1]:.0f}× Python-LM loop"
     else:
         target, of_target = f"{bar[1]:,.0f}/s", f"{batch_rate / bar[1]:.2f}"
     return [
@@ -121,7 +137,10 @@ def case_row(
         target,
         of_target,
         f"{loop_rate:,.0f}",
-        f"{batch_rate / loop_rate:.0f}×",
+        f"{batch_rate / loop_rate:.1f}×",
+        f"{np.median(python_rates):,.0f} ({batch_rate / np.median(python_rates):.0f}×)"
+        if python_rates
+        else "–",
         f"{success.mean():.1%} ({loop_success:.1%})",
         f"{math.sqrt(position2.max(initial=0.0)):.0e} / {rotation_error:.0e}",
         f"{agree}/{n_loop}",
@@ -181,6 +200,7 @@ def main() -> None:
         "of target",
         "loop over ik /s",
         "batch/loop",
+        "Python-LM loop /s (batch/it)",
         "success (loop)",
         "max error m / rad",
         "same as ik",

@@ -303,7 +303,8 @@ def test_solve_options_are_validated(ur5, options, name):
 
 def test_failure_returns_the_best_attempt_and_counts_every_iteration(ur5):
     """A target 2 m away (the UR5 reaches 0.95 m): no attempt succeeds; the result is the
-    attempt with the smallest error sum (each attempt re-run here on its own), its errors, and
+    attempt with the smallest error sum (each attempt re-run here on its own, turning joints into
+    the limits as a solve does), its errors, and
     the iterations and attempts of all of them."""
     solver = numerical_solver(ur5)
     position, rotation = np.array([2.0, 0.3, 0.4]), ur5.fk(np.zeros(6)).rotation
@@ -311,7 +312,9 @@ def test_failure_returns_the_best_attempt_and_counts_every_iteration(ur5):
     res = solver.solve(position, rotation, seed, max_iterations=15, max_restarts=3)
     assert not res.success and res.attempts == 4 and res.method == "numerical"
     starts = [seed] + [solver.restart_configuration(a) for a in (1, 2, 3)]
-    attempts = [solver.descend(start, position, rotation, 1e-6, 1e-6, 15) for start in starts]
+    attempts = [
+        solver.descend(start, position, rotation, 1e-6, 1e-6, 15, turn=True) for start in starts
+    ]
     assert res.iterations == sum(a[4] for a in attempts)
     best = min(attempts, key=lambda a: a[2] + a[3])
     assert len({round(a[2] + a[3], 9) for a in attempts}) > 1  # the attempts differ
@@ -340,7 +343,8 @@ def test_success_after_restarts_counts_the_iterations_of_every_attempt(panda):
         found += 1
         starts = [seed] + [solver.restart_configuration(a) for a in range(1, res.attempts)]
         runs = [
-            solver.descend(s, target.translation, target.rotation, 1e-6, 1e-6, 40) for s in starts
+            solver.descend(s, target.translation, target.rotation, 1e-6, 1e-6, 40, turn=True)
+            for s in starts
         ]
         assert [r[1] for r in runs] == [False] * (res.attempts - 1) + [True]
         assert res.iterations == sum(r[4] for r in runs)

@@ -110,12 +110,12 @@ def test_unreachable_target_fails_like_the_python_loop(z1):
 
 
 def test_the_rescue_runs_compiled_like_the_python_loop():
-    """An arm whose limits stop a hair short of a whole turn (±3.14159): a clamped attempt
-    that has to cross ±π stalls on the limit, so some targets fail the seed's attempt and all
-    40 restarts; the rescue (the attempt without limits, turned by whole turns into them)
-    solves a few of them, the others fail. The compiled solve runs the rescue too: the same
-    attempts and iterations as the Python loop and the same answer in another rounding, for
-    the rescued targets and the failures alike."""
+    """An arm whose limits stop a hair short of a whole turn (±3.14159), solved with one
+    restart: many targets fail the seed's attempt and the restart; the rescue (the polish, then
+    the attempt without limits, turned by whole turns into them) solves some of them, the
+    others fail. The compiled solve runs the rescue too: the same attempts and iterations as
+    the Python loop and the same answer in another rounding, for the rescued targets and the
+    failures alike."""
     robot = kinplan.load_robot(Path(__file__).parents[1] / "urdf" / "skewed_axes.urdf")
     compiled = kinplan.ik.IKSolver(robot.model, robot.tip_id, robot.lower, robot.upper)
     assert compiled.compiled
@@ -128,20 +128,18 @@ def test_the_rescue_runs_compiled_like_the_python_loop():
     python._kernel = False  # the Python loop only
     rng = np.random.default_rng(0)
     rescued = failed = 0
-    for k in range(3000):
+    for k in range(200):
         target = robot.fk(robot.random_configuration(rng))
-        a = compiled.solve(target.translation, target.rotation, robot.neutral())
-        if a.attempts < 41 or (a.success and a.attempts == 41) or (not a.success and failed >= 3):
+        a = compiled.solve(target.translation, target.rotation, robot.neutral(), max_restarts=1)
+        if a.success and a.attempts < 3:
             continue  # solved by an attempt (the twin test above covers those)
         rescued, failed = rescued + a.success, failed + (not a.success)
-        b = python.solve(target.translation, target.rotation, robot.neutral())
+        b = python.solve(target.translation, target.rotation, robot.neutral(), max_restarts=1)
         assert a.success == b.success, k
         assert (a.attempts, a.iterations) == (b.attempts, b.iterations), k
         np.testing.assert_allclose(a.q, b.q, rtol=0, atol=1e-6, err_msg=str(k))
         if a.success:
-            assert a.attempts == 42
+            assert a.attempts == 3
             assert a.position_error <= 1e-6 and a.rotation_error <= 1e-6
             assert robot.within_limits(a.q, tolerance=0.0)
-        if rescued >= 4 and failed >= 3:
-            break
-    assert rescued >= 4 and failed >= 3, (rescued, failed)
+    assert rescued >= 10 and failed >= 10, (rescued, failed)  # 32 and 45 with this seed

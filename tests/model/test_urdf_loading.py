@@ -219,17 +219,24 @@ def test_ik_polishes_a_near_singular_target_the_damped_steps_leave_short():
     assert robot.ik(target, q_seed=seed).success
 
 
-def test_ik_solves_without_limits_and_turns_revolute_joints_into_them():
-    """Joints limited to ±π about skewed axes: no restart reaches this pose within the limits,
-    the solve without limits does and whole turns bring it back within them."""
+def test_ik_turns_revolute_joints_into_their_limits_by_whole_turns():
+    """Joints limited to ±π about skewed axes: from this seed, an attempt has to take a joint
+    across ±π. Stopped at the limit it stalls; turned by a whole turn into the limits (the same
+    tool pose) it converges at once, as every attempt of an IK solve does."""
     robot = kinplan.load_robot(HERE / "skewed_axes.urdf")
     q_target = np.array([2.6136, -1.6763, 2.3041, -1.7084, 1.4251, 1.8225])
     seed = np.array([-0.9519, -0.2149, 2.4377, -1.8321, -2.9224, 1.7718])
     target = robot.fk(q_target)
+    solver = kinplan.ik.IKSolver(robot.model, robot.tip_id, robot.lower, robot.upper)
+    clamped = solver.descend(seed, target.translation, target.rotation, 1e-6, 1e-6, 40)
+    turned = solver.descend(seed, target.translation, target.rotation, 1e-6, 1e-6, 40, turn=True)
+    assert not clamped[1] and clamped[2] > 0.1  # stalls 0.26 m away
+    assert turned[1] and robot.within_limits(turned[0], tolerance=0.0)
     result = robot.ik(target, q_seed=seed)
-    assert result.success and result.attempts == 42
+    assert result.success and result.attempts == 1
     assert robot.within_limits(result.q, tolerance=0.0)
     np.testing.assert_allclose(robot.fk(result.q).homogeneous, target.homogeneous, atol=1e-6)
+    np.testing.assert_allclose(result.q, turned[0], rtol=0, atol=1e-9)  # compiled: a rounding
 
 
 # ---------------------------------------------------------------------------- locked joints
