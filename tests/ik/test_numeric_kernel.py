@@ -143,3 +143,22 @@ def test_the_rescue_runs_compiled_like_the_python_loop():
             assert a.position_error <= 1e-6 and a.rotation_error <= 1e-6
             assert robot.within_limits(a.q, tolerance=0.0)
     assert rescued >= 10 and failed >= 10, (rescued, failed)  # 32 and 45 with this seed
+
+
+def test_limits_of_a_half_turn_do_not_stop_the_solve():
+    """skewed_axes's joints stop a hair short of ±π: 3,000 seeded random reachable targets from
+    the default seed and from random seeds. Attempts that must take a joint across ±π turn it
+    by a whole turn into the limits (clamped there, 1.3-2 % of these targets failed every
+    attempt and the rescue): at least 99.8 % succeed, each within the limits and on the
+    target (the batch's own FK check, itself tested against Pinocchio)."""
+    robot = kinplan.load_robot(Path(__file__).parents[1] / "urdf" / "skewed_axes.urdf")
+    rng = np.random.default_rng(11)
+    q_true = np.array([robot.random_configuration(rng) for _ in range(3000)])
+    targets = np.array([robot.fk(q).homogeneous for q in q_true])
+    seeds = np.array([robot.random_configuration(rng) for _ in range(3000)])
+    for seed in (None, seeds):
+        q, success = robot.ik_batch(targets, q_seed=seed)
+        assert success.mean() >= 0.998, success.mean()
+        assert np.all(q[success] >= robot.lower) and np.all(q[success] <= robot.upper)
+        reached = np.array([robot.fk(row).homogeneous for row in q[success]])
+        assert np.abs(reached - targets[success]).max() < 2e-6
