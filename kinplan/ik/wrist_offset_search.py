@@ -483,6 +483,26 @@ def _windows(k, pre, fill, b, xs, margins, ok, roots, branch_of, count):
 
 
 # ---------------------------------------------------------------------------- all roots
+#: The turns of a branch that does not reach (never read).
+_UNUSED = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+@inline
+def _turned(least, ok, ok_next, turns, turns_next):
+    """``least``, or the least cosine of the turn of θ1, θ2 or θ3 of a branch reached at two
+    neighbouring samples (their reached flags and (cos, sin of −θ1, θ2, θ3) of each branch,
+    as tuples) if smaller."""
+    for b in range(4):
+        if not (ok[b] and ok_next[b]):
+            continue
+        p, q = turns[b], turns_next[b]
+        for a in range(0, 6, 2):
+            turned = p[a] * q[a]
+            turned += p[a + 1] * q[a + 1]
+            least = min(least, turned)
+    return least
+
+
 @jit
 def _sampled(k, pre, fill, n, coarser, values, reached, turns):
     """Sample f of the four branches at the n values θ6 = −π + i·2π/n into rows i of
@@ -494,25 +514,36 @@ def _sampled(k, pre, fill, n, coarser, values, reached, turns):
     ratio = n // coarser if coarser > 0 else n + 1
     every = MAX_SAMPLES // n
     singular = False
+    least = 1.0
+    # the first pass (coarser 0) compares each sample's turns with the one before as they
+    # come (the same products in the same order as the loop below, without reading back)
+    first_ok = before_ok = (False, False, False, False)
+    first_turns = before_turns = (_UNUSED, _UNUSED, _UNUSED, _UNUSED)
     for i in range(n):
-        if i % ratio == 0 and coarser > 0:
+        if coarser > 0 and i % ratio == 0:
             continue
         c6, s6 = CIRCLE[i * every, 0], CIRCLE[i * every, 1]
-        free, (f0, f1, f2, f3), (ok0, ok1, ok2, ok3), (t0, t1, t2, t3) = sample(
-            k, pre, c6, s6, fill
-        )
+        free, (f0, f1, f2, f3), oks, ts = sample(k, pre, c6, s6, fill)
         singular = singular or free
         values[i, 0], values[i, 1], values[i, 2], values[i, 3] = f0, f1, f2, f3
-        reached[i, 0], reached[i, 1], reached[i, 2], reached[i, 3] = ok0, ok1, ok2, ok3
+        reached[i, 0], reached[i, 1], reached[i, 2], reached[i, 3] = oks
+        t0, t1, t2, t3 = ts
         for a in range(6):
             turns[i, 0, a], turns[i, 1, a] = t0[a], t1[a]
             turns[i, 2, a], turns[i, 3, a] = t2[a], t3[a]
+        if coarser == 0:
+            if i == 0:
+                first_ok, first_turns = oks, ts
+            else:
+                least = _turned(least, before_ok, oks, before_turns, ts)
+            before_ok, before_turns = oks, ts
     for b in range(4):
         values[n, b] = values[0, b]
         reached[n, b] = reached[0, b]
         for a in range(6):
             turns[n, b, a] = turns[0, b, a]
-    least = 1.0
+    if coarser == 0:
+        return _turned(least, before_ok, first_ok, before_turns, first_turns), singular
     for i in range(n):
         for b in range(4):
             if not (reached[i, b] and reached[i + 1, b]):
