@@ -54,6 +54,7 @@ from kinplan.ik.numeric import (
     POLISH_ITERATIONS,
     POLISH_STALL_ITERATIONS,
     STALL_ITERATIONS,
+    TURNS_PER_ATTEMPT,
     check_effort,
 )
 from kinplan.ik.panda import PandaIK
@@ -460,7 +461,7 @@ class BatchSolver:
         best_cost = np.full(count, np.inf)
         stalled = np.zeros(count, dtype=int)
         touching = np.ones(count, dtype=bool)  # q may sit on a limit: the active set is checked
-        once = np.zeros((count, nq), dtype=bool)  # joints turned into the limits
+        turns = np.zeros((count, nq), dtype=np.int64)  # of each joint into the limits
         active = np.arange(count)
         eye = np.eye(nq)
         kinematics = self.kinematics
@@ -511,13 +512,14 @@ class BatchSolver:
             step = np.abs(dq).max(axis=1)
             dq *= np.where(step > MAX_STEP, MAX_STEP / np.maximum(step, 1e-300), 1.0)[:, None]
             free_q = qa + dq
-            if clamp:  # revolute joints beyond a limit turned into the limits (once) if they fit
-                beyond = kinematics.revolute & ~once[active] & ((free_q < lower) | (free_q > upper))
+            if clamp:  # revolute joints beyond a limit turned into the limits where they fit
+                beyond = kinematics.revolute & (turns[active] < TURNS_PER_ATTEMPT)
+                beyond &= (free_q < lower) | (free_q > upper)
                 if beyond.any():
                     turned = lower + np.mod(free_q - lower, TAU)
                     beyond &= turned <= upper
                     free_q = np.where(beyond, turned, free_q)
-                    once[active] |= beyond
+                    turns[active] += beyond
             q[active] = np.clip(free_q, lower, upper)
             touching[active] = np.any(q[active] != free_q, axis=1)
         return q, converged, score

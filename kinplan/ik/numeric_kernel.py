@@ -135,10 +135,10 @@ def descend(q0, target, with_rotation, limits, screws, tool, settings, q):
         screws: Rows of directions then points (2·nq, 3).
         tool: Tool pose at q = 0 (4, 4).
         settings: (position tolerance² [m²], ‖R* − R‖_F² tolerance, max iterations, damping
-            gain, damping floor, stall patience, step cap [rad], turn: 1 to turn a joint that
-            a step takes beyond a limit by whole turns into the limits where that lands inside
-            them, once an attempt, before clamping (``turn`` of the Python loop's descend),
-            else 0).
+            gain, damping floor, stall patience, step cap [rad], turns: how many times an
+            attempt may turn a joint that a step takes beyond a limit by whole turns into the
+            limits where that lands inside them, before clamping (``turn`` of the Python
+            loop's descend: :data:`~kinplan.ik.numeric.TURNS_PER_ATTEMPT`; 0: never)).
         q: Written with the last iterate.
 
     Returns:
@@ -148,7 +148,7 @@ def descend(q0, target, with_rotation, limits, screws, tool, settings, q):
     directions, points = screws[:nq], screws[nq:]
     tol_p2, tol_f2, max_iterations = settings[0], settings[1], int(settings[2])
     gain, floor, patience, max_step = settings[3], settings[4], int(settings[5]), settings[6]
-    turn = settings[7] != 0.0
+    most_turns = int(settings[7])
     rows = 6 if with_rotation else 3
     for i in range(nq):
         q[i] = min(max(q0[i], limits[0, i]), limits[1, i])
@@ -159,7 +159,7 @@ def descend(q0, target, with_rotation, limits, screws, tool, settings, q):
     normal = np.empty((nq, nq))
     gradient = np.empty(nq)
     low, scratch, dq = np.zeros((nq, nq)), np.empty(nq), np.empty(nq)  # Cholesky's
-    once = np.zeros(nq, dtype=np.bool_)  # joints turned into the limits (turn)
+    turns = np.zeros(nq, dtype=np.int64)  # of each joint into the limits
     best_cost = np.inf
     stalled = 0
     perr2 = frob2 = np.inf
@@ -231,10 +231,11 @@ def descend(q0, target, with_rotation, limits, screws, tool, settings, q):
         touching = False
         for i in range(nq):
             free = q[i] + scale * dq[i]
-            if turn and not once[i] and (free < limits[0, i] or free > limits[1, i]):
+            if turns[i] < most_turns and (free < limits[0, i] or free > limits[1, i]):
                 turned = limits[0, i] + (free - limits[0, i]) % TAU  # the same tool pose
                 if turned <= limits[1, i]:
-                    free, once[i] = turned, True
+                    free = turned
+                    turns[i] += 1
             clamped = min(max(free, limits[0, i]), limits[1, i])
             touching = touching or clamped != free
             q[i] = clamped
