@@ -275,6 +275,8 @@ class IKSolver:
         #: The compiled solve: None until first needed, then (module, screws, tool) or False.
         self._kernel: tuple[Any, np.ndarray, np.ndarray] | bool | None = None
         self._limits = np.ascontiguousarray(np.vstack([lower, upper]))
+        #: The compiled solve's settings (:meth:`_kernel_inputs`) and the arguments they are for.
+        self._settings: tuple[tuple[float, float, int] | None, np.ndarray] = (None, np.empty(0))
         #: Which solver :meth:`kinplan.Robot.ik` uses for this arm: a closed form, or numerical and
         #: why no closed form fits (set by the robot when it looks for one).
         self.description = "numerical (Levenberg–Marquardt)"
@@ -613,21 +615,29 @@ class IKSolver:
         if not isinstance(self._kernel, tuple):
             return None
         kernel, screws, tool = self._kernel
-        tolerances = (position_tolerance**2, frobenius_tolerance(rotation_tolerance))
-        long = POLISH_ITERATIONS * max_iterations
-        # rows: the attempts, the polish of the best, the attempt without limits, its polish
-        # (the Python loop's descend arguments for each: see solve_checked and _rescue)
-        settings = np.array(
-            [
-                [*tolerances, max_iterations, DAMPING_GAIN, DAMPING_FLOOR, STALL_ITERATIONS],
-                [*tolerances, long, DAMPING_GAIN, POLISH_DAMPING_FLOOR, POLISH_STALL_ITERATIONS],
-                [*tolerances, long, DAMPING_GAIN, DAMPING_FLOOR, STALL_ITERATIONS],
-                [*tolerances, max_iterations, DAMPING_GAIN, POLISH_DAMPING_FLOOR,
-                 POLISH_STALL_ITERATIONS],
-            ]
-        )  # fmt: skip
-        turns = np.full((4, 1), TURNS_PER_ATTEMPT)
-        settings = np.hstack([settings, np.full((4, 1), MAX_STEP), turns])
+        key = (position_tolerance, rotation_tolerance, max_iterations)
+        if self._settings[0] != key:  # made again only when the arguments change
+            tolerances = (position_tolerance**2, frobenius_tolerance(rotation_tolerance))
+            long = POLISH_ITERATIONS * max_iterations
+            # rows: the attempts, the polish of the best, the attempt without limits, its
+            # polish (the Python loop's descend arguments for each: solve_checked, _rescue);
+            # columns: tolerances, iterations, damping gain and floor, patience, step, turns
+            made = np.array(
+                [
+                    [max_iterations, DAMPING_FLOOR, STALL_ITERATIONS],
+                    [long, POLISH_DAMPING_FLOOR, POLISH_STALL_ITERATIONS],
+                    [long, DAMPING_FLOOR, STALL_ITERATIONS],
+                    [max_iterations, POLISH_DAMPING_FLOOR, POLISH_STALL_ITERATIONS],
+                ],
+                dtype=float,
+            )
+            settings = np.empty((4, 8))
+            settings[:, :2] = tolerances
+            settings[:, 2], settings[:, 3] = made[:, 0], DAMPING_GAIN
+            settings[:, 4], settings[:, 5] = made[:, 1], made[:, 2]
+            settings[:, 6], settings[:, 7] = MAX_STEP, TURNS_PER_ATTEMPT
+            self._settings = (key, settings)
+        settings = self._settings[1]
         if max_restarts > 0:
             self.restart_configuration(max_restarts)  # the Halton starts, made once
         return kernel, screws, tool, settings, self._restarts[:max_restarts]
