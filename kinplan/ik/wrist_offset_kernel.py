@@ -173,9 +173,8 @@ def branches(k, tool, position, rotation, fill, raw, ok):
         Whether some joint was free (took its ``fill`` value) at a sample or root.
     """
     roots, branch_of = np.empty((SLOTS, 9)), np.empty(SLOTS, dtype=np.int64)
-    return _branches(
-        geometry(k), _tool(tool), position, rotation, fill, raw, ok, roots, branch_of, workspace()
-    )
+    p, r, f = _one_pose(position, rotation, fill)
+    return _branches(geometry(k), _tool(tool), p, r, f, raw, ok, roots, branch_of, workspace())
 
 
 @jit
@@ -188,18 +187,42 @@ def _tool(tool):
     )
 
 
-@jit
-def _branches(g, tool, position, rotation, fill, raw, ok, roots, branch_of, work):
-    """:func:`branches` of the geometry and the tool as tuples (:func:`geometry`,
-    :func:`_tool`): the pose is read into tuples once, and the search and the solutions take
-    them (no array passed per sample, root or solution: no reference counts)."""
-    p = (position[0], position[1], position[2])
-    r = (
-        (rotation[0, 0], rotation[0, 1], rotation[0, 2]),
-        (rotation[1, 0], rotation[1, 1], rotation[1, 2]),
-        (rotation[2, 0], rotation[2, 1], rotation[2, 2]),
+@inline
+def _pose(positions, rotations, fills, n):
+    """Pose n of the arrays (N, 3), (N, 3, 3), (N, 6) as tuples: position, rotation (rows),
+    the fill values of θ1, θ2 (read by index: a row taken out, ``positions[n]``, would be a new
+    array, reference counted)."""
+    return (
+        (positions[n, 0], positions[n, 1], positions[n, 2]),
+        (
+            (rotations[n, 0, 0], rotations[n, 0, 1], rotations[n, 0, 2]),
+            (rotations[n, 1, 0], rotations[n, 1, 1], rotations[n, 1, 2]),
+            (rotations[n, 2, 0], rotations[n, 2, 1], rotations[n, 2, 2]),
+        ),
+        (fills[n, 0], fills[n, 1]),
     )
-    f = (fill[0], fill[1])
+
+
+@inline
+def _one_pose(position, rotation, fill):
+    """:func:`_pose` of one pose: position (3,), rotation (3, 3), fill (6,)."""
+    return (
+        (position[0], position[1], position[2]),
+        (
+            (rotation[0, 0], rotation[0, 1], rotation[0, 2]),
+            (rotation[1, 0], rotation[1, 1], rotation[1, 2]),
+            (rotation[2, 0], rotation[2, 1], rotation[2, 2]),
+        ),
+        (fill[0], fill[1]),
+    )
+
+
+@jit
+def _branches(g, tool, p, r, f, raw, ok, roots, branch_of, work):
+    """:func:`branches` of the geometry, the tool and the pose as tuples (:func:`geometry`,
+    :func:`_tool`, :func:`_pose`; ``f``: the fill values of θ1, θ2): the search and the
+    solutions take them (no array passed per sample, root or solution: no reference
+    counts)."""
     pre = pose_terms(g, p, r)
     search_k = branch_geometry(g)
     moving = (pre[0], pre[1], pre[2], pre[3], pre[4], pre[5])
@@ -250,9 +273,8 @@ def raw_many(k, tool, positions, rotations, fills, raw, singular):
     roots, branch_of = np.empty((SLOTS, 9)), np.empty(SLOTS, dtype=np.int64)
     work = workspace()  # allocated once a batch
     for n in range(positions.shape[0]):
-        singular[n] = _branches(
-            g, tool_rows, positions[n], rotations[n], fills[n], raw[n], ok, roots, branch_of, work
-        )
+        p, r, f = _pose(positions, rotations, fills, n)
+        singular[n] = _branches(g, tool_rows, p, r, f, raw[n], ok, roots, branch_of, work)
         for r in range(SLOTS):
             if not ok[r]:
                 raw[n, r, :] = np.nan
@@ -277,9 +299,8 @@ def nearest(k, tool, limits, position, rotation, ref, out):
     raw = np.empty((SLOTS, 6))
     ok = np.empty(SLOTS, dtype=np.bool_)
     roots, branch_of = np.empty((SLOTS, 9)), np.empty(SLOTS, dtype=np.int64)
-    _branches(
-        geometry(k), _tool(tool), position, rotation, ref, raw, ok, roots, branch_of, workspace()
-    )  # as nearest_many calls it: one compiled specialisation
+    p, r, f = _one_pose(position, rotation, ref)
+    _branches(geometry(k), _tool(tool), p, r, f, raw, ok, roots, branch_of, workspace())
     best, _ = nearest_of(raw, ok, limits, ref, out)
     return best
 
@@ -295,9 +316,8 @@ def nearest_many(k, tool, limits, positions, rotations, refs, q, row, mask):
     roots, branch_of = np.empty((SLOTS, 9)), np.empty(SLOTS, dtype=np.int64)
     work = workspace()  # allocated once a batch
     for n in range(positions.shape[0]):
-        _branches(
-            g, tool_rows, positions[n], rotations[n], refs[n], raw, ok, roots, branch_of, work
-        )
+        p, r, f = _pose(positions, rotations, refs, n)
+        _branches(g, tool_rows, p, r, f, raw, ok, roots, branch_of, work)
         best, bits = nearest_of(raw, ok, limits, refs[n], out)
         row[n] = best
         mask[n] = bits

@@ -452,36 +452,6 @@ def _reach_point(k, pre, fill, b, a, c):
     return np.nan
 
 
-@inline
-def _windows(k, pre, fill, b, xs, margins, ok, roots, branch_of, count):
-    """Windows of reach of branch b narrower than the samples (column b of ``margins``,
-    ``ok``): at a local maximum of the margin (< 0 at three samples) above −WINDOW or whose
-    parabola rises towards 0 (the margins of two stages may meet there, with a corner), a
-    point of reach is sought, then both ends of the window are searched; the new count.
-    Inlined into :func:`search` (a call, with its arrays, for each branch of each pose, cost
-    more than the loop)."""
-    n = xs.shape[0] - 1
-    step = xs[1] - xs[0]
-    for i in range(n):
-        before = i - 1 if i > 0 else n - 1
-        if ok[before, b] or ok[i, b] or ok[i + 1, b]:
-            continue
-        m0, m1, m2 = margins[before, b], margins[i, b], margins[i + 1, b]
-        curvature = 2.0 * m1 - m0 - m2
-        if not (m1 > m0 and m1 >= m2) or curvature <= 0.0:
-            continue
-        if m1 < -WINDOW and m1 + (m2 - m0) ** 2 / (8.0 * curvature) < 0.5 * m1:
-            continue  # far from reaching, and the parabola does not rise towards it
-        left = xs[i] - step
-        inside = _reach_point(k, pre, fill, b, left, xs[i + 1])
-        if inside != inside:
-            continue
-        for outside in (left, xs[i + 1]):
-            count = _end_of_reach(k, pre, fill, b, inside, outside, 2.0 * step,
-                                  roots, branch_of, count)  # fmt: skip
-    return count
-
-
 # ---------------------------------------------------------------------------- all roots
 #: The turns of a branch that does not reach (never read).
 _UNUSED = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
@@ -607,13 +577,58 @@ def search(k, pre, fill, roots, branch_of, work):
     for i in range(n + 1):
         xs[i] = -math.pi + i * step
     count = 0
-    for b in range(4):
+    for b in range(4):  # _scan's body, written out here: a call (or an inlined function)
+        # counts the references of its five arrays each time
         curve = (0, b, b, 0.0, 0.0)
-        count = _scan(k, pre, fill, curve, xs, values, reached, b, True, roots, branch_of, count)
+        for i in range(n):
+            f0, f1 = values[i, b], values[i + 1, b]
+            ok0, ok1 = reached[i, b], reached[i + 1, b]
+            if ok0 and f0 == 0.0:
+                count = _add(roots, branch_of, count, curve, xs[i], UNKNOWN)
+            if not (ok0 and ok1) or f1 == 0.0:
+                continue
+            if (f0 < 0.0 < f1) or (f1 < 0.0 < f0):
+                root, known = _brent(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1)
+                count = _add(roots, branch_of, count, curve, root, known)
+            elif max(abs(f0), abs(f1)) < FLAT and f0 != 0.0:
+                count = _flat(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1,
+                              roots, branch_of, count)  # fmt: skip
+        for i in range(n):  # periodic
+            before = i - 1 if i > 0 else n - 1
+            if not (reached[before, b] and reached[i, b] and reached[i + 1, b]):
+                continue
+            f0, f1, f2 = values[before, b], values[i, b], values[i + 1, b]
+            if f1 == 0.0 or (f0 > 0.0) != (f1 > 0.0) or (f2 > 0.0) != (f1 > 0.0):
+                continue
+            if _dips(f0, f1, f2):  # the roots near a local minimum of |f|
+                x0 = xs[before] if i > 0 else xs[n - 1] - (xs[n] - xs[0])
+                count = _bracket(k, pre, fill, curve, x0, f0, xs[i + 1], f2,
+                                 roots, branch_of, count)  # fmt: skip
         for i in range(n):
             if reached[i, b] != reached[i + 1, b]:
                 inside, outside = (xs[i], xs[i + 1]) if reached[i, b] else (xs[i + 1], xs[i])
                 count = _end_of_reach(k, pre, fill, b, inside, outside, 2.0 * step,
                                       roots, branch_of, count)  # fmt: skip
-        count = _windows(k, pre, fill, b, xs, values, reached, roots, branch_of, count)
+        # windows of reach narrower than the samples: at a local maximum of the margin (< 0
+        # at three samples) above −WINDOW or whose parabola rises towards 0 (the margins of
+        # two stages may meet there, with a corner), a point of reach is sought, then both
+        # ends of the window are searched (written out here, as _scan's body above)
+        gap = xs[1] - xs[0]
+        for i in range(n):
+            before = i - 1 if i > 0 else n - 1
+            if reached[before, b] or reached[i, b] or reached[i + 1, b]:
+                continue
+            m0, m1, m2 = values[before, b], values[i, b], values[i + 1, b]
+            curvature = 2.0 * m1 - m0 - m2
+            if not (m1 > m0 and m1 >= m2) or curvature <= 0.0:
+                continue
+            if m1 < -WINDOW and m1 + (m2 - m0) ** 2 / (8.0 * curvature) < 0.5 * m1:
+                continue  # far from reaching, and the parabola does not rise towards it
+            left = xs[i] - gap
+            inside = _reach_point(k, pre, fill, b, left, xs[i + 1])
+            if inside != inside:
+                continue
+            for outside in (left, xs[i + 1]):
+                count = _end_of_reach(k, pre, fill, b, inside, outside, 2.0 * gap,
+                                      roots, branch_of, count)  # fmt: skip
     return count, singular
