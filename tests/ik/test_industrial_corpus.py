@@ -6,7 +6,9 @@ Per arm: the solver its geometry admits (read from the screw axes, not names); 5
 reachable targets (FK of random q within the limits) from random seeds, each solved within
 1e-6 m and 1e-6 rad and within the limits, by ``ik`` and by ``ik_batch`` (equal answers for the
 closed forms); every closed-form solution checked by Pinocchio's FK to 1e-9; every branch a
-numerical search from 200 seeds finds is one of the closed form's.
+numerical search from 200 seeds finds is one of the closed form's. The arms converted from
+the robot kinematics catalogue's modified-DH parameters: the URDF's FK is the catalogue's own on
+random configurations (skipped when the catalogue package has not been fetched).
 """
 
 from __future__ import annotations
@@ -16,7 +18,19 @@ import functools
 import numpy as np
 import pinocchio as pin
 import pytest
-from corpus.fetch_arms import ARMS, Arm, corpus_dir, urdf_path
+from corpus.fetch_arms import (
+    ARMS,
+    CATALOGUE,
+    CATALOGUE_FK_TOLERANCE,
+    CATALOGUE_FOLDERS,
+    Arm,
+    catalogue_fk_error,
+    catalogue_robot,
+    catalogue_urdf,
+    corpus_dir,
+    package_dir,
+    urdf_path,
+)
 
 import kinplan
 from kinplan.ik import URIK, SphericalWristIK, wrap_angle
@@ -137,3 +151,23 @@ def test_brute_force_branches_are_all_found(arm):
     assert found
     for q in found:
         assert contains(closed, q, 1e-6), (arm.name, q, closed)
+
+
+#: The corpus arms converted from the catalogue, and catalogue arms whose class gives a base or
+#: tool transform other than the identity (the converter's fixed transforms) or is a cobot.
+CONVERTED = [arm.path for arm in ARMS if arm.package == CATALOGUE] + [
+    f"{CATALOGUE_FOLDERS[0]}/{name}.py"
+    for name in ("ABB_IRB_5400_22", "ABB_IRB_580_12S", "CRS_A465", "Niryo_Ned2")
+] + [f"{CATALOGUE_FOLDERS[1]}/UR10e.py"]  # fmt: skip
+
+
+@pytest.mark.parametrize("path", CONVERTED, ids=[p.rsplit("/", 1)[1][:-3] for p in CONVERTED])
+def test_the_catalogue_converter_keeps_the_catalogues_fk(path, tmp_path):
+    folder = package_dir(CATALOGUE)
+    if not (folder / path).is_file():
+        pytest.skip(f"{path} is not in {folder}: {FETCH}")
+    robot = catalogue_robot(folder, path)
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(catalogue_urdf(robot, "arm"))
+    error = catalogue_fk_error(robot, urdf, np.random.default_rng(3), count=300)
+    assert error <= CATALOGUE_FK_TOLERANCE, (path, error)
