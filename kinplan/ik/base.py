@@ -60,6 +60,11 @@ class ClosedFormIK:
 
     #: Whether a target must have a rotation.
     needs_rotation: bool = True
+    #: Whether the solver finds every solution of every pose it is given (up to its
+    #: singularities' free angles). False for a search that may step over roots (the 1-D search
+    #: of :mod:`kinplan.ik.wrist_offset`): ``Robot.ik_batch`` then gives a target it finds no
+    #: solution for the numerical solve, as ``Robot.ik`` does.
+    complete: bool = True
 
     def __init__(
         self, lower: np.ndarray, upper: np.ndarray, weights: np.ndarray | None = None

@@ -238,6 +238,7 @@ class BatchSolver:
         for start in range(0, count, CHUNK):
             part = slice(start, min(start + CHUNK, count))
             rot = None if rotations is None else rotations[part]
+            effort = (max_iterations, max_restarts, rescue)
             if method == "closed-form":
                 q[part], success[part], branches[part], masks[part] = self._closed_form(
                     positions[part], rot, seeds[part], tolerances, want_masks
@@ -247,22 +248,39 @@ class BatchSolver:
                     positions[part], rot, seeds[part], tolerances
                 )
             elif method == "levenberg-marquardt":
-                q[part], success[part], done = self._numerical(
-                    positions[part], rot, seeds[part], tolerances, max_iterations, max_restarts,
-                    rescue,
-                )  # fmt: skip
-                left = np.flatnonzero(~success[part])
-                if not done and rescue and max_restarts > 0 and left.size:
-                    index = left + start
-                    rot = None if rotations is None else rotations[index]
-                    q[index], success[index] = self._rescue(
-                        positions[index], rot, q[index], seeds[index], tolerances, max_iterations
-                    )
+                q[part], success[part] = self._levenberg_marquardt(
+                    positions[part], rot, seeds[part], tolerances, *effort
+                )
             else:
                 q[part], success[part] = self._loop(
                     positions[part], rot, seeds[part], tolerances, max_iterations, max_restarts
                 )
+            complete = getattr(self.closed_form, "complete", True)
+            if method.startswith("closed-form") and rescue and not complete:
+                left = np.flatnonzero(~success[part])  # as ik: the numerical solve (see complete)
+                if left.size:
+                    index = left + start
+                    rot = None if rotations is None else rotations[index]
+                    q[index], success[index] = self._levenberg_marquardt(
+                        positions[index], rot, seeds[index], tolerances, *effort
+                    )
         return q, success, branches, masks
+
+    def _levenberg_marquardt(
+        self, positions, rotations, seeds, tolerances, max_iterations, max_restarts, rescue
+    ):
+        """The numerical solve of every target (:meth:`_numerical`, then :meth:`_rescue` for the
+        failures where it did not run): (q, success)."""
+        q, success, done = self._numerical(
+            positions, rotations, seeds, tolerances, max_iterations, max_restarts, rescue
+        )
+        left = np.flatnonzero(~success)
+        if not done and rescue and max_restarts > 0 and left.size:
+            rot = None if rotations is None else rotations[left]
+            q[left], success[left] = self._rescue(
+                positions[left], rot, q[left], seeds[left], tolerances, max_iterations
+            )
+        return q, success
 
     # ------------------------------------------------------------ closed forms
     def _closed_form(self, positions, rotations, seeds, tolerances, masks=True):
