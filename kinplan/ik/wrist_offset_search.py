@@ -66,6 +66,11 @@ CIRCLE = np.array(
 #: tool: far inside the 1e-9 of the FK check) or where |f| ≤ ROOT_F (rounding level).
 ROOT_TOL = 1e-13
 ROOT_F = 1e-15
+#: Sign changes between samples whose roots are refined two at a time (:func:`_brent_two`)
+#: before the scan takes them, at most (the rest one at a time).
+PAIRED = 32
+#: Steps of Brent's method at most.
+BRENT_STEPS = 100
 #: A minimum of |f| at most this large (after the golden-section search) is a root.
 TANGENT_TOL = 1e-11
 #: Bisection steps locating the end of a branch's reach; steps of a minimum's search.
@@ -86,15 +91,23 @@ LOOP_POINTS = 16
 
 
 # ---------------------------------------------------------------------------- curves
-# A curve is (kind, b, partner, θ_end, direction): kind 0 is branch b over θ6 = x; kind 1 the
-# branches b (x ≥ 0) and partner (x < 0) joined at the end of their reach, θ6 = θ_end − d·x².
+# A curve is (kind, b, partner, θ_end, direction), five floats: kind 0 is branch b over θ6 = x;
+# kind 1 the branches b (x ≥ 0) and partner (x < 0) joined at the end of their reach,
+# θ6 = θ_end − d·x². Floats, not ints: numba types a literal int apart (Literal[int](0)), and
+# compiled each function taking a curve once more for each mix of literal and int64 it met.
+@inline
+def _branch_curve(b):
+    """The curve of branch b over θ6."""
+    return 0.0, float(b), float(b), 0.0, 0.0
+
+
 @inline
 def _place(curve, x):
     """(θ6 [rad], branch) of the curve's parameter ``x``."""
     kind, b, partner, end, direction = curve
-    if kind == 0:
-        return x, b
-    return end - direction * x * x, (b if x >= 0.0 else partner)
+    if kind == 0.0:
+        return x, int(b)
+    return end - direction * x * x, int(b if x >= 0.0 else partner)
 
 
 @inline
@@ -112,6 +125,12 @@ def _reaches_at(k, pre, fill, curve, x):
     of :func:`_at`, at about half its cost)."""
     theta, row = _place(curve, x)
     return reach(k, pre, math.cos(theta), math.sin(theta), row, fill)
+
+
+@jit
+def _reaches_call(k, pre, fill, curve, x):
+    """:func:`_reaches_at` as a call (for its rare callers: one compiled copy)."""
+    return _reaches_at(k, pre, fill, curve, x)
 
 
 @inline
@@ -147,51 +166,113 @@ def _add(roots, branch_of, count, curve, x, known):
     return count + 1
 
 
+@inline
+def _brent_start(a, fa, c, fc):
+    """The state of Brent's method on [a, c] (f(a), f(c) of opposite signs): (a, f(a), its
+    cosines and sines, b, f(b), …, c, f(c), …, d, e) (:func:`_brent_step`)."""
+    return a, fa, UNKNOWN, c, fc, UNKNOWN, a, fa, UNKNOWN, c - a, c - a
+
+
+@inline
+def _brent_step(state):
+    """One step of Brent's method: (the new state, whether it has converged). Not converged,
+    the branch is to be evaluated at the state's b (``state[3]``) next: :func:`_brent_seen`.
+    Converged, the root is the state's b and its cosines and sines ``state[5]``."""
+    a, fa, ta, bb, fb, tb, cc, fcc, tcc, d, e = state
+    if (fb > 0.0) == (fcc > 0.0):
+        cc, fcc, tcc = a, fa, ta
+        d = e = bb - a
+    if abs(fcc) < abs(fb):
+        a, fa, ta = bb, fb, tb
+        bb, fb, tb = cc, fcc, tcc
+        cc, fcc, tcc = a, fa, ta
+    tol = ROOT_TOL
+    m = 0.5 * (cc - bb)
+    if abs(m) <= tol or abs(fb) <= ROOT_F:
+        return (a, fa, ta, bb, fb, tb, cc, fcc, tcc, d, e), True
+    if abs(e) >= tol and abs(fa) > abs(fb):
+        s = fb / fa
+        if a == cc:
+            p, q = 2.0 * m * s, 1.0 - s
+        else:
+            q, r = fa / fcc, fb / fcc
+            p = s * (2.0 * m * q * (q - r) - (bb - a) * (r - 1.0))
+            q = (q - 1.0) * (r - 1.0) * (s - 1.0)
+        if p > 0.0:
+            q = -q
+        else:
+            p = -p
+        if 2.0 * p < min(3.0 * m * q - abs(tol * q), abs(e * q)):
+            e, d = d, p / q
+        else:
+            d = e = m
+    else:
+        d = e = m
+    a, fa, ta = bb, fb, tb
+    bb += d if abs(d) > tol else (tol if m > 0.0 else -tol)
+    return (a, fa, ta, bb, fb, tb, cc, fcc, tcc, d, e), False
+
+
+@inline
+def _brent_seen(state, fb, tb):
+    """The state with the branch's value ``fb`` and cosines and sines ``tb`` at its b."""
+    a, fa, ta, bb, _, _, cc, fcc, tcc, d, e = state
+    return a, fa, ta, bb, fb, tb, cc, fcc, tcc, d, e
+
+
 @jit
 def _brent(k, pre, fill, curve, a, fa, c, fc):
     """The root in [a, c] (f(a), f(c) of opposite signs) to ROOT_TOL (Brent's method), and the
     cosines and sines there (:data:`UNKNOWN` if not evaluated there); NaN if the curve stops
     reaching inside the bracket."""
-    bb, fb, tb = c, fc, UNKNOWN
-    cc, fcc, tcc = a, fa, UNKNOWN
-    ta = UNKNOWN
-    d = e = bb - a
-    for _ in range(100):
-        if (fb > 0.0) == (fcc > 0.0):
-            cc, fcc, tcc = a, fa, ta
-            d = e = bb - a
-        if abs(fcc) < abs(fb):
-            a, fa, ta = bb, fb, tb
-            bb, fb, tb = cc, fcc, tcc
-            cc, fcc, tcc = a, fa, ta
-        tol = ROOT_TOL
-        m = 0.5 * (cc - bb)
-        if abs(m) <= tol or abs(fb) <= ROOT_F:
-            return bb, tb
-        if abs(e) >= tol and abs(fa) > abs(fb):
-            s = fb / fa
-            if a == cc:
-                p, q = 2.0 * m * s, 1.0 - s
-            else:
-                q, r = fa / fcc, fb / fcc
-                p = s * (2.0 * m * q * (q - r) - (bb - a) * (r - 1.0))
-                q = (q - 1.0) * (r - 1.0) * (s - 1.0)
-            if p > 0.0:
-                q = -q
-            else:
-                p = -p
-            if 2.0 * p < min(3.0 * m * q - abs(tol * q), abs(e * q)):
-                e, d = d, p / q
-            else:
-                d = e = m
-        else:
-            d = e = m
-        a, fa, ta = bb, fb, tb
-        bb += d if abs(d) > tol else (tol if m > 0.0 else -tol)
-        fb, ok, tb = _at_inline(k, pre, fill, curve, bb)
+    state = _brent_start(a, fa, c, fc)
+    for _ in range(BRENT_STEPS):
+        state, done = _brent_step(state)
+        if done:
+            return state[3], state[5]
+        fb, ok, tb = _at_inline(k, pre, fill, curve, state[3])
         if not ok:
             return np.nan, UNKNOWN
-    return bb, tb
+        state = _brent_seen(state, fb, tb)
+    return state[3], state[5]
+
+
+@jit
+def _brent_two(k, pre, fill, curve, a, fa, c, fc, other, a2, fa2, c2, fc2):
+    """:func:`_brent` on two brackets at once (of the curves ``curve`` and ``other``), step by
+    step, the two evaluations of a step side by side: each is a long chain of dependent
+    operations, and the processor runs the two chains at once. The two roots (the same as
+    :func:`_brent`'s, bit for bit) and their cosines and sines."""
+    one = _brent_start(a, fa, c, fc)
+    two = _brent_start(a2, fa2, c2, fc2)
+    done_one = done_two = False
+    found_one = found_two = (np.nan, UNKNOWN)
+    for _ in range(BRENT_STEPS):
+        if not done_one:
+            one, done_one = _brent_step(one)
+            if done_one:
+                found_one = (one[3], one[5])
+        if not done_two:
+            two, done_two = _brent_step(two)
+            if done_two:
+                found_two = (two[3], two[5])
+        if done_one and done_two:
+            return found_one, found_two
+        if not done_one:
+            fb, ok, tb = _at_inline(k, pre, fill, curve, one[3])
+            one = _brent_seen(one, fb, tb)
+            if not ok:
+                done_one, found_one = True, (np.nan, UNKNOWN)
+        if not done_two:
+            fb, ok, tb = _at_inline(k, pre, fill, other, two[3])
+            two = _brent_seen(two, fb, tb)
+            if not ok:
+                done_two, found_two = True, (np.nan, UNKNOWN)
+    if not done_one:
+        found_one = (one[3], one[5])
+    if not done_two:
+        found_two = (two[3], two[5])
+    return found_one, found_two
 
 
 @jit
@@ -329,7 +410,7 @@ def _to_edge(k, pre, fill, curve, i, xs, fs, ok, col, roots, branch_of, count):
         middle = 0.5 * (inside + outside)
         if middle == inside or middle == outside:
             break
-        if _reaches_at(k, pre, fill, curve, middle)[0]:
+        if _reaches_call(k, pre, fill, curve, middle)[0]:
             inside = middle
         else:
             outside = middle
@@ -356,7 +437,7 @@ def _scan(k, pre, fill, curve, xs, fs, ok, col, periodic, roots, branch_of, coun
         f0, f1, ok0, ok1 = fs[i, col], fs[i + 1, col], ok[i, col], ok[i + 1, col]
         if ok0 and f0 == 0.0:
             count = _add(roots, branch_of, count, curve, xs[i], UNKNOWN)
-        if ok0 != ok1 and curve[0] == 1:  # a joined curve leaving its reach
+        if ok0 != ok1 and curve[0] == 1.0:  # a joined curve leaving its reach
             count = _to_edge(k, pre, fill, curve, i, xs, fs, ok, col, roots, branch_of, count)
         if not (ok0 and ok1) or f1 == 0.0:
             continue
@@ -383,8 +464,8 @@ def _scan(k, pre, fill, curve, xs, fs, ok, col, periodic, roots, branch_of, coun
 def _edge(k, pre, b, fill, inside, outside):
     """The end of branch b's reach between θ6 = ``inside`` (reached) and ``outside`` (not),
     by bisection: (θ6 of the last reached value, 1 or 2: the stage that fails beyond)."""
-    curve = (0, b, b, 0.0, 0.0)
-    level = _reaches_at(k, pre, fill, curve, outside)[1]
+    curve = _branch_curve(b)
+    level = _reaches_call(k, pre, fill, curve, outside)[1]
     for _ in range(EDGE_STEPS):
         middle = 0.5 * (inside + outside)
         if middle == inside or middle == outside:
@@ -404,7 +485,7 @@ def _end_of_reach(k, pre, fill, b, inside, outside, width, roots, branch_of, cou
     searched on the joined curve θ6 = θ_end ∓ s²; the new count."""
     end, level = _edge(k, pre, b, fill, inside, outside)
     partner = b ^ 2 if level == 1 else b ^ 1  # searched from both: its window may be narrow
-    curve = (1, b, partner, end, 1.0 if outside > inside else -1.0)
+    curve = (1.0, float(b), float(partner), end, 1.0 if outside > inside else -1.0)
     reach = math.sqrt(width)
     xs = np.empty(LOOP_POINTS + 1)
     fs = np.empty((LOOP_POINTS + 1, 1))
@@ -418,7 +499,7 @@ def _end_of_reach(k, pre, fill, b, inside, outside, width, roots, branch_of, cou
 @inline
 def _margin(k, pre, fill, b, x):
     """(Whether branch b reaches at θ6 = x, else the failing stage's margin < 0)."""
-    ok, stage, m1, m2 = _reaches_at(k, pre, fill, (0, b, b, 0.0, 0.0), x)
+    ok, stage, m1, m2 = _reaches_call(k, pre, fill, _branch_curve(b), x)
     return ok, (m1 if stage == 1 else m2)
 
 
@@ -526,14 +607,23 @@ def _sampled(k, pre, fill, n, coarser, values, reached, turns):
 
 
 @inline
+def _keep(found, row, x, known):
+    """Row ``row`` of ``found``: the root x and its cosines and sines."""
+    found[row, 0] = x
+    for j in range(8):
+        found[row, 1 + j] = known[j]
+
+
+@inline
 def workspace():
     """The arrays of :func:`search`'s first pass (:data:`COARSE` samples), allocated once a
-    batch: (values, reached, turns, xs)."""
+    batch, and the roots of its first sign changes: (values, reached, turns, xs, found)."""
     return (
         np.empty((COARSE + 1, 4)),
         np.empty((COARSE + 1, 4), dtype=np.bool_),
         np.empty((COARSE + 1, 4, 6)),
         np.empty(COARSE + 1),
+        np.empty((PAIRED, 9)),
     )
 
 
@@ -550,8 +640,8 @@ def search(k, pre, fill, roots, branch_of, work):
     """
     # θ1–θ3 nearly still: f is nearly a sinusoid of θ6, COARSE samples do; else SAMPLES, then
     # DENSER times as many while some turn exceeds MAX_TURN (the samples before kept)
-    n, coarser, singular = COARSE, 0, False
-    values, reached, turns, xs = work
+    n, coarser, singular = np.int64(COARSE), np.int64(0), False  # int64, not literal
+    values, reached, turns, xs, found = work
     while True:
         least, free = _sampled(k, pre, fill, n, coarser, values, reached, turns)
         singular = singular or free
@@ -576,10 +666,40 @@ def search(k, pre, fill, roots, branch_of, work):
         xs = np.empty(n + 1)
     for i in range(n + 1):
         xs[i] = -math.pi + i * step
-    count = 0
+    # the roots of the first PAIRED sign changes (in the order of the scan below), two at a
+    # time (_brent_two); the scan takes them from ``found`` as it meets them
+    paired = held = 0
+    held_b = held_i = 0
+    for b in range(4):
+        for i in range(n):
+            f0, f1 = values[i, b], values[i + 1, b]
+            if not (reached[i, b] and reached[i + 1, b]) or f1 == 0.0:
+                continue
+            if not ((f0 < 0.0 < f1) or (f1 < 0.0 < f0)) or paired + held >= PAIRED:
+                continue
+            if held == 0:
+                held, held_b, held_i = 1, b, i
+                continue
+            g0, g1 = values[held_i, held_b], values[held_i + 1, held_b]
+            (x, t), (x2, t2) = _brent_two(
+                k, pre, fill,
+                _branch_curve(held_b), xs[held_i], g0, xs[held_i + 1], g1,
+                _branch_curve(b), xs[i], f0, xs[i + 1], f1,
+            )  # fmt: skip
+            _keep(found, paired, x, t)
+            _keep(found, paired + 1, x2, t2)
+            paired, held = paired + 2, 0
+    if held:
+        g0, g1 = values[held_i, held_b], values[held_i + 1, held_b]
+        x, t = _brent(k, pre, fill, _branch_curve(held_b),
+                      xs[held_i], g0, xs[held_i + 1], g1)  # fmt: skip
+        _keep(found, paired, x, t)
+        paired += 1
+    taken = 0
+    count = np.int64(0)
     for b in range(4):  # _scan's body, written out here: a call (or an inlined function)
         # counts the references of its five arrays each time
-        curve = (0, b, b, 0.0, 0.0)
+        curve = _branch_curve(b)
         for i in range(n):
             f0, f1 = values[i, b], values[i + 1, b]
             ok0, ok1 = reached[i, b], reached[i + 1, b]
@@ -588,7 +708,15 @@ def search(k, pre, fill, roots, branch_of, work):
             if not (ok0 and ok1) or f1 == 0.0:
                 continue
             if (f0 < 0.0 < f1) or (f1 < 0.0 < f0):
-                root, known = _brent(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1)
+                if taken < paired:
+                    root = found[taken, 0]
+                    known = (
+                        found[taken, 1], found[taken, 2], found[taken, 3], found[taken, 4],
+                        found[taken, 5], found[taken, 6], found[taken, 7], found[taken, 8],
+                    )  # fmt: skip
+                    taken += 1
+                else:
+                    root, known = _brent(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1)
                 count = _add(roots, branch_of, count, curve, root, known)
             elif max(abs(f0), abs(f1)) < FLAT and f0 != 0.0:
                 count = _flat(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1,
