@@ -128,13 +128,27 @@ def _screw_step(k, joint, c, s, rot, tx, ty, tz):
 
 
 @inline
+def _screw_first(k, c, s):
+    """:func:`_screw_step` of joint 1 from the identity (its products by 1 and 0 left out:
+    numba keeps them, x·0 being NaN for an infinite x)."""
+    x, y, z = k[0][0], k[0][1], k[0][2]
+    t = 1.0 - c
+    a00, a01, a02 = c + x * x * t, x * y * t - z * s, x * z * t + y * s
+    a10, a11, a12 = y * x * t + z * s, c + y * y * t, y * z * t - x * s
+    a20, a21, a22 = z * x * t - y * s, z * y * t + x * s, c + z * z * t
+    px, py, pz = k[6][0], k[6][1], k[6][2]
+    sx = px - (a00 * px + a01 * py + a02 * pz)
+    sy = py - (a10 * px + a11 * py + a12 * pz)
+    sz = pz - (a20 * px + a21 * py + a22 * pz)
+    return (a00, a01, a02, a10, a11, a12, a20, a21, a22), sx, sy, sz
+
+
+@inline
 def _reaches(k, tool, cs, position, rotation):
     """Whether the configuration of cosines and sines ``cs`` (cos θ1, sin θ1, …, cos θ6,
     sin θ6) puts the tool at the pose within :data:`VERIFY_TOL`: the product of exponentials
     ``e1 ⋯ e6 M``, in scalars."""
-    rot = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
-    tx = ty = tz = 0.0
-    rot, tx, ty, tz = _screw_step(k, 0, cs[0], cs[1], rot, tx, ty, tz)
+    rot, tx, ty, tz = _screw_first(k, cs[0], cs[1])
     rot, tx, ty, tz = _screw_step(k, 1, cs[2], cs[3], rot, tx, ty, tz)
     rot, tx, ty, tz = _screw_step(k, 2, cs[4], cs[5], rot, tx, ty, tz)
     rot, tx, ty, tz = _screw_step(k, 3, cs[6], cs[7], rot, tx, ty, tz)
