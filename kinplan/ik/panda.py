@@ -157,6 +157,11 @@ class PandaIK(PandaBatch):
 
     nq = 7
     needs_rotation = True
+    #: The solution nearest the seed is sought at the seed's θ7, else within the θ7 intervals
+    #: where the elbow reaches; where those solutions break another joint's limits a solution
+    #: at another θ7 may still exist (Yaskawa's SIA20D: 0.2 % of random reachable targets):
+    #: ``ik`` and ``ik_batch`` then solve numerically.
+    complete = False
 
     def __init__(
         self,
