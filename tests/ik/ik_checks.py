@@ -81,3 +81,39 @@ def check_ik_and_batch(
     assert success.all()
     np.testing.assert_allclose(q, np.array(loop), atol=1e-9)
     return targets, seeds, q
+
+
+def check_missed_targets_solved_numerically(
+    robot: kinplan.Robot, targets: np.ndarray, seeds: np.ndarray, missed: list[int], monkeypatch
+) -> None:
+    """With the closed form made to find nothing for ``targets[missed]`` (its ``nearest`` and
+    ``nearest_many`` patched; ``nearest_many``'s second output is the found flag or branch row,
+    its last the poses left to ``nearest``): ``ik_batch`` solves every target, those by the
+    numerical solve as ``ik`` does, with ``ik``'s q (the compiled solve in both: to 1e-9)."""
+    solver = robot.closed_form_ik
+    nearest, nearest_many = solver.nearest, solver.nearest_many
+    missing = [targets[k, :3, 3] for k in missed]
+
+    def missing_nearest(position, rotation, q_ref, *args, **kwargs):
+        if any(np.array_equal(position, p) for p in missing):
+            return None
+        return nearest(position, rotation, q_ref, *args, **kwargs)
+
+    def missing_many(positions, rotations, q_ref):
+        out = list(nearest_many(positions, rotations, q_ref))
+        for p in missing:
+            hit = np.flatnonzero((positions == p).all(axis=1))
+            out[1][hit] = -1 if out[1].dtype.kind == "i" else False  # none found
+            out[-1][hit] = False  # not left to nearest()
+            if len(out) == 4:
+                out[2][hit] = 0  # no branch within the limits
+        return tuple(out)
+
+    monkeypatch.setattr(solver, "nearest", missing_nearest)
+    monkeypatch.setattr(solver, "nearest_many", missing_many)
+    q, success = robot.ik_batch(targets, q_seed=seeds)
+    assert success.all()
+    for k in range(len(targets)):
+        result = robot.ik(pin.SE3(targets[k]), seeds[k])
+        assert result.success and result.method == ("numerical" if k in missed else "analytic")
+        np.testing.assert_allclose(q[k], result.q, rtol=0, atol=1e-9, err_msg=str(k))

@@ -6,6 +6,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from conftest import cached_robot
+from ik_checks import check_missed_targets_solved_numerically
 
 import kinplan
 from kinplan.errors import InputError
@@ -299,26 +300,4 @@ def test_a_pose_the_closed_form_leaves_unsolved_goes_to_the_numerical_solve(monk
     q_true = np.array([robot.random_configuration(rng) for _ in range(10)])
     targets = np.array([robot.fk(q).homogeneous for q in q_true])
     seeds = np.array([robot.random_configuration(rng) for _ in range(10)])
-    missed = [1, 4, 9]
-    nearest, nearest_many = solver.nearest, solver.nearest_many
-
-    def missing_nearest(position, rotation, q_ref, *args, **kwargs):
-        if any(np.array_equal(position, targets[k, :3, 3]) for k in missed):
-            return None
-        return nearest(position, rotation, q_ref, *args, **kwargs)
-
-    def missing_many(positions, rotations, q_ref):
-        q, found, left = nearest_many(positions, rotations, q_ref)
-        for k in missed:
-            hit = np.flatnonzero((positions == targets[k, :3, 3]).all(axis=1))
-            found[hit], left[hit] = False, False
-        return q, found, left
-
-    monkeypatch.setattr(solver, "nearest", missing_nearest)
-    monkeypatch.setattr(solver, "nearest_many", missing_many)
-    q, success = robot.ik_batch(targets, q_seed=seeds)
-    assert success.all()
-    for k in range(10):
-        result = robot.ik(pin.SE3(targets[k]), seeds[k])
-        assert result.success and result.method == ("numerical" if k in missed else "analytic")
-        np.testing.assert_allclose(q[k], result.q, rtol=0, atol=1e-9, err_msg=str(k))
+    check_missed_targets_solved_numerically(robot, targets, seeds, [1, 4, 9], monkeypatch)

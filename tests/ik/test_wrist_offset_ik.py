@@ -21,6 +21,7 @@ import pinocchio as pin
 import pytest
 from ik_checks import (
     check_ik_and_batch,
+    check_missed_targets_solved_numerically,
     check_nearest_rule,
     contains,
     pose_errors,
@@ -310,28 +311,7 @@ def test_a_pose_the_search_misses_goes_to_the_numerical_solve(folder, monkeypatc
     targets = np.array([robot.fk(q).homogeneous for q in q_true])
     seeds = np.array([robot.random_configuration(rng) for _ in range(12)])
     missed = [2, 5, 11]
-    nearest, nearest_many = solver.nearest, solver.nearest_many
-
-    def missing_nearest(position, rotation, q_ref):
-        if any(np.array_equal(position, targets[k, :3, 3]) for k in missed):
-            return None
-        return nearest(position, rotation, q_ref)
-
-    def missing_many(positions, rotations, q_ref):
-        q, row, mask, left = nearest_many(positions, rotations, q_ref)
-        for k in missed:
-            hit = np.flatnonzero((positions == targets[k, :3, 3]).all(axis=1))
-            row[hit], mask[hit], left[hit] = -1, 0, False
-        return q, row, mask, left
-
-    monkeypatch.setattr(solver, "nearest", missing_nearest)
-    monkeypatch.setattr(solver, "nearest_many", missing_many)
-    q, success = robot.ik_batch(targets, q_seed=seeds)
-    assert success.all()
-    for k in range(12):
-        result = robot.ik(pin.SE3(targets[k]), seeds[k])
-        assert result.success and result.method == ("numerical" if k in missed else "analytic")
-        np.testing.assert_allclose(q[k], result.q, rtol=0, atol=1e-9, err_msg=str(k))
+    check_missed_targets_solved_numerically(robot, targets, seeds, missed, monkeypatch)
     # the reach map's solve (rescue=False) keeps the closed form's verdict: no numerical tries
     q, success = robot.batch_solver.solve(
         targets[:, :3, 3], targets[:, :3, :3], seeds, 1e-6, 1e-6, 40, 40, rescue=False
