@@ -252,9 +252,8 @@ ATTEMPT, POLISH, FREE, FINAL = 0, 1, 2, 3
 def solve(q_seed, target, with_rotation, limits, screws, tool, settings, restarts, rescue, q):
     """:meth:`IKSolver.solve <kinplan.ik.numeric.IKSolver.solve>` compiled: the seeded
     attempt, then the restarts; when none converges (``rescue`` and restarts given), the
-    rescue: the
-    polish of the best attempt, then the attempt from the seed without limits, its revolute
-    joints turned by whole turns into the limits and polished there.
+    rescue: the polish of the best attempt, then the attempt from the seed without limits, its
+    revolute joints turned by whole turns into the limits and polished there.
 
     Args:
         q_seed, target, with_rotation, limits, screws, tool: As :func:`descend`.
@@ -294,13 +293,13 @@ def solve(q_seed, target, with_rotation, limits, screws, tool, settings, restart
         )
         if ok:
             return True, count + 2, total + its, perr2, frob2
-        rescue = its
+        spent = its  # by the rescue
         unbounded = np.empty((2, nq))
         unbounded[0, :], unbounded[1, :] = -np.inf, np.inf
         ok, its, perr2, frob2 = descend(
             q_seed, target, with_rotation, unbounded, screws, tool, settings[FREE], attempt_q
         )
-        rescue += its
+        spent += its
         if ok:
             within = True
             for i in range(nq):  # whole turns into the limits (all joints revolute here)
@@ -313,7 +312,7 @@ def solve(q_seed, target, with_rotation, limits, screws, tool, settings, restart
                     attempt_q, target, with_rotation, limits, screws, tool, settings[FINAL], q
                 )
                 if ok:
-                    return True, count + 2, total + rescue + its, perr2, frob2
+                    return True, count + 2, total + spent + its, perr2, frob2
     q[:] = best_q
     return False, count + 1, total, best_perr2, best_frob2
 
