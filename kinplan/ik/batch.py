@@ -532,9 +532,10 @@ class BatchSolver:
             free_q = qa + dq
             if clamp:  # revolute joints beyond a limit turned into the limits where they fit
                 beyond = kinematics.revolute & (turns[active] < TURNS_PER_ATTEMPT)
-                beyond &= (free_q < lower) | (free_q > upper)
+                beyond &= (free_q < lower) | (free_q > upper)  # never for an unbounded joint
                 if beyond.any():
-                    turned = lower + np.mod(free_q - lower, TAU)
+                    base = np.where(beyond, lower, 0.0)  # no inf - inf for the others
+                    turned = base + np.mod(free_q - base, TAU)
                     beyond &= turned <= upper
                     free_q = np.where(beyond, turned, free_q)
                     turns[active] += beyond

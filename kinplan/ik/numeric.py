@@ -429,10 +429,11 @@ class IKSolver:
         limits where that lands inside them (see :meth:`descend`'s ``turn``); and ``turns``
         counting those."""
         beyond = self._revolute & (turns < TURNS_PER_ATTEMPT)
-        beyond &= (q < self.lower) | (q > self.upper)
+        beyond &= (q < self.lower) | (q > self.upper)  # never for an unbounded joint
         if not beyond.any():
             return q, turns
-        turned = self.lower + np.mod(q - self.lower, TAU)
+        lower = np.where(beyond, self.lower, 0.0)  # no inf - inf for the others
+        turned = lower + np.mod(q - lower, TAU)
         beyond &= turned <= self.upper
         return np.where(beyond, turned, q), turns + beyond
 
