@@ -51,7 +51,12 @@ SAMPLES = 32
 STILL = 0.05
 COS_STILL = math.cos(STILL)
 #: Denser sampling where the branch angles turn fast: this many times, up to MAX_SAMPLES.
-DENSER = 8
+#: Doubling stops at the first density where every turn is below MAX_TURN; eight times as many
+#: overshot it (a pose that needed 64 samples took 256, one that needed 512 took 2,048): the
+#: Fanuc CRX-10iA, whose axis 6 is 0.15 m off the wrist, refines 21 % of its poses, and its
+#: ``ik`` went from 0.050 to 0.031 ms (median), with the same solutions missed or found over
+#: the family's 68 arms × 2,000 configurations.
+DENSER = 2
 MAX_SAMPLES = 2048
 #: Largest turn of θ1, θ2 or θ3 between two samples [rad] before sampling more densely.
 MAX_TURN = 0.35
