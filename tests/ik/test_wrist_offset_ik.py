@@ -317,3 +317,76 @@ def test_a_pose_the_search_misses_goes_to_the_numerical_solve(folder, monkeypatc
         targets[:, :3, 3], targets[:, :3, :3], seeds, 1e-6, 1e-6, 40, 40, rescue=False
     )
     assert list(np.flatnonzero(~success)) == missed
+
+
+@functools.cache
+def _stage_probe():
+    """A compiled probe (numba, not cached): at each θ6 of ``thetas``, ``branch`` of each branch
+    beside ``sample`` (the four at once) and ``reach`` (reach only), three writings of the same
+    stages and tests that the search relies on to agree."""
+    import math
+
+    import numba
+
+    from kinplan.ik.wrist_offset_branches import (
+        branch,
+        branch_geometry,
+        geometry,
+        pose_terms,
+        reach,
+        sample,
+    )
+    from kinplan.ik.wrist_offset_kernel import _one_pose
+
+    @numba.njit
+    def probe(k, position, rotation, fill, thetas, out):
+        g = geometry(k)
+        p, r, f = _one_pose(position, rotation, fill)
+        pre = pose_terms(g, p, r)
+        sk = branch_geometry(g)
+        moving = (pre[0], pre[1], pre[2], pre[3], pre[4], pre[5])
+        for i in range(thetas.shape[0]):
+            c6, s6 = math.cos(thetas[i]), math.sin(thetas[i])
+            _, fs, oks, _ = sample(sk, moving, c6, s6, f)
+            for b in range(4):
+                one = branch(sk, moving, c6, s6, b, f)
+                ok, stage, m1, m2 = reach(sk, moving, c6, s6, b, f)
+                out[i, b, 0], out[i, b, 1], out[i, b, 2] = one[0], one[1], one[3]
+                out[i, b, 3], out[i, b, 4] = fs[b], oks[b]
+                out[i, b, 5], out[i, b, 6] = ok, stage
+                out[i, b, 7] = m1 if stage == 1 else m2
+        return out
+
+    return probe
+
+
+@pytest.mark.parametrize("kind, which", ALL[:6], ids=ALL_IDS[:6])
+def test_sample_and_reach_decide_as_branch(folder, kind, which):
+    """The search samples the four branches at once (``sample``) and finds the ends of reach
+    with a reach-only test (``reach``); both repeat ``branch``'s stages and tests to save work.
+    On 100 random poses (reachable and beyond reach) × 64 values of θ6: ``sample`` gives
+    ``branch``'s f (or failing margin) and reach flag to the bit, and ``reach`` its flag, its
+    failing stage and that stage's margin."""
+    robot = robot_for(kind, which, folder)
+    solver = robot.closed_form_ik
+    probe = _stage_probe()
+    rng = np.random.default_rng(67)
+    thetas = np.linspace(-np.pi, np.pi, 64, endpoint=False)
+    out = np.zeros((64, 4, 8))
+    unreached = 0
+    for n in range(100):
+        target = robot.fk(robot.random_configuration(rng))
+        position = target.translation * (1.0 if n % 4 else 1.3)  # some beyond reach
+        probe(solver._constants, position, target.rotation.copy(), np.zeros(6), thetas, out)
+        reached = out[..., 1] != 0.0
+        # sample: f where the branch reaches, else the failing stage's margin (branch gives
+        # the stage number in f then, and the margin beside it)
+        expected = np.where(reached, out[..., 0], out[..., 2])
+        assert np.array_equal(out[..., 3], expected), n
+        np.testing.assert_array_equal(out[..., 4] != 0.0, reached, err_msg=str(n))
+        np.testing.assert_array_equal(out[..., 5] != 0.0, reached, err_msg=str(n))
+        failed = ~reached
+        np.testing.assert_array_equal(out[..., 6][failed], out[..., 0][failed])  # the stage
+        np.testing.assert_array_equal(out[..., 7][failed], out[..., 2][failed])  # its margin
+        unreached += int(failed.sum())
+    assert unreached > 100  # the failing stages are exercised
