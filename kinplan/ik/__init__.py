@@ -28,6 +28,12 @@ Modules, each importing only those before it:
   :mod:`~kinplan.ik.spherical_wrist_geometry` (the structure read from the screw axes, or why
   not) → :mod:`~kinplan.ik.spherical_wrist_kernel` (one pose, numba, loaded with the first
   solver) → :mod:`~kinplan.ik.spherical_wrist` (the solver, vectorised over poses);
+* 6R arms whose URDF rounds a spherical wrist (axes 4, 5, 6 missing one point, or axes 2, 3
+  missing parallel, by at most 1e-4 m or rad: compas-fab's IRB4600, Doosan's, a Denso VS060),
+  :class:`~kinplan.ik.near_wrist.NearWristIK`: the spherical-wrist closed form on the idealised
+  arm, each solution polished by Newton's method on the URDF's screws and certified, the exact
+  1-D search near singularities: :mod:`~kinplan.ik.near_wrist_geometry` →
+  :mod:`~kinplan.ik.near_wrist_kernel` (numba) → :mod:`~kinplan.ik.near_wrist` (the solver);
 * 6R arms whose axes 4 and 5 meet with axis 6 offset (rtb-data's IRB140, Kinova's Gen3),
   :class:`~kinplan.ik.wrist_offset.OffsetWristIK`, IK-Geo's 1-D search over θ6:
   :mod:`~kinplan.ik.wrist_offset_geometry` → :mod:`~kinplan.ik.wrist_offset_branches` (the
@@ -76,6 +82,7 @@ from kinplan.ik.screws import wrap_angle
 
 if TYPE_CHECKING:  # the closed forms load on first use (see __getattr__)
     from kinplan.ik.closed_form import analytic_solver_for, closed_form_report
+    from kinplan.ik.near_wrist import NearWristIK
     from kinplan.ik.panda import PandaIK, panda_solver_for
     from kinplan.ik.planar import Planar2RIK
     from kinplan.ik.spherical_general import GeneralWristIK
@@ -89,6 +96,7 @@ if TYPE_CHECKING:  # the closed forms load on first use (see __getattr__)
 _LAZY = {
     "analytic_solver_for": "closed_form",
     "closed_form_report": "closed_form",
+    "NearWristIK": "near_wrist",
     "PandaIK": "panda",
     "panda_solver_for": "panda",
     "Planar2RIK": "planar",
@@ -110,6 +118,7 @@ __all__ = [
     "GeneralWristIK",
     "IKResult",
     "IKSolver",
+    "NearWristIK",
     "OffsetWristIK",
     "PandaIK",
     "Planar2RIK",

@@ -49,6 +49,8 @@ import logging
 import numpy as np
 
 from kinplan.ik.base import AnalyticIK, ClosedFormIK, self_check
+from kinplan.ik.near_wrist import NearWristIK
+from kinplan.ik.near_wrist_geometry import near_wrist_geometry
 from kinplan.ik.panda import panda_solver_for
 from kinplan.ik.planar import planar_2r_solver
 from kinplan.ik.screws import Screws, screws_at_zero
@@ -142,6 +144,11 @@ def _six_joint_form(
         return SphericalWristIK(wrist, lower, upper, weights), SphericalWristIK.description, ""
     reasons = [why]
     solver: ClosedFormIK
+    near, near_why = near_wrist_geometry(screws)  # a spherical wrist the URDF's numbers round
+    if near is not None:
+        solver = NearWristIK(near, lower, upper, weights)
+        return solver, solver.description, ""
+    reasons.append(f"not a rounded spherical wrist: {near_why}")
     if why == NOT_PARALLEL:  # a spherical wrist, axes 2 ∦ 3: IK-Geo's other forms
         general, why = general_wrist_geometry(screws)
         if general is not None:

@@ -52,11 +52,11 @@ def available() -> bool:
 def log_rotation(m, out):
     """The rotation vector of the rotation matrix ``m`` (as ``pinocchio.log3``) into ``out``
     (3,), for every angle in [0, π]."""
-    out[0], out[1], out[2] = _log3(m)
+    out[0], out[1], out[2] = log3(m)
 
 
 @inline
-def _log3(m):
+def log3(m):
     """:func:`log_rotation` of ``m`` as a 3-tuple."""
     vx = 0.5 * (m[2, 1] - m[1, 2])
     vy = 0.5 * (m[0, 2] - m[2, 0])
@@ -186,7 +186,7 @@ def descend(q0, target, with_rotation, limits, screws, tool, settings, q):
                         + target[a, 1] * pose[b, 1]
                         + target[a, 2] * pose[b, 2]
                     )
-            error[3], error[4], error[5] = _log3(relative)
+            error[3], error[4], error[5] = log3(relative)
             rerr2 = error[3] ** 2 + error[4] ** 2 + error[5] ** 2
         if it == max_iterations:
             break

@@ -42,16 +42,20 @@ def typical_sigma(robot: kinplan.Robot, samples: int = 200) -> float:
 
 
 def check_nearest_rule(
-    robot: kinplan.Robot, solver: ClosedFormIK, target: pin.SE3, ref: np.ndarray
+    robot: kinplan.Robot,
+    solver: ClosedFormIK,
+    target: pin.SE3,
+    ref: np.ndarray,
+    atol: float = 1e-12,
 ) -> np.ndarray:
     """``solver.nearest`` of ``target`` from ``ref``: equal to the base class's choice over the
     same solutions (per joint the equivalent within the limits nearest the reference, then the
-    least Σ wᵢ Δqᵢ², ties to the lower row) to 1e-12 rad, which is the least weighted distance
-    over the solutions (to 1e-9); returned."""
+    least Σ wᵢ Δqᵢ², ties to the lower row) to ``atol`` [rad], which is the least weighted
+    distance over the solutions (to 1e-9); returned."""
     found = solver.nearest(target.translation, target.rotation, ref)
     base = ClosedFormIK.nearest(solver, target.translation, target.rotation, ref)
     assert found is not None and base is not None
-    np.testing.assert_allclose(found, base, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(found, base, rtol=0, atol=atol)
     solutions = solver.solutions(target.translation, target.rotation)
     near = wrap_near(solutions, ref, robot.lower, robot.upper)
     distance = np.nan_to_num(((near - ref) ** 2) @ solver.weights, nan=np.inf)

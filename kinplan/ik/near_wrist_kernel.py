@@ -1,0 +1,340 @@
+"""Near-spherical wrists, one pose compiled (numba): the idealised arm's closed form
+(:func:`kinplan.ik.spherical_wrist_kernel.branches`), each solution polished by Newton's
+method on the URDF's screws, and the exact solver where the polish is not certain.
+
+A solution ``q0`` of the idealised arm is off the URDF's by the arms' difference δ (a few µm);
+Newton's method on the URDF's forward kinematics (:func:`kinplan.compiled.screw_kinematics`,
+the 6×6 Jacobian solved by Gaussian elimination) takes it there in two steps. The polish is
+*certified* (Kantorovich's test, measured) when the first step is at most :data:`DRIFT` and the
+second at most :data:`CONTRACTION` times the first: the URDF then has exactly one solution
+near ``q0``, and the third evaluation checks it to :data:`RESIDUAL`. A pose is answered from
+the polished idealised branches only when
+
+* no joint of the idealised arm is free (a singularity),
+* its wrist centre is farther than the window (:data:`~kinplan.ik.near_wrist_geometry.WINDOW`
+  times δ) from a boundary of the shoulder's and the elbow's reach, and its wrist is not just
+  short of a solution (there the URDF may have solutions the idealised arm has not),
+* and every branch's polish is certified.
+
+Otherwise the exact 1-D search (:mod:`~kinplan.ik.wrist_offset_kernel`, on arms whose axes 4
+and 5 meet exactly) answers it, or, without one, nobody (the caller's numerical solve).
+
+The kernel interface of :mod:`kinplan.ik.kernel_closed_form` (``SLOTS``, ``NOT_FINITE``,
+``raw_many``, ``nearest``, ``nearest_many``), with ``constants`` and ``tool`` the tuples of
+:meth:`NearWristGeometry.constants <kinplan.ik.near_wrist_geometry.NearWristGeometry.constants>`
+and ``tool()``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from kinplan.compiled import jit, numba, screw_kinematics
+from kinplan.ik import spherical_wrist_kernel, wrist_offset_kernel
+from kinplan.ik.numeric_kernel import log3
+from kinplan.ik.screws import TAU
+from kinplan.ik.spherical_wrist_kernel import _choice, nearest_of, pose_finite
+
+#: Solution rows per pose (the exact 1-D search's; the idealised arm fills the first 8).
+SLOTS = wrist_offset_kernel.SLOTS
+#: What :func:`nearest` returns for an input with a NaN or inf.
+NOT_FINITE = -2
+#: Largest first Newton step [rad] (max over joints) of a certified polish.
+DRIFT = 1e-2
+#: Largest ratio of the second Newton step to the first of a certified polish (Kantorovich's
+#: h ≈ 2·second/first ≤ 0.02: one solution near the start, quadratic convergence).
+CONTRACTION = 1e-2
+#: Steps below this [rad] are rounding: the contraction test lets them pass.
+STEP_FLOOR = 1e-13
+#: A second step below this [rad] ends the polish without a third evaluation: after a
+#: contraction of at most CONTRACTION, the error left is of order CONTRACTION·SETTLED².
+SETTLED = 1e-8
+#: Largest position [m] and rotation [rad] error of a polished solution (third evaluation).
+RESIDUAL = 1e-12
+#: How a pose was answered (returned by :func:`pose_branches`).
+POLISHED, EXACT, LEFT = 0, 1, 2
+
+#: Private switch for tests and benchmarks: False makes :func:`available` False.
+ENABLED = os.environ.get("KINPLAN_JIT", "1") != "0"
+
+
+def available() -> bool:
+    """Whether the compiled solve can be used (numba installed and not switched off)."""
+    return ENABLED and numba is not None
+
+
+@jit
+def _solve6(a, b, x):
+    """x with a x = b for a (6, 6) (overwritten) by Gaussian elimination with partial
+    pivoting; False when a pivot is zero."""
+    for c in range(6):
+        pivot = c
+        for r in range(c + 1, 6):
+            if abs(a[r, c]) > abs(a[pivot, c]):
+                pivot = r
+        if a[pivot, c] == 0.0:
+            return False
+        if pivot != c:
+            for m in range(6):
+                a[c, m], a[pivot, m] = a[pivot, m], a[c, m]
+            b[c], b[pivot] = b[pivot], b[c]
+        for r in range(c + 1, 6):
+            factor = a[r, c] / a[c, c]
+            for m in range(c, 6):
+                a[r, m] -= factor * a[c, m]
+            b[r] -= factor * b[c]
+    for r in range(5, -1, -1):
+        total = b[r]
+        for m in range(r + 1, 6):
+            total -= a[r, m] * x[m]
+        x[r] = total / a[r, r]
+    return True
+
+
+@jit
+def _error(position, rotation, pose, error, spin):
+    """The tool's error from the target in the world frame: ``error[:3]`` position [m],
+    ``error[3:]`` the rotation vector of R_target·R_toolᵀ [rad]; returns (position error,
+    rotation error)."""
+    for i in range(3):
+        error[i] = position[i] - pose[i, 3]
+        for j in range(3):
+            total = 0.0
+            for m in range(3):
+                total += rotation[i, m] * pose[j, m]
+            spin[i, j] = total
+    wx, wy, wz = log3(spin)
+    error[3], error[4], error[5] = wx, wy, wz
+    return (
+        math.sqrt(error[0] ** 2 + error[1] ** 2 + error[2] ** 2),
+        math.sqrt(wx * wx + wy * wy + wz * wz),
+    )
+
+
+@jit
+def polish(q, position, rotation, directions, points, tool, work, out):
+    """Newton's method from ``q`` [rad] (6,) to the URDF's solution of the pose, into ``out``:
+    whether it is certified (see the module's text).
+
+    Args:
+        q: A solution of the idealised arm [rad].
+        position, rotation: The target in the world frame [m], (3,), (3, 3).
+        directions, points, tool: The URDF's screws at q = 0 (6, 3), (6, 3) and tool (4, 4).
+        work: Scratch space (4, 6, 6).
+        out: Written with the polished solution [rad] (6,).
+    """
+    pose, jacobian, spin = work[0, :4, :4], work[1], work[2, :3, :3]
+    error, step = work[3, 0], work[3, 1]
+    for j in range(6):
+        out[j] = q[j]
+    first = 0.0
+    for iteration in range(3):
+        screw_kinematics(out, directions, points, tool, pose, jacobian)
+        miss, turn = _error(position, rotation, pose, error, spin)
+        if iteration == 2:
+            return miss <= RESIDUAL and turn <= RESIDUAL
+        if not _solve6(jacobian, error, step):
+            return False
+        size = 0.0
+        for j in range(6):
+            size = max(size, abs(step[j]))
+            out[j] += step[j]
+        if not size <= DRIFT:  # also NaN
+            return False
+        if iteration == 0:
+            first = size
+        elif size > CONTRACTION * first + STEP_FLOOR:
+            return False
+        elif size <= SETTLED:  # quadratic convergence: the error left is below rounding
+            return True
+    return False  # not reached
+
+
+@jit
+def _wrap(angle):
+    return angle - TAU * np.round(angle / TAU)
+
+
+@jit
+def pose_branches(constants, tools, limits, position, rotation, fill, raw, ok, work, newton):
+    """Every solution of one pose into ``raw`` (SLOTS, 6) [rad] and ``ok`` (SLOTS,): the
+    idealised arm's polished (rows 0–7, its branches) or the exact solver's; returns
+    (:data:`POLISHED`, :data:`EXACT` or :data:`LEFT` (neither: every ``ok`` False), whether
+    some joint was free).
+
+    Args:
+        constants, tools: The packed geometry (see the module's text).
+        limits: Rows lower, upper [rad] and weights, shape (3, 6).
+        position, rotation: The target in the world frame [m], (3,), (3, 3).
+        fill: Values [rad] (6,) of joints free at a singularity.
+        raw, ok: Written.
+        work: Scratch space (11, 3) for the idealised closed form.
+        newton: Scratch space (5, 6, 6) for the polish.
+    """
+    ideal, screws, exact = constants
+    directions, points = screws[0:6], screws[6:12]
+    certain = _certain(ideal, screws, limits, position, rotation, fill, raw, ok, work)
+    polished = newton[4, 0]
+    if certain:
+        for b in range(8):
+            if not ok[b]:
+                continue
+            if not polish(
+                raw[b], position, rotation, directions, points, tools[0], newton, polished
+            ):
+                certain = False
+                break
+            for j in range(6):
+                raw[b, j] = _wrap(polished[j])
+    if certain:
+        return POLISHED, False
+    if screws[12, 2] != 0.0:
+        free = wrist_offset_kernel.branches(exact, tools[1], position, rotation, fill, raw, ok)
+        return EXACT, free
+    for b in range(SLOTS):
+        ok[b] = False
+    return LEFT, False
+
+
+@jit
+def _certain(ideal, screws, limits, position, rotation, fill, raw, ok, work):
+    """The idealised arm's branches into rows 0–7 of ``raw``, ``ok`` (rows 8 on: False);
+    whether the pose is one the polish may answer: no free joint, the wrist centre outside the
+    window of the reach's boundaries, the wrist not just short of a solution."""
+    singular = spherical_wrist_kernel.branches(
+        ideal, position, rotation, fill, raw, ok, work, limits
+    )
+    for b in range(8, SLOTS):
+        ok[b] = False
+    return not singular and work[10, 0] > screws[12, 0] and work[10, 1] > screws[12, 1]
+
+
+@jit
+def raw_many(constants, tools, limits, positions, rotations, fills, raw, singular):
+    """:func:`pose_branches` of many poses: ``raw`` (N, SLOTS, 6) [rad] with NaN rows where no
+    solution, ``singular`` (N,)."""
+    ok = np.empty(SLOTS, dtype=np.bool_)
+    work, newton = np.empty((11, 3)), np.empty((5, 6, 6))
+    for n in range(positions.shape[0]):
+        _, singular[n] = pose_branches(
+            constants, tools, limits, positions[n], rotations[n], fills[n], raw[n], ok, work,
+            newton,
+        )  # fmt: skip
+        for r in range(SLOTS):
+            if not ok[r]:
+                raw[n, r, :] = np.nan
+
+
+@jit
+def _cost(row, limits, ref, slack):
+    """The weighted squared distance [rad²] of the 2π-equivalent of ``row`` (6,) nearest
+    ``ref`` within the limits widened by ``slack`` [rad], or inf when a joint has none."""
+    cost = 0.0
+    for j in range(6):
+        q = _choice(row[j], ref[j], limits[0, j] - slack, limits[1, j] + slack)
+        if q != q:
+            return np.inf
+        cost += limits[2, j] * (q - ref[j]) * (q - ref[j])
+    return cost
+
+
+@jit
+def _nearest_polished(constants, tools, limits, position, rotation, ref, raw, ok, work, newton,
+                      out):  # fmt: skip
+    """The nearest solution of a pose whose idealised branches are certain (see
+    :func:`pose_branches`), polishing only the branches that can be nearest: in order of the
+    idealised cost, until the next one's cost, less the most a polish of :data:`DRIFT` per
+    joint can lower it, exceeds the best polished one's. Returns (row (−1: none within the
+    limits; −2: a polish not certified), mask (bit b: branch b within the limits: polished
+    rows exactly, the others as their idealised solution))."""
+    _, screws, _ = constants
+    directions, points = screws[0:6], screws[6:12]
+    weight = 0.0
+    for j in range(6):
+        weight += limits[2, j]
+    reach = DRIFT * math.sqrt(weight)  # the most a polish moves a solution, weighted
+    costs = newton[4, 1]  # idealised costs, later inf once a branch is taken
+    polished = newton[4, 0]
+    mask = 0
+    for b in range(8):
+        costs[b] = _cost(raw[b], limits, ref, DRIFT) if ok[b] else np.inf
+        if ok[b] and _cost(raw[b], limits, ref, 0.0) < np.inf:
+            mask |= 1 << b
+    best, best_cost = -1, np.inf
+    while True:
+        b, low = -1, np.inf
+        for c in range(8):
+            if costs[c] < low:
+                b, low = c, costs[c]
+        if b < 0 or (math.sqrt(low) - reach > 0.0 and (math.sqrt(low) - reach) ** 2 > best_cost):
+            break
+        costs[b] = np.inf
+        if not polish(raw[b], position, rotation, directions, points, tools[0], newton, polished):
+            return -2, 0
+        for j in range(6):
+            raw[b, j] = _wrap(polished[j])
+        exact = _cost(raw[b], limits, ref, 0.0)
+        if exact < np.inf:
+            mask |= 1 << b
+        else:
+            mask &= ~(1 << b)
+        if exact < best_cost or (exact == best_cost and b < best):
+            best, best_cost = b, exact
+    if best >= 0:
+        for j in range(6):
+            out[j] = _choice(raw[best, j], ref[j], limits[0, j], limits[1, j])
+    return best, mask
+
+
+@jit
+def _nearest(constants, tools, limits, position, rotation, ref, raw, ok, work, newton, out):
+    """:func:`nearest` with its work arrays: (row, mask)."""
+    ideal, screws, exact = constants
+    if _certain(ideal, screws, limits, position, rotation, ref, raw, ok, work):
+        best, mask = _nearest_polished(
+            constants, tools, limits, position, rotation, ref, raw, ok, work, newton, out
+        )
+        if best != -2:
+            return best, mask
+    if screws[12, 2] != 0.0:
+        wrist_offset_kernel.branches(exact, tools[1], position, rotation, ref, raw, ok)
+        return nearest_of(raw, ok, limits, ref, out)
+    return -1, 0
+
+
+@jit
+def nearest(constants, tools, limits, position, rotation, ref, out):
+    """The solution nearest ``ref`` [rad] (6,) written into ``out``; returns its row, −1 when
+    none is within the limits (or the pose is left to the numerical solve), :data:`NOT_FINITE`
+    for an input with a NaN or inf."""
+    if not pose_finite(position, rotation, ref):
+        return NOT_FINITE
+    raw = np.empty((SLOTS, 6))
+    ok = np.empty(SLOTS, dtype=np.bool_)
+    best, _ = _nearest(
+        constants, tools, limits, position, rotation, ref, raw, ok, np.empty((11, 3)),
+        np.empty((5, 6, 6)), out,
+    )  # fmt: skip
+    return best
+
+
+@jit
+def nearest_many(constants, tools, limits, positions, rotations, refs, q, row, mask):
+    """:func:`nearest` of many poses, each with its own reference: ``q`` (N, 6), ``row`` (N,)
+    (−1: none) and ``mask`` (N,) (bit r: row r within the limits) written."""
+    raw = np.empty((SLOTS, 6))
+    ok = np.empty(SLOTS, dtype=np.bool_)
+    out = np.empty(6)
+    work, newton = np.empty((11, 3)), np.empty((5, 6, 6))
+    for n in range(positions.shape[0]):
+        best, bits = _nearest(
+            constants, tools, limits, positions[n], rotations[n], refs[n], raw, ok, work,
+            newton, out,
+        )  # fmt: skip
+        row[n] = best
+        mask[n] = bits
+        for j in range(6):
+            q[n, j] = out[j] if best >= 0 else np.nan

@@ -1,0 +1,335 @@
+"""Closed-form IK for arms whose URDF rounds a spherical wrist (kinplan.ik.near_wrist): the
+idealised arm's closed form polished by Newton's method on the URDF's screws, the exact 1-D
+search near singularities and reach boundaries. Synthetic arms written as URDF strings: axis 6
+a few µm off the meeting of axes 4 and 5 (perpendicular and skewed wrists), axis 3 a few µrad
+from parallel to axis 2, and axes 4 and 5 missing each other (no exact solver: the numerical
+solve decides near singularities).
+
+Every solution reaches the target by Pinocchio's FK to 1e-12 m and rad (1e-9 for the 1-D
+search's); the solutions are the exact 1-D search's, pose by pose; the nearest solution is the
+base class's choice over every polished branch; ``ik_batch`` agrees with ``ik``; every branch a
+brute-force numerical search finds is found.
+"""
+
+from __future__ import annotations
+
+import functools
+import re
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from ik_checks import check_nearest_rule, contains, pose_errors
+from wrist_arms import wrist_arm_urdf
+
+import kinplan
+from kinplan.compiled import screw_kinematics
+from kinplan.ik import near_wrist_kernel, wrap_angle
+from kinplan.ik.near_wrist import NearWristIK
+from kinplan.ik.near_wrist_geometry import NEAR_LENGTH, near_wrist_geometry
+from kinplan.ik.screws import screws_at_zero
+from kinplan.ik.wrist_offset import OffsetWristIK
+
+#: (name, wrist_arm_urdf arguments, axis 5 moved off axis 4 [m] (no exact solver)).
+ARMS = [
+    ("offset-5um", dict(seed=0, wrist_offset=5e-6), 0.0),
+    ("skewed-wrist-20um", dict(seed=2, skew_wrist=True, wrist_offset=2e-5), 0.0),
+    ("offset-30um-no-lateral", dict(seed=1, lateral=False, wrist_offset=3e-5), 0.0),
+    ("axis3-turned-30urad", dict(seed=4, skew3=3e-5), 0.0),
+    ("axes45-apart-10um", dict(seed=3), 1e-5),
+]
+IDS = [a[0] for a in ARMS]
+EXACT = [a for a in ARMS if not a[2]]
+
+
+def _urdf(arguments: dict, apart: float) -> str:
+    text = wrist_arm_urdf(**arguments)
+    if apart:  # move joint 5's origin across axes 4 (x) and 5 (y): they no longer meet
+        text = re.sub(
+            r'(<joint name="j5".*?<origin xyz=")([^"]+)(")',
+            lambda m: m.group(1) + _moved(m.group(2), apart) + m.group(3),
+            text,
+        )
+    return text
+
+
+def _moved(xyz: str, apart: float) -> str:
+    x, y, z = (float(v) for v in xyz.split())
+    return f"{x:.17g} {y:.17g} {z + apart:.17g}"
+
+
+@functools.cache
+def robot_of(name: str, folder: str) -> kinplan.Robot:
+    _, arguments, apart = next(a for a in ARMS if a[0] == name)
+    path = Path(folder) / f"{name}.urdf"
+    path.write_text(_urdf(arguments, apart))
+    return kinplan.load_robot(path, tip="tool0")
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory) -> str:
+    return str(tmp_path_factory.mktemp("near_wrist_arms"))
+
+
+def poses(robot: kinplan.Robot, qs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    frames = [robot.fk(q) for q in qs]
+    return np.array([f.translation for f in frames]), np.array([f.rotation for f in frames])
+
+
+def exact_solver(robot: kinplan.Robot, lower=None, upper=None) -> OffsetWristIK:
+    near = robot.closed_form_ik
+    assert isinstance(near, NearWristIK) and near.geometry.exact is not None
+    lower = robot.lower if lower is None else lower
+    upper = robot.upper if upper is None else upper
+    return OffsetWristIK(near.geometry.exact, lower, upper)
+
+
+# ---------------------------------------------------------------------------- structure
+@pytest.mark.parametrize("name", IDS)
+def test_the_arms_get_the_rounded_wrist(folder, name):
+    robot = robot_of(name, folder)
+    solver = robot.closed_form_ik
+    assert isinstance(solver, NearWristIK), robot.ik_solver.description
+    description = robot.ik_solver.description
+    assert description.startswith("closed form: spherical wrist as rounded in the URDF")
+    apart = next(a[2] for a in ARMS if a[0] == name)
+    assert ("the numerical solve" if apart else "the 1-D search") in description, description
+    geometry = solver.geometry
+    assert 0.0 < max(geometry.shift, geometry.turn) <= NEAR_LENGTH
+    # the bound on the two arms' difference holds: the idealised FK is within it of the URDF's
+    rng = np.random.default_rng(5)
+    ideal = geometry.ideal
+    for _ in range(200):
+        q = robot.random_configuration(rng)
+        pose, jacobian = np.empty((4, 4)), np.empty((6, 6))
+        screw_kinematics(q, ideal.axes, ideal.points, geometry.screws.tool.homogeneous, pose,
+                         jacobian)  # fmt: skip
+        urdf = robot.fk(q)
+        position = np.linalg.norm(pose[:3, 3] - urdf.translation)
+        rotation = np.linalg.norm(pin.log3(pose[:3, :3].T @ urdf.rotation))
+        assert 0.0 < position + rotation <= geometry.difference
+
+
+def test_designed_offsets_are_not_rounding(tmp_path):
+    """A 2 cm wrist offset (rtb-data's IRB140) is a 1-D search arm, not a rounded wrist."""
+    path = tmp_path / "offset.urdf"
+    path.write_text(wrist_arm_urdf(0, wrist_offset=0.02))
+    robot = kinplan.load_robot(path, tip="tool0")
+    assert isinstance(robot.closed_form_ik, OffsetWristIK)
+    geometry, why = near_wrist_geometry(screws_at_zero(robot))
+    assert geometry is None and why == "axes 4, 5, 6 miss one point by 1.0e-02 m", why
+
+
+# ---------------------------------------------------------------------------- solutions
+@pytest.mark.parametrize("name", IDS)
+def test_every_solution_reaches_the_target(folder, name):
+    """300 random configurations: the generating one among the solutions; each solution within
+    the limits and, by Pinocchio's FK, within 1e-12 m and rad of the target where polished
+    (1e-9 where the 1-D search answered)."""
+    robot = robot_of(name, folder)
+    solver = robot.closed_form_ik
+    rng = np.random.default_rng(17)
+    kinds = []
+    for _ in range(300):
+        q = robot.random_configuration(rng)
+        target = robot.fk(q)
+        kinds.append(answered_by(solver, target))
+        solutions = solver.solutions(target.translation, target.rotation)
+        if kinds[-1] == near_wrist_kernel.LEFT:
+            assert len(solutions) == 0
+            continue
+        assert contains(solutions, q, 1e-7), (q, solutions)
+        tol = 1e-12 if kinds[-1] == near_wrist_kernel.POLISHED else 1e-9
+        for s in solutions:
+            assert robot.within_limits(s, tolerance=0.0)
+            position, rotation = pose_errors(robot, s, target)
+            assert position <= tol and rotation <= tol, (s, position, rotation)
+    assert kinds.count(near_wrist_kernel.POLISHED) >= 0.8 * len(kinds)
+
+
+def answered_by(solver: NearWristIK, target: pin.SE3) -> int:
+    raw, ok = np.empty((solver.slots, 6)), np.empty(solver.slots, dtype=bool)
+    kind, _ = near_wrist_kernel.pose_branches(
+        solver._constants, solver._tool, solver._limits, target.translation,
+        np.ascontiguousarray(target.rotation), np.zeros(6), raw, ok, np.empty((11, 3)),
+        np.empty((5, 6, 6)),
+    )  # fmt: skip
+    return int(kind)
+
+
+@pytest.mark.parametrize("name", [a[0] for a in EXACT])
+def test_the_solutions_are_the_exact_searchs(folder, name):
+    """3,000 random poses: the polished solutions are the exact 1-D search's (the same set,
+    each to 1e-9 rad), and most poses are answered by the polish."""
+    robot = robot_of(name, folder)
+    solver = robot.closed_form_ik
+    exact = exact_solver(robot)
+    rng = np.random.default_rng(19)
+    qs = np.array([robot.random_configuration(rng) for _ in range(3000)])
+    positions, rotations = poses(robot, qs)
+    mine, _ = solver.all_branches(positions, rotations, qs)
+    theirs, _ = exact.all_branches(positions, rotations, qs)
+    for k in range(len(qs)):
+        a = mine[k][np.isfinite(mine[k, :, 0])]
+        b = theirs[k][np.isfinite(theirs[k, :, 0])]
+        assert len(a) == len(b), (k, a, b)
+        for s in b:
+            assert contains(a, s, 1e-9), (k, s, a)
+
+
+@pytest.mark.parametrize("name", [a[0] for a in EXACT])
+def test_the_nearest_is_the_exact_searchs(folder, name):
+    """The lazy nearest (only branches that can win are polished) equals the exact 1-D
+    search's nearest from random seeds, with the URDF's limits and with limits halved (many
+    branches outside), to 1e-9 rad, over 4,000 poses each."""
+    robot = robot_of(name, folder)
+    rng = np.random.default_rng(23)
+    for scale in (1.0, 0.5):
+        lower, upper = robot.lower * scale, robot.upper * scale
+        solver = NearWristIK(robot.closed_form_ik.geometry, lower, upper)
+        exact = exact_solver(robot, lower, upper)
+        qs = np.array([robot.random_configuration(rng) for _ in range(4000)])
+        positions, rotations = poses(robot, qs)
+        seeds = np.array([robot.random_configuration(rng) for _ in range(4000)])
+        q, row, _, left = solver.nearest_many(positions, rotations, seeds)
+        q_exact, row_exact, _, _ = exact.nearest_many(positions, rotations, seeds)
+        assert not left.any()
+        np.testing.assert_array_equal(row >= 0, row_exact >= 0)
+        found = row >= 0
+        assert found.sum() > 500
+        np.testing.assert_allclose(q[found], q_exact[found], rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("name", IDS)
+def test_nearest_follows_the_closed_form_rule(folder, name):
+    """The compiled nearest equals the base class's choice over every polished branch (per
+    joint the equivalent within the limits nearest the reference, then the least Σ wᵢ Δqᵢ²),
+    to 1e-9 rad: where a branch that cannot be nearest is not certain, the base class's pass
+    over every branch takes the 1-D search's roots (FK-checked to 1e-9), the compiled nearest
+    the polished one."""
+    robot = robot_of(name, folder)
+    solver = robot.closed_form_ik
+    rng = np.random.default_rng(41)
+    checked = 0
+    for _ in range(300):
+        target = robot.fk(robot.random_configuration(rng))
+        ref = robot.random_configuration(rng) + rng.normal(0.0, 0.5, 6)
+        if answered_by(solver, target) == near_wrist_kernel.LEFT:
+            continue
+        check_nearest_rule(robot, solver, target, ref, atol=1e-9)
+        checked += 1
+    assert checked >= 240
+
+
+@pytest.mark.parametrize("name", IDS)
+def test_near_the_wrist_singularity_the_exact_solver_answers(folder, name):
+    """θ5 a hair from the wrist singularity (axes 4 and 6 aligned): the polish of every branch
+    is not certain there (a Jacobian nearly singular); the 1-D search answers, or, without one,
+    nobody. ``ik`` solves it (by the nearest branch's polish where that one is certain, else
+    by the 1-D search or numerically)."""
+    robot = robot_of(name, folder)
+    solver = robot.closed_form_ik
+    rng = np.random.default_rng(43)
+    apart = next(a[2] for a in ARMS if a[0] == name)
+    skewed = next(a[1].get("skew_wrist", False) for a in ARMS if a[0] == name)
+    if skewed:
+        pytest.skip("the skewed wrist's axes 4 and 6 do not align at θ5 = 0")
+    for _ in range(20):
+        q = robot.random_configuration(rng)
+        q[4] = 1e-7
+        target = robot.fk(q)
+        kind = answered_by(solver, target)
+        assert kind == (near_wrist_kernel.LEFT if apart else near_wrist_kernel.EXACT)
+        result = robot.ik(target, q + 0.01)
+        assert result.success
+        if apart:
+            assert len(solver.solutions(target.translation, target.rotation)) == 0
+
+
+def test_a_polish_from_far_is_not_certified(folder):
+    """Newton from the generating configuration is certified and stays; from 0.05 rad away it
+    exceeds the first step allowed (DRIFT) and is refused, even where it would converge."""
+    robot = robot_of(IDS[0], folder)
+    geometry = robot.closed_form_ik.geometry
+    screws, tool = geometry.screws, geometry.screws.tool.homogeneous
+    rng = np.random.default_rng(47)
+    out, work = np.empty(6), np.empty((5, 6, 6))
+    for _ in range(50):
+        q = robot.random_configuration(rng)
+        target = robot.fk(q)
+        args = (target.translation, np.ascontiguousarray(target.rotation), screws.directions,
+                screws.points, tool, work, out)  # fmt: skip
+        assert near_wrist_kernel.polish(q, *args)
+        np.testing.assert_allclose(out, q, rtol=0, atol=1e-12)
+        assert not near_wrist_kernel.polish(q + 0.05, *args)
+
+
+# ---------------------------------------------------------------------------- through Robot
+@pytest.mark.parametrize("name", IDS)
+def test_robot_ik_and_batch_on_random_targets(folder, name):
+    """300 random reachable targets from random seeds: ``ik`` solves each (within 1e-6, within
+    the limits; by the closed form unless no solver was certain) and ``ik_batch`` gives the
+    same answers."""
+    robot = robot_of(name, folder)
+    rng = np.random.default_rng(53)
+    qs = np.array([robot.random_configuration(rng) for _ in range(300)])
+    targets = np.array([robot.fk(q).homogeneous for q in qs])
+    seeds = np.array([robot.random_configuration(rng) for _ in range(300)])
+    loop, methods = [], []
+    for target, seed in zip(targets, seeds):
+        result = robot.ik(pin.SE3(target), seed)
+        assert result.success and robot.within_limits(result.q, tolerance=0.0)
+        loop.append(result.q)
+        methods.append(result.method)
+    assert methods.count("analytic") >= 0.8 * len(methods)
+    assert robot.batch_solver.method(False) == "closed-form"
+    q, success = robot.ik_batch(targets, seeds)
+    assert success.all()
+    np.testing.assert_allclose(q, np.array(loop), rtol=0, atol=1e-9)
+
+
+#: Random reachable targets of the brute-force comparison: a sample in ``make test``, 100 in
+#: ``make soak`` (each target costs 200 numerical solves).
+BRUTE_FORCE_TARGETS = [
+    pytest.param(25, id="25"),
+    pytest.param(100, id="100", marks=pytest.mark.slow),
+]
+
+
+@pytest.mark.parametrize("targets", BRUTE_FORCE_TARGETS)
+@pytest.mark.parametrize("name", [a[0] for a in EXACT])
+def test_brute_force_numerical_branches_are_all_found(folder, name, targets):
+    """Every distinct solution (mod 2π, within the limits) the numerical solver converges to
+    from 200 random seeds is one of the closed form's."""
+    robot = robot_of(name, folder)
+    solver = robot.closed_form_ik
+    rng = np.random.default_rng(31)
+    seeds = [robot.random_configuration(rng) for _ in range(200)]
+    branches = 0
+    for _ in range(targets):
+        target = robot.fk(robot.random_configuration(rng))
+        closed = solver.solutions(target.translation, target.rotation)
+        found: list[np.ndarray] = []
+        for seed_q in seeds:
+            result = robot.ik_solver.solve(target.translation, target.rotation, seed_q,
+                                           1e-10, 1e-10, 100, 0)  # fmt: skip
+            if result.success and not contains(found, result.q, 1e-6):
+                found.append(result.q)
+        for q in found:
+            assert contains(closed, q, 1e-6), (q, closed)
+        branches += len(found)
+    assert branches >= 2 * targets
+
+
+def test_the_wrap_of_polished_angles(folder):
+    """Polished rows are wrapped into [−π, π] as the other kernels' rows."""
+    robot = robot_of(IDS[0], folder)
+    solver = robot.closed_form_ik
+    rng = np.random.default_rng(59)
+    qs = np.array([robot.random_configuration(rng) for _ in range(200)])
+    positions, rotations = poses(robot, qs)
+    raw, _ = solver.all_branches(positions, rotations, qs)
+    finite = raw[np.isfinite(raw)]
+    assert np.all(np.abs(finite) <= np.pi + 1e-15)
+    np.testing.assert_array_equal(wrap_angle(finite), finite)
