@@ -118,7 +118,11 @@ def closed_form_report(
         solver, description, reason = _six_joint_form(robot, screws, weights)
     if solver is None:
         return None, _NUMERICAL + reason + ")"
-    if not self_check(robot, lambda pose, q: solver.solutions(pose.translation, pose.rotation)):
+    if not self_check(
+        robot,
+        lambda pose, q: solver.solutions(pose.translation, pose.rotation),
+        answers_every_pose=solver.answers_every_pose,
+    ):
         logger.debug("closed-form IK of %s disagrees with its forward kinematics", robot.name)
         form = description.removeprefix("closed form: ")
         return None, _NUMERICAL + f"the {form} disagrees with the model's FK)"

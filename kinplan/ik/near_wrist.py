@@ -48,6 +48,7 @@ class NearWristIK(KernelClosedFormIK):
         self._limits = np.ascontiguousarray(np.vstack([self.lower, self.upper, self.weights]))
         self._kernel = near_wrist_kernel
         self.slots = near_wrist_kernel.SLOTS
+        self.answers_every_pose = geometry.exact is not None
         fallback = "the 1-D search" if geometry.exact is not None else "the numerical solve"
         self.description = (
             f"closed form: spherical wrist as rounded in the URDF (axes 4, 5, 6 meet within "

@@ -37,7 +37,16 @@ NEAR_ANGLE = 1e-4
 #: A pose whose wrist centre is nearer a boundary of the idealised arm's reach (the
 #: shoulder's or the elbow's) than WINDOW times the arms' difference is left to the exact
 #: solver: there a pair of the URDF's solutions may exist where the idealised arm has none.
-WINDOW = 10.0
+#: (10 was too few: a fuzz of 120 arms found 6 poses, near a shoulder tangency that
+#: amplifies the difference, whose missing pair lay 10–22 differences from a boundary.)
+WINDOW = 100.0
+#: The most a polish may move a solution that is not *fragile* [rad, per joint]: a branch
+#: nearer a singularity than this allows (the wrist centre within 2·difference/ROBUST_DRIFT
+#: of axis 1's boundary or the elbow's, or the wrist's sine below
+#: 4·difference/(ROBUST_DRIFT·shorter link)) is fragile. The nearest-solution search skips
+#: only branches that are not fragile, by their idealised distance; a polish that moves one
+#: further sends the pose to the exact solver.
+ROBUST_DRIFT = 5e-3
 #: Least shortfall of the idealised wrist (subproblem 2 without a solution, for wrists whose
 #: axes are not perpendicular) under which the exact solver decides, for the same reason.
 WRIST_WINDOW = 1e-3
@@ -67,14 +76,21 @@ class NearWristGeometry:
 
     def constants(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The geometry packed for :mod:`~kinplan.ik.near_wrist_kernel`: (the idealised arm's
-        spherical-wrist constants (22, 3); the URDF's screws (13, 3): rows 0–5 axes, 6–11
-        points, 12 (window [m], wrist window, 1.0 when there is an exact solver); the exact
-        solver's constants (36, 3), zeros without one)."""
+        spherical-wrist constants (22, 3); the URDF's screws (14, 3): rows 0–5 axes, 6–11
+        points, 12 (window [m], wrist window, 1.0 when there is an exact solver), 13 (the
+        distance [m] from a boundary and the wrist's sine under which a branch is fragile,
+        0); the exact solver's constants (36, 3), zeros without one)."""
+        shorter = min(float(np.hypot(*self.ideal.r23)), float(np.hypot(*self.ideal.r3c)))
         screws = np.vstack(
             [
                 self.screws.directions,
                 self.screws.points,
                 [WINDOW * self.difference, WRIST_WINDOW, float(self.exact is not None)],
+                [
+                    2.0 * self.difference / ROBUST_DRIFT,
+                    4.0 * self.difference / (ROBUST_DRIFT * shorter),
+                    0.0,
+                ],
             ]
         )
         exact = np.zeros((36, 3)) if self.exact is None else self.exact.constants()

@@ -34,6 +34,7 @@ import numpy as np
 
 from kinplan.compiled import jit, numba, screw_kinematics
 from kinplan.ik import spherical_wrist_kernel, wrist_offset_kernel
+from kinplan.ik.near_wrist_geometry import ROBUST_DRIFT
 from kinplan.ik.numeric_kernel import log3
 from kinplan.ik.screws import TAU
 from kinplan.ik.spherical_wrist_kernel import _choice, nearest_of, pose_finite
@@ -42,8 +43,10 @@ from kinplan.ik.spherical_wrist_kernel import _choice, nearest_of, pose_finite
 SLOTS = wrist_offset_kernel.SLOTS
 #: What :func:`nearest` returns for an input with a NaN or inf.
 NOT_FINITE = -2
-#: Largest first Newton step [rad] (max over joints) of a certified polish.
-DRIFT = 1e-2
+#: Largest first Newton step [rad] (max over joints) of a certified polish; also the slack
+#: by which the nearest-solution search widens what a branch that is not fragile may gain
+#: (twice the ROBUST_DRIFT such a branch may move).
+DRIFT = 2.0 * ROBUST_DRIFT
 #: Largest ratio of the second Newton step to the first of a certified polish (Kantorovich's
 #: h ≈ 2·second/first ≤ 0.02: one solution near the start, quadratic convergence).
 CONTRACTION = 1e-2
@@ -115,7 +118,7 @@ def _error(position, rotation, pose, error, spin):
 
 
 @jit
-def polish(q, position, rotation, directions, points, tool, work, out):
+def polish(q, position, rotation, directions, points, tool, settle, work, out):
     """Newton's method from ``q`` [rad] (6,) to the URDF's solution of the pose, into ``out``:
     whether it is certified (see the module's text).
 
@@ -123,11 +126,13 @@ def polish(q, position, rotation, directions, points, tool, work, out):
         q: A solution of the idealised arm [rad].
         position, rotation: The target in the world frame [m], (3,), (3, 3).
         directions, points, tool: The URDF's screws at q = 0 (6, 3), (6, 3) and tool (4, 4).
-        work: Scratch space (4, 6, 6).
+        settle: Whether a second step below :data:`SETTLED` ends it (a branch away from
+            singularities); else the third evaluation checks the residual.
+        work: Scratch space (4, 8, 8) (or more).
         out: Written with the polished solution [rad] (6,).
     """
-    pose, jacobian, spin = work[0, :4, :4], work[1], work[2, :3, :3]
-    error, step = work[3, 0], work[3, 1]
+    pose, jacobian, spin = work[0, :4, :4], work[1, :6, :6], work[2, :3, :3]
+    error, step = work[3, 0, :6], work[3, 1, :6]
     for j in range(6):
         out[j] = q[j]
     first = 0.0
@@ -148,7 +153,7 @@ def polish(q, position, rotation, directions, points, tool, work, out):
             first = size
         elif size > CONTRACTION * first + STEP_FLOOR:
             return False
-        elif size <= SETTLED:  # quadratic convergence: the error left is below rounding
+        elif settle and size <= SETTLED:  # quadratic convergence: the rest is rounding
             return True
     return False  # not reached
 
@@ -156,6 +161,57 @@ def polish(q, position, rotation, directions, points, tool, work, out):
 @jit
 def _wrap(angle):
     return angle - TAU * np.round(angle / TAU)
+
+
+@jit
+def _fragile(ideal, screws, work, row):
+    """Whether the idealised solution ``row`` (6,) of branch index ``b`` is fragile: its
+    wrist centre within the fragile distance of a boundary of the shoulder's or its elbow's
+    reach, or its wrist's sine (of the angle between axis 4 and axis 6 turned by θ5 about
+    axis 5) below the fragile one (see
+    :data:`~kinplan.ik.near_wrist_geometry.ROBUST_DRIFT`). ``row`` is (b, θ1, …, θ6)."""
+    b = int(row[0])
+    position = min(work[10, 0], work[10, 1 + b // 4])
+    if position < screws[13, 0]:
+        return True
+    h4, h5, h6 = ideal[3], ideal[4], ideal[5]
+    c, s = math.cos(row[5]), math.sin(row[5])
+    k = (h5[0] * h6[0] + h5[1] * h6[1] + h5[2] * h6[2]) * (1.0 - c)
+    x = h6[0] * c + (h5[1] * h6[2] - h5[2] * h6[1]) * s + h5[0] * k
+    y = h6[1] * c + (h5[2] * h6[0] - h5[0] * h6[2]) * s + h5[1] * k
+    z = h6[2] * c + (h5[0] * h6[1] - h5[1] * h6[0]) * s + h5[2] * k
+    sine = math.sqrt(
+        (y * h4[2] - z * h4[1]) ** 2 + (z * h4[0] - x * h4[2]) ** 2 + (x * h4[1] - y * h4[0]) ** 2
+    )
+    return sine < screws[13, 1]
+
+
+@jit
+def _polish_branch(constants, tools, position, rotation, raw, b, fragile, newton):
+    """Polish branch b's row of ``raw`` in place (wrapped into [−π, π]): whether certified
+    and, unless ``fragile``, moved by at most ROBUST_DRIFT per joint."""
+    _, screws, _ = constants
+    polished, start = newton[4, 0, :6], newton[4, 2, :6]
+    for j in range(6):
+        start[j] = raw[b, j]
+    if not polish(start, position, rotation, screws[0:6], screws[6:12], tools[0], not fragile,
+                  newton, polished):  # fmt: skip
+        return False
+    for j in range(6):
+        if not fragile and abs(polished[j] - start[j]) > ROBUST_DRIFT:
+            return False
+        raw[b, j] = _wrap(polished[j])
+    return True
+
+
+@jit
+def _is_fragile(constants, work, raw, b, probe):
+    """:func:`_fragile` of branch b's row of ``raw``, ``probe`` (7,) scratch."""
+    ideal, screws, _ = constants
+    probe[0] = b
+    for j in range(6):
+        probe[1 + j] = raw[b, j]
+    return _fragile(ideal, screws, work, probe)
 
 
 @jit
@@ -171,24 +227,20 @@ def pose_branches(constants, tools, limits, position, rotation, fill, raw, ok, w
         position, rotation: The target in the world frame [m], (3,), (3, 3).
         fill: Values [rad] (6,) of joints free at a singularity.
         raw, ok: Written.
-        work: Scratch space (11, 3) for the idealised closed form.
-        newton: Scratch space (5, 6, 6) for the polish.
+        work: Scratch space (12, 3) for the idealised closed form.
+        newton: Scratch space (5, 8, 8) for the polish: rows 0–3 Newton's method's, row 4
+            (polished, idealised costs, start, branch probe) (:func:`_nearest_polished`).
     """
     ideal, screws, exact = constants
-    directions, points = screws[0:6], screws[6:12]
     certain = _certain(ideal, screws, limits, position, rotation, fill, raw, ok, work)
-    polished = newton[4, 0]
     if certain:
         for b in range(8):
-            if not ok[b]:
-                continue
-            if not polish(
-                raw[b], position, rotation, directions, points, tools[0], newton, polished
-            ):
-                certain = False
-                break
-            for j in range(6):
-                raw[b, j] = _wrap(polished[j])
+            if ok[b]:
+                fragile = _is_fragile(constants, work, raw, b, newton[4, 3, :7])
+                if not _polish_branch(constants, tools, position, rotation, raw, b, fragile,
+                                      newton):  # fmt: skip
+                    certain = False
+                    break
     if certain:
         return POLISHED, False
     if screws[12, 2] != 0.0:
@@ -209,7 +261,8 @@ def _certain(ideal, screws, limits, position, rotation, fill, raw, ok, work):
     )
     for b in range(8, SLOTS):
         ok[b] = False
-    return not singular and work[10, 0] > screws[12, 0] and work[10, 1] > screws[12, 1]
+    boundary = min(work[10, 0], work[10, 1], work[10, 2])
+    return not singular and boundary > screws[12, 0] and work[11, 0] > screws[12, 1]
 
 
 @jit
@@ -217,7 +270,7 @@ def raw_many(constants, tools, limits, positions, rotations, fills, raw, singula
     """:func:`pose_branches` of many poses: ``raw`` (N, SLOTS, 6) [rad] with NaN rows where no
     solution, ``singular`` (N,)."""
     ok = np.empty(SLOTS, dtype=np.bool_)
-    work, newton = np.empty((11, 3)), np.empty((5, 6, 6))
+    work, newton = np.empty((12, 3)), np.empty((5, 8, 8))
     for n in range(positions.shape[0]):
         _, singular[n] = pose_branches(
             constants, tools, limits, positions[n], rotations[n], fills[n], raw[n], ok, work,
@@ -245,25 +298,35 @@ def _cost(row, limits, ref, slack):
 def _nearest_polished(constants, tools, limits, position, rotation, ref, raw, ok, work, newton,
                       out):  # fmt: skip
     """The nearest solution of a pose whose idealised branches are certain (see
-    :func:`pose_branches`), polishing only the branches that can be nearest: in order of the
-    idealised cost, until the next one's cost, less the most a polish of :data:`DRIFT` per
-    joint can lower it, exceeds the best polished one's. Returns (row (−1: none within the
-    limits; −2: a polish not certified), mask (bit b: branch b within the limits: polished
-    rows exactly, the others as their idealised solution))."""
-    _, screws, _ = constants
-    directions, points = screws[0:6], screws[6:12]
+    :func:`pose_branches`), polishing only the branches that can be nearest: every fragile
+    branch; then the others in order of the idealised cost, until the next one's cost, less
+    the most a polish of DRIFT per joint can lower it, exceeds the best polished one's.
+    Returns (row (−1: none within the limits; −2: a polish not certified, or a branch that is
+    not fragile moved by more than ROBUST_DRIFT), mask (bit b: branch b within the limits:
+    polished rows exactly, the others as their idealised solution))."""
     weight = 0.0
     for j in range(6):
         weight += limits[2, j]
     reach = DRIFT * math.sqrt(weight)  # the most a polish moves a solution, weighted
-    costs = newton[4, 1]  # idealised costs, later inf once a branch is taken
-    polished = newton[4, 0]
+    costs = newton[4, 1, :8]  # idealised costs of branches not yet polished, else inf
     mask = 0
-    for b in range(8):
-        costs[b] = _cost(raw[b], limits, ref, DRIFT) if ok[b] else np.inf
-        if ok[b] and _cost(raw[b], limits, ref, 0.0) < np.inf:
-            mask |= 1 << b
     best, best_cost = -1, np.inf
+    for b in range(8):
+        costs[b] = np.inf
+        if not ok[b]:
+            continue
+        if _is_fragile(constants, work, raw, b, newton[4, 3, :7]):
+            if not _polish_branch(constants, tools, position, rotation, raw, b, True, newton):
+                return -2, 0
+            exact = _cost(raw[b], limits, ref, 0.0)
+            if exact < np.inf:
+                mask |= 1 << b
+            if exact < best_cost:
+                best, best_cost = b, exact
+        else:
+            costs[b] = _cost(raw[b], limits, ref, DRIFT)
+            if _cost(raw[b], limits, ref, 0.0) < np.inf:
+                mask |= 1 << b
     while True:
         b, low = -1, np.inf
         for c in range(8):
@@ -272,10 +335,8 @@ def _nearest_polished(constants, tools, limits, position, rotation, ref, raw, ok
         if b < 0 or (math.sqrt(low) - reach > 0.0 and (math.sqrt(low) - reach) ** 2 > best_cost):
             break
         costs[b] = np.inf
-        if not polish(raw[b], position, rotation, directions, points, tools[0], newton, polished):
+        if not _polish_branch(constants, tools, position, rotation, raw, b, False, newton):
             return -2, 0
-        for j in range(6):
-            raw[b, j] = _wrap(polished[j])
         exact = _cost(raw[b], limits, ref, 0.0)
         if exact < np.inf:
             mask |= 1 << b
@@ -315,8 +376,8 @@ def nearest(constants, tools, limits, position, rotation, ref, out):
     raw = np.empty((SLOTS, 6))
     ok = np.empty(SLOTS, dtype=np.bool_)
     best, _ = _nearest(
-        constants, tools, limits, position, rotation, ref, raw, ok, np.empty((11, 3)),
-        np.empty((5, 6, 6)), out,
+        constants, tools, limits, position, rotation, ref, raw, ok, np.empty((12, 3)),
+        np.empty((5, 8, 8)), out,
     )  # fmt: skip
     return best
 
@@ -328,7 +389,7 @@ def nearest_many(constants, tools, limits, positions, rotations, refs, q, row, m
     raw = np.empty((SLOTS, 6))
     ok = np.empty(SLOTS, dtype=np.bool_)
     out = np.empty(6)
-    work, newton = np.empty((11, 3)), np.empty((5, 6, 6))
+    work, newton = np.empty((12, 3)), np.empty((5, 8, 8))
     for n in range(positions.shape[0]):
         best, bits = _nearest(
             constants, tools, limits, positions[n], rotations[n], refs[n], raw, ok, work,

@@ -160,7 +160,7 @@ class SphericalWristIK(ClosedFormIK):
                 raw, ok = np.empty((8, 6)), np.empty(8, dtype=bool)
                 self._kernel.branches(
                     self._constants, position, rotation, self._neutral, raw, ok,
-                    np.empty((11, 3)), self._limits,
+                    np.empty((12, 3)), self._limits,
                 )  # fmt: skip
                 raw[~ok] = np.nan
                 return self._distinct(raw)

@@ -120,11 +120,12 @@ def branches(k, position, rotation, fill, raw, ok, work, limits):
         rotation: Tool rotation in the world frame (3, 3).
         fill: Values [rad] (6,) of joints that are free at a singularity (θ1, θ2, θ4 only).
         raw, ok: Written.
-        work: Scratch space, shape (11, 3); row 10 is written with the pose's margins from
-            the branches' boundaries: (the least distance [m] of the wrist centre from a
-            boundary of the shoulder's subproblem 4 or of the elbow's reach, the least
-            shortfall of a wrist without a solution (subproblem 2's ``rest`` < 0; inf when
-            none), 0), read by :mod:`~kinplan.ik.near_wrist_kernel`.
+        work: Scratch space, shape (12, 3); rows 10 and 11 are written with the pose's
+            margins from the branches' boundaries, read by :mod:`~kinplan.ik.near_wrist_kernel`:
+            row 10 the distances [m] of the wrist centre from a boundary of the shoulder's
+            subproblem 4, and from one of the elbow's reach for the first and the second θ1
+            (inf where not computed); row 11 (the least shortfall of a wrist without a
+            solution: subproblem 2's ``rest`` < 0, inf when none, 0, 0).
         limits: Rows lower, upper [rad] (and weights), shape (3, 6): for θ4 at the wrist
             singularity (:func:`free_wrist`).
 
@@ -157,8 +158,8 @@ def branches(k, position, rotation, fill, raw, ok, work, limits):
     rhs = lateral - hk * kp
     margins = work[10]
     margins[0] = abs(radius - abs(rhs))
-    margins[1] = np.inf
-    margins[2] = 0.0
+    margins[1] = margins[2] = work[11, 0] = np.inf
+    work[11, 1] = work[11, 2] = 0.0
     if radius < FREE_TOL:
         if abs(rhs) > FREE_ROOM:
             return False
@@ -196,7 +197,7 @@ def branches(k, position, rotation, fill, raw, ok, work, limits):
         tx, ty = _dot(seen, e), _dot(seen, f)
         d2 = tx * tx + ty * ty
         reach = math.sqrt(d2)
-        margins[0] = min(margins[0], abs(reach - (l1 + l2)), abs(reach - abs(l1 - l2)))
+        margins[1 + s] = min(abs(reach - (l1 + l2)), abs(reach - abs(l1 - l2)))
         cosine = (d2 - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
         if abs(cosine) > 1.0 + CLAMP:
             continue
@@ -228,7 +229,7 @@ def branches(k, position, rotation, fill, raw, ok, work, limits):
             length2 = 0.5 * (_dot(h6, h6) + _dot(w6, w6))
             rest = length2 - alpha * alpha - beta * beta - 2.0 * alpha * beta * c45
             if rest < 0.0:
-                margins[1] = min(margins[1], -rest)
+                work[11, 0] = min(work[11, 0], -rest)
             if rest < -CLAMP * max(length2, 1e-300):
                 continue
             gamma = math.sqrt(max(rest, 0.0) / n2)
@@ -345,7 +346,7 @@ def nearest(k, limits, position, rotation, ref, out):
         return NOT_FINITE
     raw = np.empty((8, 6))
     ok = np.empty(8, dtype=np.bool_)
-    branches(k, position, rotation, ref, raw, ok, np.empty((11, 3)), limits)
+    branches(k, position, rotation, ref, raw, ok, np.empty((12, 3)), limits)
     best, _ = nearest_of(raw, ok, limits, ref, out)
     return best
 
@@ -357,7 +358,7 @@ def nearest_many(k, limits, positions, rotations, refs, q, branch, mask):
     raw = np.empty((8, 6))
     ok = np.empty(8, dtype=np.bool_)
     out = np.empty(6)
-    work = np.empty((11, 3))
+    work = np.empty((12, 3))
     for i in range(positions.shape[0]):
         branches(k, positions[i], rotations[i], refs[i], raw, ok, work, limits)
         best, bits = nearest_of(raw, ok, limits, refs[i], out)

@@ -145,15 +145,15 @@ def test_every_solution_reaches_the_target(folder, name):
             assert robot.within_limits(s, tolerance=0.0)
             position, rotation = pose_errors(robot, s, target)
             assert position <= tol and rotation <= tol, (s, position, rotation)
-    assert kinds.count(near_wrist_kernel.POLISHED) >= 0.8 * len(kinds)
+    assert kinds.count(near_wrist_kernel.POLISHED) >= 0.6 * len(kinds)  # the polish answers most
 
 
 def answered_by(solver: NearWristIK, target: pin.SE3) -> int:
     raw, ok = np.empty((solver.slots, 6)), np.empty(solver.slots, dtype=bool)
     kind, _ = near_wrist_kernel.pose_branches(
         solver._constants, solver._tool, solver._limits, target.translation,
-        np.ascontiguousarray(target.rotation), np.zeros(6), raw, ok, np.empty((11, 3)),
-        np.empty((5, 6, 6)),
+        np.ascontiguousarray(target.rotation), np.zeros(6), raw, ok, np.empty((12, 3)),
+        np.empty((5, 8, 8)),
     )  # fmt: skip
     return int(kind)
 
@@ -254,12 +254,12 @@ def test_a_polish_from_far_is_not_certified(folder):
     geometry = robot.closed_form_ik.geometry
     screws, tool = geometry.screws, geometry.screws.tool.homogeneous
     rng = np.random.default_rng(47)
-    out, work = np.empty(6), np.empty((5, 6, 6))
+    out, work = np.empty(6), np.empty((5, 8, 8))
     for _ in range(50):
         q = robot.random_configuration(rng)
         target = robot.fk(q)
         args = (target.translation, np.ascontiguousarray(target.rotation), screws.directions,
-                screws.points, tool, work, out)  # fmt: skip
+                screws.points, tool, False, work, out)  # fmt: skip
         assert near_wrist_kernel.polish(q, *args)
         np.testing.assert_allclose(out, q, rtol=0, atol=1e-12)
         assert not near_wrist_kernel.polish(q + 0.05, *args)
@@ -333,3 +333,81 @@ def test_the_wrap_of_polished_angles(folder):
     finite = raw[np.isfinite(raw)]
     assert np.all(np.abs(finite) <= np.pi + 1e-15)
     np.testing.assert_array_equal(wrap_angle(finite), finite)
+
+
+# ---------------------------------------------------------------------------- found by fuzzing
+#: Poses a fuzz of 120 arms found wrong before the fixes: (wrist_arm_urdf arguments, q,
+#: seed or None, limits scale). With a seed, the nearest skipped the nearest branch by its
+#: idealised distance although, near the wrist singularity, its polish moved it by ~1 rad
+#: (now: such a fragile branch is always polished). Without, the polish was certified with a
+#: pair of solutions missing, 10–22 arm differences from a shoulder tangency (now: a window of
+#: 100 differences).
+FUZZED = [
+    (dict(seed=96, lateral=False, tilt=-0.3558311830829469, wrist_offset=1.244666462537608e-05),
+     [-1.6915884527794902, 0.35412259057245077, -2.2012278645010035, -1.0419326058662568,
+      -9.5913672451786169e-04, 4.4009403662848197],
+     [-1.766087300749827, 0.4764808701724116, -1.9654764629190098, -0.8739141928483743,
+      -0.12226884758502192, 4.4351918787972275], 1.0),
+    (dict(seed=65, tilt=0.3589433199823405, wrist_offset=4.8944353276682984e-05),
+     [-3.5946039154024306e-01, 1.6280349617794201, 1.7549092219799245, -1.1250898591026197,
+      6.5704463718230244e-05, -1.7223119721459137],
+     [0.552045548215761, 0.6831886413254415, -1.889194884436091, -1.5332663494964096,
+      0.3284929095043325, -1.6210260685865923], 0.5),
+    (dict(seed=83, skew_wrist=True, tilt=0.10772352762825532, wrist_offset=7.881771504208045e-07),
+     [-3.5087579915059, 2.7422751143646, -1.3387435592182, 3.9976459700254, -5.6254878458609,
+      2.8036143265295], None, 1.0),
+    (dict(seed=115, lateral=False, tilt=0.1265879591419402, wrist_offset=3.8177310275513886e-07),
+     [-1.5959361163855, 2.3280672422555, 1.7494337545324, 2.0816904463932, 0.6300227791319,
+      2.5321900331696], None, 1.0),
+    (dict(seed=4, skew_wrist=True, lateral=False, wrist_offset=4.380254682646016e-05),
+     [2.2340548246393, -2.5840846213193, -0.7340460638425, 0.8231736065191, -0.2286007685853,
+      -1.7251301834713], None, 1.0),
+    (dict(seed=41, skew_wrist=True, tilt=-0.11009420338878162, wrist_offset=2.528492321371252e-07),
+     [3.5030154368052, -4.1736931637682, -1.7411748306349, 5.0668900239209, 0.8514685454631,
+      2.7919201319454], None, 1.0),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("arguments, q, seed, scale", FUZZED)
+def test_poses_found_by_fuzzing(tmp_path, arguments, q, seed, scale):
+    """The same solutions as the exact 1-D search, each reaching the target; from the seed, the
+    same nearest."""
+    path = tmp_path / "arm.urdf"
+    path.write_text(wrist_arm_urdf(**arguments))
+    robot = kinplan.load_robot(path, tip="tool0")
+    lower, upper = robot.lower * scale, robot.upper * scale
+    solver = NearWristIK(robot.closed_form_ik.geometry, lower, upper)
+    exact = exact_solver(robot, lower, upper)
+    q = np.array(q)
+    target = robot.fk(q)
+    mine = solver.solutions(target.translation, target.rotation)
+    theirs = exact.solutions(target.translation, target.rotation)
+    assert len(mine) == len(theirs) and all(contains(mine, s, 1e-8) for s in theirs)
+    for s in mine:  # (the generating q, printed to 13 digits, may be 1e-5 off a root here)
+        position, rotation = pose_errors(robot, s, target)
+        assert position <= 1e-9 and rotation <= 1e-9
+    if seed is None:
+        return
+    found = solver.nearest(target.translation, target.rotation, np.array(seed))
+    expected = exact.nearest(target.translation, target.rotation, np.array(seed))
+    np.testing.assert_allclose(found, expected, rtol=0, atol=1e-8)
+
+
+@pytest.mark.parametrize("name", [a[0] for a in EXACT if not a[1].get("skew_wrist")])
+def test_the_nearest_near_the_wrist_singularity_is_the_exact_searchs(folder, name):
+    """θ5 within 1e-5 … 1e-2 rad of the wrist singularity, random seeds: the nearest (where
+    polished, its fragile branches all polished) is the exact 1-D search's, to 1e-7 rad (the
+    roots are ill-conditioned there), over 2,000 poses."""
+    robot = robot_of(name, folder)
+    solver = robot.closed_form_ik
+    exact = exact_solver(robot)
+    rng = np.random.default_rng(61)
+    qs = np.array([robot.random_configuration(rng) for _ in range(2000)])
+    qs[:, 4] = rng.choice([-1.0, 1.0], 2000) * 10.0 ** rng.uniform(-5.0, -2.0, 2000)
+    positions, rotations = poses(robot, qs)
+    seeds = np.array([robot.random_configuration(rng) for _ in range(2000)])
+    q, row, _, _ = solver.nearest_many(positions, rotations, seeds)
+    q_exact, row_exact, _, _ = exact.nearest_many(positions, rotations, seeds)
+    np.testing.assert_array_equal(row >= 0, row_exact >= 0)
+    found = row >= 0
+    np.testing.assert_allclose(q[found], q_exact[found], rtol=0, atol=1e-7)
