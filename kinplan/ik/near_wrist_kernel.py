@@ -37,7 +37,7 @@ from kinplan.ik import spherical_wrist_kernel, wrist_offset_kernel
 from kinplan.ik.near_wrist_geometry import ROBUST_DRIFT
 from kinplan.ik.numeric_kernel import log3
 from kinplan.ik.screws import TAU
-from kinplan.ik.spherical_wrist_kernel import _choice, nearest_of, pose_finite
+from kinplan.ik.spherical_wrist_kernel import _choice, branch_cost, nearest_of, pose_finite
 
 #: Solution rows per pose (the exact 1-D search's; the idealised arm fills the first 8).
 SLOTS = wrist_offset_kernel.SLOTS
@@ -282,19 +282,6 @@ def raw_many(constants, tools, limits, positions, rotations, fills, raw, singula
 
 
 @jit
-def _cost(row, limits, ref, slack):
-    """The weighted squared distance [rad²] of the 2π-equivalent of ``row`` (6,) nearest
-    ``ref`` within the limits widened by ``slack`` [rad], or inf when a joint has none."""
-    cost = 0.0
-    for j in range(6):
-        q = _choice(row[j], ref[j], limits[0, j] - slack, limits[1, j] + slack)
-        if q != q:
-            return np.inf
-        cost += limits[2, j] * (q - ref[j]) * (q - ref[j])
-    return cost
-
-
-@jit
 def _nearest_polished(constants, tools, limits, position, rotation, ref, raw, ok, work, newton,
                       out):  # fmt: skip
     """The nearest solution of a pose whose idealised branches are certain (see
@@ -318,14 +305,14 @@ def _nearest_polished(constants, tools, limits, position, rotation, ref, raw, ok
         if _is_fragile(constants, work, raw, b, newton[4, 3, :7]):
             if not _polish_branch(constants, tools, position, rotation, raw, b, True, newton):
                 return -2, 0
-            exact = _cost(raw[b], limits, ref, 0.0)
+            exact = branch_cost(raw, b, limits, ref, 0.0)
             if exact < np.inf:
                 mask |= 1 << b
             if exact < best_cost:
                 best, best_cost = b, exact
         else:
-            costs[b] = _cost(raw[b], limits, ref, DRIFT)
-            if _cost(raw[b], limits, ref, 0.0) < np.inf:
+            costs[b] = branch_cost(raw, b, limits, ref, DRIFT)
+            if branch_cost(raw, b, limits, ref, 0.0) < np.inf:
                 mask |= 1 << b
     while True:
         b, low = -1, np.inf
@@ -337,7 +324,7 @@ def _nearest_polished(constants, tools, limits, position, rotation, ref, raw, ok
         costs[b] = np.inf
         if not _polish_branch(constants, tools, position, rotation, raw, b, False, newton):
             return -2, 0
-        exact = _cost(raw[b], limits, ref, 0.0)
+        exact = branch_cost(raw, b, limits, ref, 0.0)
         if exact < np.inf:
             mask |= 1 << b
         else:

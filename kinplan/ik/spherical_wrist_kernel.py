@@ -19,7 +19,7 @@ import os
 
 import numpy as np
 
-from kinplan.compiled import jit, numba
+from kinplan.compiled import inline, jit, numba
 from kinplan.compiled import turn_into as _turn
 from kinplan.ik.screws import CLAMP, FREE_TOL, LIMIT_TOL, TAU
 from kinplan.ik.subproblems import FREE_ROOM
@@ -286,6 +286,20 @@ def _choice(value, ref, lower, upper):
     return min(max(best, lower), upper)
 
 
+@inline
+def branch_cost(raw, row, limits, ref, slack):
+    """The weighted squared distance Σ wᵢ Δqᵢ² [rad²] from ``ref`` of row ``row`` of ``raw``
+    (S, 6), each joint as its 2π-equivalent within the limits (widened by ``slack`` [rad])
+    nearest ``ref``; inf when a joint has none."""
+    cost = 0.0
+    for j in range(6):
+        q = _choice(raw[row, j], ref[j], limits[0, j] - slack, limits[1, j] + slack)
+        if q != q:
+            return np.inf
+        cost += limits[2, j] * (q - ref[j]) * (q - ref[j])
+    return cost
+
+
 @jit
 def nearest_of(raw, ok, limits, ref, out):
     """The row of ``raw`` (S, 6) nearest ``ref`` (written into ``out``), −1 if none; and the
@@ -297,15 +311,8 @@ def nearest_of(raw, ok, limits, ref, out):
     for row in range(raw.shape[0]):
         if not ok[row]:
             continue
-        cost = 0.0
-        inside = True
-        for j in range(6):
-            q = _choice(raw[row, j], ref[j], limits[0, j], limits[1, j])
-            if q != q:
-                inside = False
-                break
-            cost += limits[2, j] * (q - ref[j]) * (q - ref[j])
-        if not inside:
+        cost = branch_cost(raw, row, limits, ref, 0.0)
+        if cost == np.inf:
             continue
         mask |= 1 << row
         if cost < best_cost:

@@ -121,3 +121,15 @@ def check_missed_targets_solved_numerically(
         result = robot.ik(pin.SE3(targets[k]), seeds[k])
         assert result.success and result.method == ("numerical" if k in missed else "analytic")
         np.testing.assert_allclose(q[k], result.q, rtol=0, atol=1e-9, err_msg=str(k))
+
+
+def numerical_branches(robot: kinplan.Robot, target: pin.SE3, seeds: list[np.ndarray]) -> list:
+    """The distinct solutions (mod 2π, 1e-6 rad apart) the numerical solver converges to, to
+    1e-10 m and rad, from each of ``seeds`` (a brute-force search for every branch)."""
+    found: list[np.ndarray] = []
+    for seed in seeds:
+        result = robot.ik_solver.solve(target.translation, target.rotation, seed,
+                                       1e-10, 1e-10, 100, 0)  # fmt: skip
+        if result.success and not contains(found, result.q, 1e-6):
+            found.append(result.q)
+    return found

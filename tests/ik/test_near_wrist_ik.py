@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from ik_checks import check_nearest_rule, contains, pose_errors
+from ik_checks import check_nearest_rule, contains, numerical_branches, pose_errors
 from wrist_arms import wrist_arm_urdf
 
 import kinplan
@@ -310,12 +310,7 @@ def test_brute_force_numerical_branches_are_all_found(folder, name, targets):
     for _ in range(targets):
         target = robot.fk(robot.random_configuration(rng))
         closed = solver.solutions(target.translation, target.rotation)
-        found: list[np.ndarray] = []
-        for seed_q in seeds:
-            result = robot.ik_solver.solve(target.translation, target.rotation, seed_q,
-                                           1e-10, 1e-10, 100, 0)  # fmt: skip
-            if result.success and not contains(found, result.q, 1e-6):
-                found.append(result.q)
+        found = numerical_branches(robot, target, seeds)
         for q in found:
             assert contains(closed, q, 1e-6), (q, closed)
         branches += len(found)
