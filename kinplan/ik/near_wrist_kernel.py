@@ -165,11 +165,11 @@ def _wrap(angle):
 
 @jit
 def _fragile(ideal, screws, work, row):
-    """Whether the idealised solution ``row`` (6,) of branch index ``b`` is fragile: its
-    wrist centre within the fragile distance of a boundary of the shoulder's or its elbow's
-    reach, or its wrist's sine (of the angle between axis 4 and axis 6 turned by θ5 about
-    axis 5) below the fragile one (see
-    :data:`~kinplan.ik.near_wrist_geometry.ROBUST_DRIFT`). ``row`` is (b, θ1, …, θ6)."""
+    """Whether an idealised solution is fragile (``row`` (7,): its branch index b, then
+    θ1, …, θ6 [rad]): its wrist centre within the fragile distance of a boundary of the
+    shoulder's or its elbow's reach (``work`` row 10, from the idealised closed form), or its
+    wrist's sine (of the angle between axis 4 and axis 6 turned by θ5 about axis 5) below the
+    fragile one (see :data:`~kinplan.ik.near_wrist_geometry.ROBUST_DRIFT`)."""
     b = int(row[0])
     position = min(work[10, 0], work[10, 1 + b // 4])
     if position < screws[13, 0]:
