@@ -32,10 +32,11 @@ import os
 
 import numpy as np
 
-from kinplan.compiled import jit, numba, screw_kinematics
+from kinplan.compiled import inline, jit, numba, screw_kinematics
 from kinplan.ik import spherical_wrist_kernel, wrist_offset_kernel
 from kinplan.ik.near_wrist_geometry import ROBUST_DRIFT
 from kinplan.ik.numeric_kernel import log3
+from kinplan.ik.panda_geometry import rotate_cs
 from kinplan.ik.screws import TAU
 from kinplan.ik.spherical_wrist_kernel import _choice, branch_cost, nearest_of, pose_finite
 
@@ -59,6 +60,9 @@ SETTLED = 1e-8
 RESIDUAL = 1e-12
 #: How a pose was answered (returned by :func:`pose_branches`).
 POLISHED, EXACT, LEFT = 0, 1, 2
+
+#: ``rotate_cs(v, axis, c, s)`` (:mod:`kinplan.ik.panda_geometry`) compiled into its callers.
+_rotate = inline(rotate_cs)
 
 #: Private switch for tests and benchmarks: False makes :func:`available` False.
 ENABLED = os.environ.get("KINPLAN_JIT", "1") != "0"
@@ -166,20 +170,19 @@ def _wrap(angle):
 @jit
 def _fragile(ideal, screws, work, row):
     """Whether an idealised solution is fragile (``row`` (7,): its branch index b, then
-    θ1, …, θ6 [rad]): its wrist centre within the fragile distance of a boundary of the
-    shoulder's or its elbow's reach (``work`` row 10, from the idealised closed form), or its
-    wrist's sine (of the angle between axis 4 and axis 6 turned by θ5 about axis 5) below the
-    fragile one (see :data:`~kinplan.ik.near_wrist_geometry.ROBUST_DRIFT`)."""
+    θ1, …, θ6 [rad]): its wrist centre within the fragile distance of a
+    boundary of the shoulder's or its elbow's reach (``work`` row 10, from the idealised
+    closed form), or its wrist's sine (of the angle between axis 4 and axis 6 turned by θ5
+    about axis 5) below the fragile one (see
+    :data:`~kinplan.ik.near_wrist_geometry.ROBUST_DRIFT`)."""
     b = int(row[0])
     position = min(work[10, 0], work[10, 1 + b // 4])
     if position < screws[13, 0]:
         return True
     h4, h5, h6 = ideal[3], ideal[4], ideal[5]
-    c, s = math.cos(row[5]), math.sin(row[5])
-    k = (h5[0] * h6[0] + h5[1] * h6[1] + h5[2] * h6[2]) * (1.0 - c)
-    x = h6[0] * c + (h5[1] * h6[2] - h5[2] * h6[1]) * s + h5[0] * k
-    y = h6[1] * c + (h5[2] * h6[0] - h5[0] * h6[2]) * s + h5[1] * k
-    z = h6[2] * c + (h5[0] * h6[1] - h5[1] * h6[0]) * s + h5[2] * k
+    x, y, z = _rotate(  # R(h5, θ5) h6, in scalars (inlined: no arrays passed)
+        (h6[0], h6[1], h6[2]), (h5[0], h5[1], h5[2]), math.cos(row[5]), math.sin(row[5])
+    )
     sine = math.sqrt(
         (y * h4[2] - z * h4[1]) ** 2 + (z * h4[0] - x * h4[2]) ** 2 + (x * h4[1] - y * h4[0]) ** 2
     )

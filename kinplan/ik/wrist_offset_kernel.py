@@ -91,11 +91,10 @@ def _solution(k, search_k, pre, theta6, b, fill, known):
 
 
 @inline
-def _screw_step(k, joint, c, s, rot, tx, ty, tz):
-    """One factor of the product of exponentials: with ``rot`` (9 entries, row by row) and
-    (tx, ty, tz) [m] the rotation and translation of ``e1 ⋯ e(j−1)``, those of ``e1 ⋯ ej`` for
-    joint j = ``joint`` at cos θ = c, sin θ = s (Rodrigues about the unit axis ``k[joint]``
-    through ``k[6 + joint]``). Scalars only, no scratch array."""
+def _screw_exp(k, joint, c, s):
+    """The exponential of joint j = ``joint`` at cos θ = c, sin θ = s: its rotation (9
+    entries, row by row; Rodrigues about the unit axis ``k[joint]``) and translation
+    ``p − R p`` [m] (the axis through ``p = k[6 + joint]``). Scalars only."""
     x, y, z = k[joint][0], k[joint][1], k[joint][2]
     t = 1.0 - c
     a00, a01, a02 = c + x * x * t, x * y * t - z * s, x * z * t + y * s
@@ -105,6 +104,16 @@ def _screw_step(k, joint, c, s, rot, tx, ty, tz):
     sx = px - (a00 * px + a01 * py + a02 * pz)
     sy = py - (a10 * px + a11 * py + a12 * pz)
     sz = pz - (a20 * px + a21 * py + a22 * pz)
+    return (a00, a01, a02, a10, a11, a12, a20, a21, a22), sx, sy, sz
+
+
+@inline
+def _screw_step(k, joint, c, s, rot, tx, ty, tz):
+    """One factor of the product of exponentials: with ``rot`` (9 entries, row by row) and
+    (tx, ty, tz) [m] the rotation and translation of ``e1 ⋯ e(j−1)``, those of ``e1 ⋯ ej`` for
+    joint j = ``joint`` at cos θ = c, sin θ = s (:func:`_screw_exp`). Scalars only, no scratch
+    array."""
+    (a00, a01, a02, a10, a11, a12, a20, a21, a22), sx, sy, sz = _screw_exp(k, joint, c, s)
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = rot
     tx += r00 * sx + r01 * sy + r02 * sz
     ty += r10 * sx + r11 * sy + r12 * sz
@@ -128,27 +137,13 @@ def _screw_step(k, joint, c, s, rot, tx, ty, tz):
 
 
 @inline
-def _screw_first(k, c, s):
-    """:func:`_screw_step` of joint 1 from the identity (its products by 1 and 0 left out:
-    numba keeps them, x·0 being NaN for an infinite x)."""
-    x, y, z = k[0][0], k[0][1], k[0][2]
-    t = 1.0 - c
-    a00, a01, a02 = c + x * x * t, x * y * t - z * s, x * z * t + y * s
-    a10, a11, a12 = y * x * t + z * s, c + y * y * t, y * z * t - x * s
-    a20, a21, a22 = z * x * t - y * s, z * y * t + x * s, c + z * z * t
-    px, py, pz = k[6][0], k[6][1], k[6][2]
-    sx = px - (a00 * px + a01 * py + a02 * pz)
-    sy = py - (a10 * px + a11 * py + a12 * pz)
-    sz = pz - (a20 * px + a21 * py + a22 * pz)
-    return (a00, a01, a02, a10, a11, a12, a20, a21, a22), sx, sy, sz
-
-
-@inline
 def _reaches(k, tool, cs, position, rotation):
     """Whether the configuration of cosines and sines ``cs`` (cos θ1, sin θ1, …, cos θ6,
     sin θ6) puts the tool at the pose within :data:`VERIFY_TOL`: the product of exponentials
     ``e1 ⋯ e6 M``, in scalars."""
-    rot, tx, ty, tz = _screw_first(k, cs[0], cs[1])
+    # joint 1 from the identity: its exponential itself (the products by 1 and 0 left out:
+    # numba keeps them, x·0 being NaN for an infinite x)
+    rot, tx, ty, tz = _screw_exp(k, 0, cs[0], cs[1])
     rot, tx, ty, tz = _screw_step(k, 1, cs[2], cs[3], rot, tx, ty, tz)
     rot, tx, ty, tz = _screw_step(k, 2, cs[4], cs[5], rot, tx, ty, tz)
     rot, tx, ty, tz = _screw_step(k, 3, cs[6], cs[7], rot, tx, ty, tz)

@@ -63,6 +63,17 @@ def check_nearest_rule(
     return found
 
 
+def random_targets(
+    robot: kinplan.Robot, rng: np.random.Generator, count: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """``count`` random reachable targets (N, 4, 4) (FK of random configurations within the
+    limits) and as many random seeds (N, nq), drawn from ``rng`` in that order."""
+    qs = np.array([robot.random_configuration(rng) for _ in range(count)])
+    targets = np.array([robot.fk(q).homogeneous for q in qs])
+    seeds = np.array([robot.random_configuration(rng) for _ in range(count)])
+    return targets, seeds
+
+
 def check_ik_and_batch(
     robot: kinplan.Robot, rng: np.random.Generator, count: int, threads: int | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -70,9 +81,7 @@ def check_ik_and_batch(
     closed form (within 1e-6 m and 1e-6 rad, within the limits) and ``Robot.ik_batch`` (on
     ``threads``) by its closed-form method, with the same answers to 1e-9 rad. Returns the
     targets (N, 4, 4), the seeds and the batch's answers."""
-    qs = np.array([robot.random_configuration(rng) for _ in range(count)])
-    targets = np.array([robot.fk(q).homogeneous for q in qs])
-    seeds = np.array([robot.random_configuration(rng) for _ in range(count)])
+    targets, seeds = random_targets(robot, rng, count)
     loop = []
     for target, seed_q in zip(targets, seeds):
         result = robot.ik(pin.SE3(target), seed_q)

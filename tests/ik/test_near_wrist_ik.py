@@ -20,7 +20,13 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from ik_checks import check_nearest_rule, contains, numerical_branches, pose_errors
+from ik_checks import (
+    check_nearest_rule,
+    contains,
+    numerical_branches,
+    pose_errors,
+    random_targets,
+)
 from wrist_arms import wrist_arm_urdf
 
 import kinplan
@@ -273,9 +279,7 @@ def test_robot_ik_and_batch_on_random_targets(folder, name):
     same answers."""
     robot = robot_of(name, folder)
     rng = np.random.default_rng(53)
-    qs = np.array([robot.random_configuration(rng) for _ in range(300)])
-    targets = np.array([robot.fk(q).homogeneous for q in qs])
-    seeds = np.array([robot.random_configuration(rng) for _ in range(300)])
+    targets, seeds = random_targets(robot, rng, 300)
     loop, methods = [], []
     for target, seed in zip(targets, seeds):
         result = robot.ik(pin.SE3(target), seed)

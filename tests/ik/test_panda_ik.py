@@ -6,7 +6,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from conftest import cached_robot
-from ik_checks import check_missed_targets_solved_numerically
+from ik_checks import check_missed_targets_solved_numerically, random_targets
 
 import kinplan
 from kinplan.errors import InputError
@@ -297,7 +297,5 @@ def test_a_pose_the_closed_form_leaves_unsolved_goes_to_the_numerical_solve(monk
     solver = robot.closed_form_ik
     assert isinstance(solver, PandaIK) and not solver.complete
     rng = np.random.default_rng(61)
-    q_true = np.array([robot.random_configuration(rng) for _ in range(10)])
-    targets = np.array([robot.fk(q).homogeneous for q in q_true])
-    seeds = np.array([robot.random_configuration(rng) for _ in range(10)])
+    targets, seeds = random_targets(robot, rng, 10)
     check_missed_targets_solved_numerically(robot, targets, seeds, [1, 4, 9], monkeypatch)

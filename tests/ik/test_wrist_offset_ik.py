@@ -25,6 +25,7 @@ from ik_checks import (
     check_nearest_rule,
     contains,
     pose_errors,
+    random_targets,
     smallest_sigma,
     typical_sigma,
 )
@@ -307,9 +308,7 @@ def test_a_pose_the_search_misses_goes_to_the_numerical_solve(folder, monkeypatc
     solver = robot.closed_form_ik
     assert isinstance(solver, OffsetWristIK) and not solver.complete
     rng = np.random.default_rng(59)
-    q_true = np.array([robot.random_configuration(rng) for _ in range(12)])
-    targets = np.array([robot.fk(q).homogeneous for q in q_true])
-    seeds = np.array([robot.random_configuration(rng) for _ in range(12)])
+    targets, seeds = random_targets(robot, rng, 12)
     missed = [2, 5, 11]
     check_missed_targets_solved_numerically(robot, targets, seeds, missed, monkeypatch)
     # the reach map's solve (rescue=False) keeps the closed form's verdict: no numerical tries
