@@ -494,15 +494,15 @@ def reach(k, pre, c6, s6, b, fill):
 def _parallel_first(k, vx, vy, vz, a, bb, ratio, radius, dx, dy, dz, first, fill):
     """The two branches 2·first, 2·first + 1 of axes 2 ∥ 3 at one θ6 (θ1 of ``first``
     shared): (f or the elbow's margin for each, reached, their (cos, sin of −θ1, θ2, θ3),
-    whether a free angle took its fill value)."""
+    whether a free angle took its fill value, the elbow's margin)."""
     if radius < FREE_TOL:
         cm, sm = math.cos(fill[0]), -math.sin(fill[0])
     else:
         cm, sm = _pair(a, bb, ratio, first)
     tx, ty, d2, cosine = _parallel_elbow(k, vx, vy, vz, cm, sm)
-    if abs(cosine) > 1.0 + CLAMP:
-        margin = 1.0 + CLAMP - abs(cosine)
-        return margin, margin, False, _UNUSED, _UNUSED, False
+    margin = 1.0 + CLAMP - abs(cosine)
+    if margin < 0.0:
+        return margin, margin, False, _UNUSED, _UNUSED, False, margin
     p0, p1, p2 = _parallel_wrist(k, dx, dy, dz, cm, sm)
     fa = fb = 0.0
     ta = tb = _UNUSED
@@ -515,7 +515,7 @@ def _parallel_first(k, vx, vy, vz, a, bb, ratio, radius, dx, dy, dz, first, fill
         else:
             fb, tb = f, (cm, sm, c2, s2, c3, s3)
         free = free or fr
-    return fa, fb, True, ta, tb, free
+    return fa, fb, True, ta, tb, free, margin
 
 
 @inline
@@ -524,7 +524,7 @@ def _meeting_first(k, ratio, yx, yy, yz, dd, dx, dy, dz, first, fill):
     c3, s3, xx, xy, xz, gx, gy, gz = _meeting_third(k, ratio, first)
     mx, my, mz, gamma2, margin = _meeting_cone(k, xx, xy, xz, yx, yy, yz, dd)
     if margin < 0.0:
-        return margin, margin, False, _UNUSED, _UNUSED, False
+        return margin, margin, False, _UNUSED, _UNUSED, False, margin
     fa = fb = 0.0
     ta = tb = _UNUSED
     free = False
@@ -538,7 +538,7 @@ def _meeting_first(k, ratio, yx, yy, yz, dd, dx, dy, dz, first, fill):
         else:
             fb, tb = f, (cm, sm, c2, s2, c3, s3)
         free = free or fr
-    return fa, fb, True, ta, tb, free
+    return fa, fb, True, ta, tb, free, margin
 
 
 #: The turns of a branch that does not reach (never read).
@@ -551,44 +551,54 @@ def sample(k, pre, c6, s6, fill):
     times, at about half the cost): (whether a free angle took its fill value, f of each
     branch (a 4-tuple; where a branch does not reach, the failing stage's margin < 0
     instead), whether each reaches, each one's (cos, sin of −θ1, θ2, θ3) (6-tuples; anything
-    where it does not reach)). Numbers and tuples only: no array, no reference count."""
+    where it does not reach), each one's room (the least margin of its two stages, as
+    :func:`reach` gives them: ≥ 0 where it reaches, the failing stage's where not)). Numbers
+    and tuples only: no array, no reference count."""
     ctx, cty, ctz, dx, dy, dz = _moving(pre, c6, s6)
     if k[6][0] == 0.0:
         vx, vy, vz, a, bb, ratio, radius, rhs = _parallel_shoulder(k, ctx, cty, ctz)
         singular = radius < FREE_TOL
         if singular:
+            m1 = FREE_ROOM - abs(rhs)
             if abs(rhs) > FREE_ROOM:
-                return _failed(FREE_ROOM - abs(rhs))
-        elif abs(ratio) > 1.0 + CLAMP:
-            return _failed(1.0 + CLAMP - abs(ratio))
+                return _failed(m1)
+        else:
+            m1 = 1.0 + CLAMP - abs(ratio)
+            if abs(ratio) > 1.0 + CLAMP:
+                return _failed(m1)
         f0 = f1 = f2 = f3 = 0.0
         ok0 = ok1 = False
         t0 = t1 = t2 = t3 = _UNUSED
+        r0 = r1 = m1
         for first in range(2):  # a loop: one compiled copy of the code
-            fa, fb, ok, ta, tb, free = _parallel_first(
+            fa, fb, ok, ta, tb, free, m2 = _parallel_first(
                 k, vx, vy, vz, a, bb, ratio, radius, dx, dy, dz, first, fill
             )
             if first == 0:
-                f0, f1, ok0, t0, t1 = fa, fb, ok, ta, tb
+                f0, f1, ok0, t0, t1, r0 = fa, fb, ok, ta, tb, (min(m1, m2) if ok else m2)
             else:
-                f2, f3, ok1, t2, t3 = fa, fb, ok, ta, tb
+                f2, f3, ok1, t2, t3, r1 = fa, fb, ok, ta, tb, (min(m1, m2) if ok else m2)
             singular = singular or free
-        return singular, (f0, f1, f2, f3), (ok0, ok0, ok1, ok1), (t0, t1, t2, t3)
+        return singular, (f0, f1, f2, f3), (ok0, ok0, ok1, ok1), (t0, t1, t2, t3), (r0, r0, r1, r1)
     yx, yy, yz, dd, ratio = _meeting_elbow(k, ctx, cty, ctz)
+    m1 = 1.0 + CLAMP - abs(ratio)
     if abs(ratio) > 1.0 + CLAMP:
-        return _failed(1.0 + CLAMP - abs(ratio))
+        return _failed(m1)
     singular = False
     f0 = f1 = f2 = f3 = 0.0
     ok0 = ok1 = False
     t0 = t1 = t2 = t3 = _UNUSED
+    r0 = r1 = m1
     for first in range(2):  # a loop: one compiled copy of the code
-        fa, fb, ok, ta, tb, free = _meeting_first(k, ratio, yx, yy, yz, dd, dx, dy, dz, first, fill)
+        fa, fb, ok, ta, tb, free, m2 = _meeting_first(
+            k, ratio, yx, yy, yz, dd, dx, dy, dz, first, fill
+        )
         if first == 0:
-            f0, f1, ok0, t0, t1 = fa, fb, ok, ta, tb
+            f0, f1, ok0, t0, t1, r0 = fa, fb, ok, ta, tb, (min(m1, m2) if ok else m2)
         else:
-            f2, f3, ok1, t2, t3 = fa, fb, ok, ta, tb
+            f2, f3, ok1, t2, t3, r1 = fa, fb, ok, ta, tb, (min(m1, m2) if ok else m2)
         singular = singular or free
-    return singular, (f0, f1, f2, f3), (ok0, ok0, ok1, ok1), (t0, t1, t2, t3)
+    return singular, (f0, f1, f2, f3), (ok0, ok0, ok1, ok1), (t0, t1, t2, t3), (r0, r0, r1, r1)
 
 
 @inline
@@ -596,5 +606,5 @@ def _failed(margin):
     """What :func:`sample` returns where the first stage fails for all four branches."""
     return (
         False, (margin, margin, margin, margin), (False, False, False, False),
-        (_UNUSED, _UNUSED, _UNUSED, _UNUSED),
+        (_UNUSED, _UNUSED, _UNUSED, _UNUSED), (margin, margin, margin, margin),
     )  # fmt: skip

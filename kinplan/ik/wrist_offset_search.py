@@ -2,12 +2,17 @@
 ``f_b(θ6)`` of :mod:`~kinplan.ik.wrist_offset_branches` over a full turn, for one pose.
 
 1. **Samples.** ``f_b`` at :data:`COARSE` values of θ6 (all four branches at once), or
-   :data:`SAMPLES` unless the branch angles stay nearly still between them. Where
-   θ1, θ2 or θ3 of a branch turns by more than :data:`MAX_TURN` between two samples (the
-   meeting point of axes 4 and 5 passing near axis 1, or an elbow near straight: ``f_b`` then
-   changes fast between samples), the turn is sampled again :data:`DENSER` times as densely
-   (up to :data:`MAX_SAMPLES`).
-2. **Sign changes** between samples are refined by Brent's method to :data:`ROOT_TOL`.
+   :data:`SAMPLES` unless the branch angles stay nearly still between them. Then the samples
+   are refined locally (:func:`_refined`): an interval across which θ1, θ2 or θ3 of a branch
+   turns by more than :data:`MAX_TURN` (the meeting point of axes 4 and 5 passing near axis 1,
+   or an elbow near straight: ``f_b`` then changes fast between samples), or inside which a
+   branch stops reaching, is halved until it is not (down to one of :data:`MAX_SAMPLES`, or
+   :data:`EDGE_ROWS` of them at an end of reach), and no interval stays more than
+   :data:`GRADE` times as wide as a neighbour. Only there: the rest of the turn keeps its
+   samples.
+2. **Sign changes** between samples are refined by Brent's method to :data:`ROOT_TOL`; where
+   ``|f_b|`` is below :data:`FLAT` at both ends, the half without the sign change is searched
+   for a hidden pair of roots as in 3 (:func:`_crossing`).
 3. **Dips.** At a local minimum of ``|f_b|`` over the samples whose parabola dips towards 0,
    or that is below :data:`FLAT` (near a singularity a pair of roots can sit in a dip much
    narrower than the samples, which the parabola through three of them does not show: a Fanuc
@@ -15,13 +20,15 @@
    golden-section search finds the minimum: below 0, two roots (each refined by Brent's
    method); within :data:`TANGENT_TOL` of 0, a tangent root.
 4. **Ends of reach.** Where a branch stops reaching (a subproblem's discriminant crosses 0) it
-   meets another branch (the other sign of that subproblem): the end is found by bisection,
-   and the two branches are searched as one smooth curve in ``s`` with
-   ``θ6 = θ_end ∓ s²`` (``s > 0`` one branch, ``s < 0`` the other), on which ``f`` has no
-   square-root corner: the roots close to the end, where the curve turns back, are sampled
-   and refined there. A window of reach narrower than the samples (a local maximum of the
-   failing stage's margin rising towards 0) is found by golden-section ascent of the margin,
-   and both its ends searched so.
+   meets another branch (the other sign of that subproblem): the end is found to adjacent
+   floats by Illinois steps on the failing stage's margin (:func:`_edge_of`), and the two
+   branches are searched as one smooth curve in ``s`` with ``θ6 = θ_end ∓ s²`` (``s > 0``
+   one branch, ``s < 0`` the other), on which ``f`` has no square-root corner: the roots
+   close to the end, where the curve turns back, are sampled and refined there. A window of
+   reach narrower than the samples (a local maximum of the failing stage's margin rising
+   towards 0) is found by golden-section ascent of the margin, a gap of reach narrower than
+   the samples (a local minimum of the branch's room, its least margin, whose parabola dips
+   towards 0) by golden-section descent, and both ends of either searched so.
 
 Roots are listed once per branch (within 1e-10 rad), at most ``len(roots)``.
 """
@@ -50,20 +57,26 @@ COARSE = 16
 SAMPLES = 32
 STILL = 0.05
 COS_STILL = math.cos(STILL)
-#: Denser sampling where the branch angles turn fast: this many times, up to MAX_SAMPLES.
-#: Doubling stops at the first density where every turn is below MAX_TURN; eight times as many
-#: overshot it (a pose that needed 64 samples took 256, one that needed 512 took 2,048).
-DENSER = 2
+#: The finest samples: a full turn in MAX_SAMPLES intervals (0.003 rad), at most.
 MAX_SAMPLES = 2048
-#: Largest turn of θ1, θ2 or θ3 between two samples [rad] before sampling more densely. With
-#: doubling, half of the 0.35 rad that went with eightfold steps: 0.35 and 0.25 missed 2
-#: near-singular branches of 744 a brute-force search found on a synthetic arm (0.27 %, over
-#: the 0.1 % its test allows). Against DENSER 8 and 0.35: the Fanuc CRX-10iA (axis 6 0.15 m off
-#: the wrist, 21 % of its poses refined) solves in 0.041 ms instead of 0.050 (median ``ik``;
-#: rtb's ik_LM 0.048), and over the family's 68 arms × 2,000 random configurations the
-#: generating one is missed 9 times instead of 17.
+#: Largest turn of θ1, θ2 or θ3 between two samples [rad] before sampling more densely: 0.35
+#: and 0.25 missed near-singular branches a brute-force search found on a synthetic arm. The
+#: samples were doubled over the whole turn until every turn was below it (the Fanuc CRX-10iA:
+#: 221 samples a pose on average, up to 2,048); refined where the turn is (:func:`_refined`),
+#: 39 a pose, and the CRX's batch runs 1.9× as fast, with 4 of the family's 128,000 random
+#: configurations missed instead of 9.
 MAX_TURN = 0.175
 COS_TURN = math.cos(MAX_TURN)
+#: Where the samples are refined (:func:`_refined`), an interval at most GRADE times as wide as
+#: its neighbours: the refinement fades out with the distance from where the branch angles turn
+#: fast (f's features there shrink with that distance: a Fanuc CRX-10iA pose had two pairs
+#: of roots 0.07-0.14 rad from a sharp turn, between two samples 0.2 rad apart).
+GRADE = 2
+#: Where the samples are refined, an interval where a branch stops reaching is halved down to
+#: this many rows of CIRCLE (2π·8/2048 = 0.025 rad): the turn of its branch angles is not
+#: measured across it (a Fanuc CRX-10iA-L pose: θ1 turning by 2.7 rad, with two roots 0.004
+#: rad apart, 0.07 rad from the end of their branch's reach, inside such an interval).
+EDGE_ROWS = 8
 #: cos, sin of the MAX_SAMPLES + 1 values θ6 = −π + j·2π/MAX_SAMPLES (rows j): those of the
 #: n samples of a pass are rows j = i·MAX_SAMPLES/n (n divides MAX_SAMPLES: the same θ6 to the
 #: bit, and the same libm cos, sin as the compiled code's), read instead of computed.
@@ -84,8 +97,13 @@ PAIRED = 32
 BRENT_STEPS = 100
 #: A minimum of |f| at most this large (after the golden-section search) is a root.
 TANGENT_TOL = 1e-11
-#: Bisection steps locating the end of a branch's reach; steps of a minimum's search.
-EDGE_STEPS = 60
+#: Steps locating the end of a branch's reach at most (:func:`_edge_of`: ~10 steps of the
+#: margin's secant, bisection where they stall; 60 bisections from a whole turn reach adjacent
+#: floats); steps of a minimum's search.
+EDGE_STEPS = 120
+#: The secant's point of :func:`_edge_of` is kept at least this far [rad] from both ends of
+#: the bracket (a few floats at |θ6| ≤ π), so that the end it converges to gets bracketed.
+EDGE_NUDGE = 2e-15
 GOLDEN_STEPS = 60
 MIN_STEPS = 80
 #: A local minimum g1 > 0 of |f| over the samples is searched when the parabola through it
@@ -395,39 +413,78 @@ def _flat(k, pre, fill, curve, a, fa, c, fc, roots, branch_of, count):
     return _bracket(k, pre, fill, curve, a, fa, c, fc, roots, branch_of, count)
 
 
+@jit
+def _crossing(k, pre, fill, curve, a, fa, c, fc, roots, branch_of, count):
+    """A sign change between ``a`` and ``c`` where |f| is below FLAT at both ends: f at the
+    middle, the root of the half with the sign change (Brent's method), and the other half
+    searched as :func:`_flat` searches an interval (f hovering near 0 can cross it twice more
+    there: an ABB CRB 15000 pose had three roots in 0.16 rad where |f| stayed below 1e-3,
+    between two samples of opposite signs). The new count."""
+    middle = 0.5 * (a + c)
+    fm, ok = _at(k, pre, fill, curve, middle)
+    if not ok or fm == 0.0:  # a gap of reach inside, or a root at the middle
+        if fm == 0.0 and ok:
+            return _add(roots, branch_of, count, curve, middle, UNKNOWN)
+        root, known = _brent(k, pre, fill, curve, a, fa, c, fc)
+        return _add(roots, branch_of, count, curve, root, known)
+    if (fm < 0.0) != (fa < 0.0):
+        root, known = _brent(k, pre, fill, curve, a, fa, middle, fm)
+        count = _add(roots, branch_of, count, curve, root, known)
+        if abs(fm) < FLAT:
+            count = _flat(k, pre, fill, curve, middle, fm, c, fc, roots, branch_of, count)
+        return count
+    root, known = _brent(k, pre, fill, curve, middle, fm, c, fc)
+    count = _add(roots, branch_of, count, curve, root, known)
+    if abs(fm) < FLAT:
+        count = _flat(k, pre, fill, curve, a, fa, middle, fm, roots, branch_of, count)
+    return count
+
+
 @inline
-def _dips(f0, f1, f2):
+def _vertex(g0, g1, g2, h0, h1):
+    """The least value of the parabola through (−h0, g0), (0, g1), (h1, g2) [rad, f], and
+    whether it opens upwards (else the value is NaN). Equal spacings take the uniform grid's
+    formula (its rounding, to the bit)."""
+    if h0 == h1:
+        curvature = g0 - 2.0 * g1 + g2
+        if curvature <= 0.0:
+            return False, np.nan
+        return True, g1 - (g2 - g0) ** 2 / (8.0 * curvature)
+    d0, d1 = (g1 - g0) / h0, (g2 - g1) / h1
+    half = (d1 - d0) / (h0 + h1)  # half the second derivative
+    if half <= 0.0:
+        return False, np.nan
+    slope = d1 - half * h1  # at the middle point
+    return True, g1 - slope * slope / (4.0 * half)
+
+
+@inline
+def _dips(f0, f1, f2, h0, h1):
     """Whether a local minimum of |f| at the middle of three samples (f of one sign at all
-    three) has a parabola that dips towards 0, so that :func:`_bracket` searches it. Scalars
-    only: :func:`_scan` meets dozens of local minima a pose and searches almost none, and a
-    call taking its arrays costs ~100 ns in reference counts (half the search's time before)."""
+    three; ``h0``, ``h1`` [rad] the spacings before and after it) has a parabola that dips
+    towards 0, so that :func:`_bracket` searches it. Scalars only: :func:`_scan` meets
+    dozens of local minima a pose and searches almost none, and a call taking its arrays
+    costs ~100 ns in reference counts (half the search's time before)."""
     sign = 1.0 if f1 > 0.0 else -1.0
     g0, g1, g2 = sign * f0, sign * f1, sign * f2
     if not (0.0 < g1 < g0 and g1 <= g2):
         return False
     if g1 < FLAT:
         return True  # so close to 0 that a dip narrower than the samples may cross it
-    curvature = g0 - 2.0 * g1 + g2
-    return curvature > 0.0 and g1 - (g2 - g0) ** 2 / (8.0 * curvature) < DIP * g1
+    upwards, least = _vertex(g0, g1, g2, h0, h1)
+    return upwards and least < DIP * g1
 
 
 @jit
 def _to_edge(k, pre, fill, curve, i, xs, fs, ok, col, roots, branch_of, count):
     """The roots between the reached one of points i, i + 1 of a curve (column ``col`` of
-    ``fs``, ``ok``) and the end of its reach between them (found by bisection); the new
+    ``fs``, ``ok``) and the end of its reach between them (:func:`_edge_of`); the new
     count."""
     if ok[i, col]:
         inside, outside, f_in = xs[i], xs[i + 1], fs[i, col]
     else:
         inside, outside, f_in = xs[i + 1], xs[i], fs[i + 1, col]
-    for _ in range(EDGE_STEPS):
-        middle = 0.5 * (inside + outside)
-        if middle == inside or middle == outside:
-            break
-        if _reaches_call(k, pre, fill, curve, middle)[0]:
-            inside = middle
-        else:
-            outside = middle
+    inside, _ = _edge_of(k, pre, fill, curve, inside, outside)
     f_end, _ = _at(k, pre, fill, curve, inside)
     start = xs[i] if ok[i, col] else xs[i + 1]
     if f_end == 0.0:
@@ -455,7 +512,11 @@ def _scan(k, pre, fill, curve, xs, fs, ok, col, periodic, roots, branch_of, coun
             count = _to_edge(k, pre, fill, curve, i, xs, fs, ok, col, roots, branch_of, count)
         if not (ok0 and ok1) or f1 == 0.0:
             continue
-        if (f0 < 0.0 < f1) or (f1 < 0.0 < f0):
+        crossing = (f0 < 0.0 < f1) or (f1 < 0.0 < f0)
+        if crossing and max(abs(f0), abs(f1)) < FLAT:
+            count = _crossing(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1,
+                              roots, branch_of, count)  # fmt: skip
+        elif crossing:
             root, known = _brent(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1)
             count = _add(roots, branch_of, count, curve, root, known)
         elif max(abs(f0), abs(f1)) < FLAT and f0 != 0.0:
@@ -467,7 +528,7 @@ def _scan(k, pre, fill, curve, xs, fs, ok, col, periodic, roots, branch_of, coun
         f0, f1, f2 = fs[before, col], fs[i, col], fs[i + 1, col]
         if f1 == 0.0 or (f0 > 0.0) != (f1 > 0.0) or (f2 > 0.0) != (f1 > 0.0):
             continue
-        if _dips(f0, f1, f2):  # the roots near a local minimum of |f|
+        if _dips(f0, f1, f2, 1.0, 1.0):  # the roots near a local minimum of |f| (xs uniform)
             x0 = xs[before] if i > 0 else xs[n - 1] - (xs[n] - xs[0])
             count = _bracket(k, pre, fill, curve, x0, f0, xs[i + 1], f2, roots, branch_of, count)
     return count
@@ -475,21 +536,62 @@ def _scan(k, pre, fill, curve, xs, fs, ok, col, periodic, roots, branch_of, coun
 
 # ---------------------------------------------------------------------------- ends of reach
 @jit
-def _edge(k, pre, b, fill, inside, outside):
-    """The end of branch b's reach between θ6 = ``inside`` (reached) and ``outside`` (not),
-    by bisection: (θ6 of the last reached value, 1 or 2: the stage that fails beyond)."""
-    curve = _branch_curve(b)
-    level = _reaches_call(k, pre, fill, curve, outside)[1]
+def _edge_of(k, pre, fill, curve, inside, outside):
+    """The end of the curve's reach between its parameters ``inside`` (reached) and
+    ``outside`` (not), to adjacent floats: (the last reached parameter, 1 or 2: the stage
+    that fails beyond).
+
+    The failing stage's margin is smooth across the end (it crosses 0 there), so the end is
+    the root of that margin: Illinois steps (the secant through the bracket's margins, the
+    margin of an end kept twice halved), each kept :data:`EDGE_NUDGE` inside the bracket, and
+    a bisection wherever three steps did not halve the bracket (a margin far from linear, or
+    another stage failing inside). About 10 evaluations of the reach where bisection took 55
+    (a Fanuc CRX-10iA pose meets three ends a pose)."""
+    _, _, in1, in2 = _reaches_at(k, pre, fill, curve, inside)
+    _, level, m1, m2 = _reaches_at(k, pre, fill, curve, outside)
+    g_in = in1 if level == 1 else in2
+    g_out = m1 if level == 1 else m2
+    kept = 0  # 1: the last step moved inside, -1: outside
+    widths = (np.inf, np.inf, np.inf)  # the bracket's widths before the last three steps
     for _ in range(EDGE_STEPS):
         middle = 0.5 * (inside + outside)
         if middle == inside or middle == outside:
             break
-        ok, stage, _, _ = _reaches_at(k, pre, fill, curve, middle)
+        x = middle
+        width = abs(outside - inside)
+        if width < 0.5 * widths[0] and g_in >= 0.0 > g_out and width > 4.0 * EDGE_NUDGE:
+            x = inside + (outside - inside) * (g_in / (g_in - g_out))
+            direction = 1.0 if outside > inside else -1.0
+            lowest, highest = inside + direction * EDGE_NUDGE, outside - direction * EDGE_NUDGE
+            if direction * (x - lowest) < 0.0:
+                x = lowest
+            elif direction * (highest - x) < 0.0:
+                x = highest
+        widths = (widths[1], widths[2], width)
+        ok, stage, m1, m2 = _reaches_at(k, pre, fill, curve, x)
         if ok:
-            inside = middle
+            inside, in1, in2 = x, m1, m2
+            g_in = in1 if level == 1 else in2
+            if kept == 1:
+                g_out *= 0.5
+            kept = 1
         else:
-            outside, level = middle, stage
+            if stage != level:  # another stage fails here: follow its margin
+                level, kept = stage, 0
+                g_in = in1 if level == 1 else in2
+            outside = x
+            g_out = m1 if level == 1 else m2
+            if kept == -1:
+                g_in *= 0.5
+            kept = -1
     return inside, level
+
+
+@jit
+def _edge(k, pre, b, fill, inside, outside):
+    """The end of branch b's reach between θ6 = ``inside`` (reached) and ``outside`` (not):
+    (θ6 of the last reached value, 1 or 2: the stage that fails beyond)."""
+    return _edge_of(k, pre, fill, _branch_curve(b), inside, outside)
 
 
 @jit
@@ -515,6 +617,16 @@ def _margin(k, pre, fill, b, x):
     """(Whether branch b reaches at θ6 = x, else the failing stage's margin < 0)."""
     ok, stage, m1, m2 = _reaches_call(k, pre, fill, _branch_curve(b), x)
     return ok, (m1 if stage == 1 else m2)
+
+
+@inline
+def _room(k, pre, fill, b, x):
+    """(Whether branch b reaches at θ6 = x, its room there: the least margin of its two
+    stages where it reaches, the failing stage's where not.)"""
+    ok, stage, m1, m2 = _reaches_call(k, pre, fill, _branch_curve(b), x)
+    if ok:
+        return True, min(m1, m2)
+    return False, (m1 if stage == 1 else m2)
 
 
 @jit
@@ -547,9 +659,45 @@ def _reach_point(k, pre, fill, b, a, c):
     return np.nan
 
 
+@jit
+def _gap_point(k, pre, fill, b, a, c):
+    """A θ6 in [a, c] where branch b does not reach, by golden-section descent of its room
+    (the least margin of its stages, ≥ 0 where it reaches), or NaN: a gap of reach narrower
+    than the samples (:func:`_reach_point` the other way round)."""
+    ratio = 0.6180339887498949
+    x1, x2 = c - ratio * (c - a), a + ratio * (c - a)
+    ok, r1 = _room(k, pre, fill, b, x1)
+    if not ok:
+        return x1
+    ok, r2 = _room(k, pre, fill, b, x2)
+    if not ok:
+        return x2
+    for _ in range(GOLDEN_STEPS):
+        if r1 < r2:
+            c, x2, r2 = x2, x1, r1
+            x1 = c - ratio * (c - a)
+            ok, r1 = _room(k, pre, fill, b, x1)
+            if not ok:
+                return x1
+        else:
+            a, x1, r1 = x1, x2, r2
+            x2 = a + ratio * (c - a)
+            ok, r2 = _room(k, pre, fill, b, x2)
+            if not ok:
+                return x2
+        if c - a < 1e-7:
+            break  # a gap narrower than this hides no root the verification would miss
+    return np.nan
+
+
 # ---------------------------------------------------------------------------- all roots
 #: The turns of a branch that does not reach (never read).
 _UNUSED = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+#: The columns of a row of ``turns`` (n + 1, 4, COLUMNS) of the samples: cos, sin of −θ1,
+#: θ2, θ3 of each branch, then its room at column ROOM (the least margin of its two stages:
+#: ≥ 0 where it reaches, the failing stage's where not).
+COLUMNS = 7
+ROOM = 6
 
 
 @inline
@@ -571,7 +719,7 @@ def _turned(least, ok, ok_next, turns, turns_next):
 @jit
 def _sampled(k, pre, fill, n, coarser, values, reached, turns):
     """Sample f of the four branches at the n values θ6 = −π + i·2π/n into rows i of
-    ``values``, ``reached`` (n + 1, 4) and ``turns`` (n + 1, 4, 6) (row n: row 0 again), but
+    ``values``, ``reached`` (n + 1, 4) and ``turns`` (n + 1, 4, COLUMNS) (row n: row 0 again), but
     for the rows i that are multiples of n / ``coarser`` when ``coarser`` > 0: those hold the
     samples of the coarser pass of ``coarser`` values already (the same θ6 to the bit: n /
     ``coarser`` is a power of 2). Returns (the cosine of the largest turn of θ1, θ2 or θ3 of
@@ -588,7 +736,7 @@ def _sampled(k, pre, fill, n, coarser, values, reached, turns):
         if coarser > 0 and i % ratio == 0:
             continue
         c6, s6 = CIRCLE[i * every, 0], CIRCLE[i * every, 1]
-        free, (f0, f1, f2, f3), oks, ts = sample(k, pre, c6, s6, fill)
+        free, (f0, f1, f2, f3), oks, ts, rooms = sample(k, pre, c6, s6, fill)
         singular = singular or free
         values[i, 0], values[i, 1], values[i, 2], values[i, 3] = f0, f1, f2, f3
         reached[i, 0], reached[i, 1], reached[i, 2], reached[i, 3] = oks
@@ -596,6 +744,8 @@ def _sampled(k, pre, fill, n, coarser, values, reached, turns):
         for a in range(6):
             turns[i, 0, a], turns[i, 1, a] = t0[a], t1[a]
             turns[i, 2, a], turns[i, 3, a] = t2[a], t3[a]
+        turns[i, 0, ROOM], turns[i, 1, ROOM] = rooms[0], rooms[1]
+        turns[i, 2, ROOM], turns[i, 3, ROOM] = rooms[2], rooms[3]
         if coarser == 0:
             if i == 0:
                 first_ok, first_turns = oks, ts
@@ -605,7 +755,7 @@ def _sampled(k, pre, fill, n, coarser, values, reached, turns):
     for b in range(4):
         values[n, b] = values[0, b]
         reached[n, b] = reached[0, b]
-        for a in range(6):
+        for a in range(COLUMNS):
             turns[n, b, a] = turns[0, b, a]
     if coarser == 0:
         return _turned(least, before_ok, first_ok, before_turns, first_turns), singular
@@ -618,6 +768,104 @@ def _sampled(k, pre, fill, n, coarser, values, reached, turns):
                 turned += turns[i, b, a + 1] * turns[i + 1, b, a + 1]
                 least = min(least, turned)
     return least, singular
+
+
+@inline
+def _too_fast(reached, turns, i):
+    """Whether θ1, θ2 or θ3 of a branch reached at samples i and i + 1 turns by more than
+    MAX_TURN between them."""
+    for b in range(4):
+        if not (reached[i, b] and reached[i + 1, b]):
+            continue
+        for a in range(0, 6, 2):
+            turned = turns[i, b, a] * turns[i + 1, b, a]
+            turned += turns[i, b, a + 1] * turns[i + 1, b, a + 1]
+            if turned < COS_TURN:
+                return True
+    return False
+
+
+@inline
+def _leaves_reach(reached, i):
+    """Whether a branch reaches at one of samples i, i + 1 and not at the other."""
+    for b in range(4):
+        if reached[i, b] != reached[i + 1, b]:
+            return True
+    return False
+
+
+@jit
+def _refined(k, pre, fill, values, reached, turns):
+    """The SAMPLES uniform samples refined where they are too sparse: an interval is halved
+    (its middle sampled) where θ1, θ2 or θ3 of a branch turns by more than MAX_TURN across it,
+    where a branch stops reaching inside it (down to EDGE_ROWS rows), or where it is more than
+    GRADE times as wide as a neighbour, again and again until none is, or it is one of
+    MAX_SAMPLES. The samples elsewhere stay as they are: a Fanuc CRX-10iA pose whose branch
+    angles turn fast near one θ6 used to sample the whole turn as densely as there (up to
+    2,048 samples where a few dozen more do).
+
+    Returns:
+        (rows (n + 1: the samples' rows of CIRCLE, rising, the last MAX_SAMPLES: θ6 = π, the
+        first sample again), values, reached, turns (n + 1 rows, as :func:`_sampled`'s),
+        whether a free angle took its fill value at a new sample).
+    """
+    n = values.shape[0] - 1
+    every = MAX_SAMPLES // n
+    rows = np.empty(n + 1, dtype=np.int64)
+    for i in range(n + 1):
+        rows[i] = i * every
+    singular = False
+    while True:
+        split = np.zeros(n, dtype=np.bool_)
+        more = 0
+        for i in range(n):
+            width = rows[i + 1] - rows[i]
+            if width == 1:
+                continue
+            left = rows[i] - rows[i - 1] if i > 0 else rows[n] - rows[n - 1]
+            right = rows[i + 2] - rows[i + 1] if i + 1 < n else rows[1] - rows[0]
+            if (
+                width > GRADE * min(left, right)
+                or (width > EDGE_ROWS and _leaves_reach(reached, i))
+                or _too_fast(reached, turns, i)
+            ):
+                split[i] = True
+                more += 1
+        if more == 0:
+            return rows, values, reached, turns, singular
+        finer_rows = np.empty(n + 1 + more, dtype=np.int64)
+        finer_values = np.empty((n + 1 + more, 4))
+        finer_reached = np.empty((n + 1 + more, 4), dtype=np.bool_)
+        finer_turns = np.empty((n + 1 + more, 4, COLUMNS))
+        j = 0
+        for i in range(n + 1):
+            finer_rows[j] = rows[i]
+            for b in range(4):
+                finer_values[j, b] = values[i, b]
+                finer_reached[j, b] = reached[i, b]
+                for a in range(COLUMNS):
+                    finer_turns[j, b, a] = turns[i, b, a]
+            j += 1
+            if i == n or not split[i]:
+                continue
+            middle = (rows[i] + rows[i + 1]) // 2
+            c6, s6 = CIRCLE[middle, 0], CIRCLE[middle, 1]
+            free, fs, oks, ts, rooms = sample(k, pre, c6, s6, fill)
+            singular = singular or free
+            finer_rows[j] = middle
+            finer_values[j, 0], finer_values[j, 1] = fs[0], fs[1]
+            finer_values[j, 2], finer_values[j, 3] = fs[2], fs[3]
+            finer_reached[j, 0], finer_reached[j, 1] = oks[0], oks[1]
+            finer_reached[j, 2], finer_reached[j, 3] = oks[2], oks[3]
+            t0, t1, t2, t3 = ts
+            for a in range(6):
+                finer_turns[j, 0, a], finer_turns[j, 1, a] = t0[a], t1[a]
+                finer_turns[j, 2, a], finer_turns[j, 3, a] = t2[a], t3[a]
+            finer_turns[j, 0, ROOM], finer_turns[j, 1, ROOM] = rooms[0], rooms[1]
+            finer_turns[j, 2, ROOM], finer_turns[j, 3, ROOM] = rooms[2], rooms[3]
+            j += 1
+        rows, values, reached, turns = finer_rows, finer_values, finer_reached, finer_turns
+        n += more
 
 
 @inline
@@ -635,7 +883,7 @@ def workspace():
     return (
         np.empty((COARSE + 1, 4)),
         np.empty((COARSE + 1, 4), dtype=np.bool_),
-        np.empty((COARSE + 1, 4, 6)),
+        np.empty((COARSE + 1, 4, COLUMNS)),
         np.empty(COARSE + 1),
         np.empty((PAIRED, 9)),
     )
@@ -656,30 +904,41 @@ def search(k, pre, fill, roots, branch_of, work):
     # DENSER times as many while some turn exceeds MAX_TURN (the samples before kept)
     n, coarser, singular = np.int64(COARSE), np.int64(0), False  # int64, not literal
     values, reached, turns, xs, found = work
+    refined = False
     while True:
         least, free = _sampled(k, pre, fill, n, coarser, values, reached, turns)
         singular = singular or free
-        if n == COARSE and least >= COS_STILL or n > COARSE and least >= COS_TURN:
+        if n == COARSE and least >= COS_STILL:
             break
-        if n >= MAX_SAMPLES:
+        if n > COARSE:  # halve the intervals where a turn exceeds MAX_TURN or reach ends
+            rows, finer_values, finer_reached, finer_turns, free = _refined(
+                k, pre, fill, values, reached, turns
+            )
+            if rows.shape[0] - 1 > n:
+                values, reached, turns = finer_values, finer_reached, finer_turns
+                singular, refined, n = singular or free, True, rows.shape[0] - 1
             break
-        n, coarser = SAMPLES if n == COARSE else n * DENSER, n
+        n, coarser = SAMPLES, n
         ratio = n // coarser
         finer_values = np.empty((n + 1, 4))
         finer_reached = np.empty((n + 1, 4), dtype=np.bool_)
-        finer_turns = np.empty((n + 1, 4, 6))
+        finer_turns = np.empty((n + 1, 4, COLUMNS))
         for i in range(coarser):  # the samples of the coarser pass, kept
             for b in range(4):
                 finer_values[i * ratio, b] = values[i, b]
                 finer_reached[i * ratio, b] = reached[i, b]
-                for a in range(6):
+                for a in range(COLUMNS):
                     finer_turns[i * ratio, b, a] = turns[i, b, a]
         values, reached, turns = finer_values, finer_reached, finer_turns
     step = TAU / n
     if n > COARSE:
         xs = np.empty(n + 1)
-    for i in range(n + 1):
-        xs[i] = -math.pi + i * step
+    if refined:
+        for i in range(n + 1):
+            xs[i] = -math.pi + rows[i] * (TAU / MAX_SAMPLES)
+    else:
+        for i in range(n + 1):
+            xs[i] = -math.pi + i * step
     # the roots of the first PAIRED sign changes (in the order of the scan below), two at a
     # time (_brent_two); the scan takes them from ``found`` as it meets them
     paired = held = 0
@@ -691,6 +950,8 @@ def search(k, pre, fill, roots, branch_of, work):
                 continue
             if not ((f0 < 0.0 < f1) or (f1 < 0.0 < f0)) or paired + held >= PAIRED:
                 continue
+            if max(abs(f0), abs(f1)) < FLAT:
+                continue  # _crossing's, below
             if held == 0:
                 held, held_b, held_i = 1, b, i
                 continue
@@ -721,7 +982,11 @@ def search(k, pre, fill, roots, branch_of, work):
                 count = _add(roots, branch_of, count, curve, xs[i], UNKNOWN)
             if not (ok0 and ok1) or f1 == 0.0:
                 continue
-            if (f0 < 0.0 < f1) or (f1 < 0.0 < f0):
+            crossing = (f0 < 0.0 < f1) or (f1 < 0.0 < f0)
+            if crossing and max(abs(f0), abs(f1)) < FLAT:
+                count = _crossing(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1,
+                                  roots, branch_of, count)  # fmt: skip
+            elif crossing:
                 if taken < paired:
                     root = found[taken, 0]
                     known = (
@@ -742,14 +1007,16 @@ def search(k, pre, fill, roots, branch_of, work):
             f0, f1, f2 = values[before, b], values[i, b], values[i + 1, b]
             if f1 == 0.0 or (f0 > 0.0) != (f1 > 0.0) or (f2 > 0.0) != (f1 > 0.0):
                 continue
-            if _dips(f0, f1, f2):  # the roots near a local minimum of |f|
-                x0 = xs[before] if i > 0 else xs[n - 1] - (xs[n] - xs[0])
+            x0 = xs[before] if i > 0 else xs[n - 1] - (xs[n] - xs[0])
+            h0, h1 = (xs[i] - x0, xs[i + 1] - xs[i]) if refined else (1.0, 1.0)
+            if _dips(f0, f1, f2, h0, h1):  # the roots near a local minimum of |f|
                 count = _bracket(k, pre, fill, curve, x0, f0, xs[i + 1], f2,
                                  roots, branch_of, count)  # fmt: skip
         for i in range(n):
             if reached[i, b] != reached[i + 1, b]:
                 inside, outside = (xs[i], xs[i + 1]) if reached[i, b] else (xs[i + 1], xs[i])
-                count = _end_of_reach(k, pre, fill, b, inside, outside, 2.0 * step,
+                width = 2.0 * (xs[i + 1] - xs[i] if refined else step)
+                count = _end_of_reach(k, pre, fill, b, inside, outside, width,
                                       roots, branch_of, count)  # fmt: skip
         # windows of reach narrower than the samples: at a local maximum of the margin (< 0
         # at three samples) above −WINDOW or whose parabola rises towards 0 (the margins of
@@ -761,16 +1028,46 @@ def search(k, pre, fill, roots, branch_of, work):
             if reached[before, b] or reached[i, b] or reached[i + 1, b]:
                 continue
             m0, m1, m2 = values[before, b], values[i, b], values[i + 1, b]
-            curvature = 2.0 * m1 - m0 - m2
-            if not (m1 > m0 and m1 >= m2) or curvature <= 0.0:
+            if not (m1 > m0 and m1 >= m2):
                 continue
-            if m1 < -WINDOW and m1 + (m2 - m0) ** 2 / (8.0 * curvature) < 0.5 * m1:
+            left = xs[before] if i > 0 else xs[n - 1] - (xs[n] - xs[0])
+            if refined:
+                h0, h1 = xs[i] - left, xs[i + 1] - xs[i]
+            else:
+                left, h0, h1 = xs[i] - gap, 1.0, 1.0  # as the uniform samples had them
+            upwards, least = _vertex(-m0, -m1, -m2, h0, h1)  # the margin's highest, negated
+            if not upwards:
+                continue
+            if m1 < -WINDOW and -least < 0.5 * m1:
                 continue  # far from reaching, and the parabola does not rise towards it
-            left = xs[i] - gap
             inside = _reach_point(k, pre, fill, b, left, xs[i + 1])
             if inside != inside:
                 continue
+            width = 2.0 * max(h0, h1) if refined else 2.0 * gap
             for outside in (left, xs[i + 1]):
-                count = _end_of_reach(k, pre, fill, b, inside, outside, 2.0 * gap,
+                count = _end_of_reach(k, pre, fill, b, inside, outside, width,
+                                      roots, branch_of, count)  # fmt: skip
+        # gaps of reach narrower than the samples: at a local minimum of the room (reached at
+        # three samples) below WINDOW or whose parabola dips towards 0, a point out of reach
+        # is sought, then both ends of the gap are searched (an HSR BR609 pose: a gap of 0.04
+        # rad between samples 0.2 rad apart, a root 0.007 rad from its end)
+        for i in range(n):
+            before = i - 1 if i > 0 else n - 1
+            if not (reached[before, b] and reached[i, b] and reached[i + 1, b]):
+                continue
+            r0, r1, r2 = turns[before, b, ROOM], turns[i, b, ROOM], turns[i + 1, b, ROOM]
+            if not (r1 < r0 and r1 <= r2):
+                continue
+            left = xs[before] if i > 0 else xs[n - 1] - (xs[n] - xs[0])
+            upwards, least = _vertex(r0, r1, r2, xs[i] - left, xs[i + 1] - xs[i])
+            if not upwards or least > 0.5 * r1:
+                continue  # the parabola does not dip towards a gap
+            outside = _gap_point(k, pre, fill, b, left, xs[i + 1])
+            if outside != outside:
+                continue
+            below, above = (left, xs[i]) if outside < xs[i] else (xs[i], xs[i + 1])
+            for inside in (below, above):
+                width = 2.0 * abs(outside - inside)
+                count = _end_of_reach(k, pre, fill, b, inside, outside, width,
                                       roots, branch_of, count)  # fmt: skip
     return count, singular

@@ -346,7 +346,7 @@ def _stage_probe():
         moving = (pre[0], pre[1], pre[2], pre[3], pre[4], pre[5])
         for i in range(thetas.shape[0]):
             c6, s6 = math.cos(thetas[i]), math.sin(thetas[i])
-            _, fs, oks, _ = sample(sk, moving, c6, s6, f)
+            _, fs, oks, _, rooms = sample(sk, moving, c6, s6, f)
             for b in range(4):
                 one = branch(sk, moving, c6, s6, b, f)
                 ok, stage, m1, m2 = reach(sk, moving, c6, s6, b, f)
@@ -354,6 +354,7 @@ def _stage_probe():
                 out[i, b, 3], out[i, b, 4] = fs[b], oks[b]
                 out[i, b, 5], out[i, b, 6] = ok, stage
                 out[i, b, 7] = m1 if stage == 1 else m2
+                out[i, b, 8], out[i, b, 9] = rooms[b], min(m1, m2)
         return out
 
     return probe
@@ -365,13 +366,14 @@ def test_sample_and_reach_decide_as_branch(folder, kind, which):
     with a reach-only test (``reach``); both repeat ``branch``'s stages and tests to save work.
     On 100 random poses (reachable and beyond reach) × 64 values of θ6: ``sample`` gives
     ``branch``'s f (or failing margin) and reach flag to the bit, and ``reach`` its flag, its
-    failing stage and that stage's margin."""
+    failing stage and that stage's margin; ``sample``'s room (what the search of gaps of reach
+    descends) is ``reach``'s least margin where the branch reaches, its failing one where not."""
     robot = robot_for(kind, which, folder)
     solver = robot.closed_form_ik
     probe = _stage_probe()
     rng = np.random.default_rng(67)
     thetas = np.linspace(-np.pi, np.pi, 64, endpoint=False)
-    out = np.zeros((64, 4, 8))
+    out = np.zeros((64, 4, 10))
     unreached = 0
     for n in range(100):
         target = robot.fk(robot.random_configuration(rng))
@@ -387,5 +389,7 @@ def test_sample_and_reach_decide_as_branch(folder, kind, which):
         failed = ~reached
         np.testing.assert_array_equal(out[..., 6][failed], out[..., 0][failed])  # the stage
         np.testing.assert_array_equal(out[..., 7][failed], out[..., 2][failed])  # its margin
+        np.testing.assert_array_equal(out[..., 8], np.where(reached, out[..., 9], out[..., 2]))
+        assert (out[..., 8][reached] >= 0.0).all() and (out[..., 8][failed] < 0.0).all()
         unreached += int(failed.sum())
     assert unreached > 100  # the failing stages are exercised
