@@ -288,7 +288,7 @@ class BatchSolver:
         assert isinstance(solver, ClosedFormIK)  # vectorised: it lists every branch at once
         if rotations is not None and isinstance(solver, _NEAREST_MANY):
             # the single-pose formulas on arrays; near singularities, all branches (as ik)
-            extra = {"masks": masks} if isinstance(solver, URIK) else {}
+            extra = {"masks": masks} if isinstance(solver, (URIK, KernelClosedFormIK)) else {}
             parts = [
                 solver.nearest_many(positions[part], rotations[part], seeds[part], **extra)
                 for part in (slice(k, k + UR_CHUNK) for k in range(0, len(positions), UR_CHUNK))

@@ -12,7 +12,9 @@ The kernel module (numba, :func:`kinplan.compiled.jit`) provides:
 * ``nearest(constants, tool, limits, position, rotation, q_ref, out)``: the row of the
   solution nearest ``q_ref`` written into ``out`` (−1: none within the limits);
 * ``nearest_many(constants, tool, limits, positions, rotations, refs, q, row, mask)``: the same
-  for many poses, each with its reference.
+  for many poses, each with its reference;
+* optionally ``nearest_lazy_many`` (the same arguments): ``nearest_many`` without the masks,
+  solving only the solutions that can be nearest (used when the masks are not wanted).
 
 ``constants`` and ``tool`` are the geometry's (its ``constants()`` and ``tool()``), ``limits``
 the rows lower, upper [rad] and weights.
@@ -99,7 +101,11 @@ class KernelClosedFormIK(ClosedFormIK):
     nearest.__doc__ = ClosedFormIK.nearest.__doc__
 
     def nearest_many(
-        self, positions: np.ndarray, rotations: np.ndarray, q_ref: np.ndarray
+        self,
+        positions: np.ndarray,
+        rotations: np.ndarray,
+        q_ref: np.ndarray,
+        masks: bool = True,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`nearest` of many poses, each with its own reference (inputs unchecked), as
         :meth:`kinplan.ik.spherical_wrist.SphericalWristIK.nearest_many` returns it.
@@ -108,6 +114,9 @@ class KernelClosedFormIK(ClosedFormIK):
             positions: Tool positions in the world frame [m], shape (N, 3).
             rotations: Tool rotations in the world frame, shape (N, 3, 3).
             q_ref: References [rad], shape (N, 6).
+            masks: False: the masks are not wanted; a kernel with ``nearest_lazy_many``
+                then solves only the solutions that can be nearest (the same q; the masks
+                0, the row the nearest one's among the solutions found before the FK check).
 
         Returns:
             (q (N, 6) [rad], row (N,) int (−1: none within the limits), mask (N,) uint16 of
@@ -117,7 +126,8 @@ class KernelClosedFormIK(ClosedFormIK):
         q = np.empty((count, 6))
         row = np.empty(count, dtype=np.int64)
         mask = np.empty(count, dtype=np.uint16)
-        self._kernel.nearest_many(
+        lazy = None if masks else getattr(self._kernel, "nearest_lazy_many", None)
+        (lazy or self._kernel.nearest_many)(
             self._constants,
             self._tool,
             self._limits,

@@ -26,7 +26,7 @@ import numpy as np
 from kinplan.compiled import numba
 from kinplan.ik import wrist_offset_branches
 from kinplan.ik.screws import TAU
-from kinplan.ik.spherical_wrist_kernel import nearest_of, pose_finite
+from kinplan.ik.spherical_wrist_kernel import _choice, nearest_of, pose_finite
 from kinplan.ik.wrist_offset_branches import (
     angle_to3,
     branch,
@@ -226,13 +226,11 @@ def _one_pose(position, rotation, fill):
     )
 
 
-@jit
-def _branches(g, tool, p, r, f, raw, ok, roots, branch_of, work):
-    """:func:`branches` of the geometry, the tool and the pose as tuples (:func:`geometry`,
-    :func:`_tool`, :func:`_pose`; ``f``: the fill values of θ1, θ2): the search and the
-    solutions take them (no array passed per sample, root or solution: no reference
-    counts)."""
-    pre = pose_terms(g, p, r)
+@inline
+def _sorted_roots(g, pre, f, roots, branch_of, work):
+    """The search's roots of a pose (:func:`~kinplan.ik.wrist_offset_search.search`), sorted
+    by branch then θ6 in place: (count, whether a free angle took its fill value, the
+    branches' rows of the geometry)."""
     search_k = branch_geometry(g)
     moving = (pre[0], pre[1], pre[2], pre[3], pre[4], pre[5])
     count, singular = search(search_k, moving, f, roots, branch_of, work)
@@ -256,13 +254,29 @@ def _branches(g, tool, p, r, f, raw, ok, roots, branch_of, work):
         branch_of[j] = b
         for c in range(9):
             roots[j, c] = held[c]
+    return count, singular, search_k
+
+
+@inline
+def _known(roots, i):
+    """Columns 1–8 of root i: cos, sin of θ6, −θ1, θ2, θ3 where the search found them."""
+    return (
+        roots[i, 1], roots[i, 2], roots[i, 3], roots[i, 4],
+        roots[i, 5], roots[i, 6], roots[i, 7], roots[i, 8],
+    )  # fmt: skip
+
+
+@jit
+def _branches(g, tool, p, r, f, raw, ok, roots, branch_of, work):
+    """:func:`branches` of the geometry, the tool and the pose as tuples (:func:`geometry`,
+    :func:`_tool`, :func:`_pose`; ``f``: the fill values of θ1, θ2): the search and the
+    solutions take them (no array passed per sample, root or solution: no reference
+    counts)."""
+    pre = pose_terms(g, p, r)
+    count, singular, search_k = _sorted_roots(g, pre, f, roots, branch_of, work)
     row = 0
     for i in range(count):
-        known = (
-            roots[i, 1], roots[i, 2], roots[i, 3], roots[i, 4],
-            roots[i, 5], roots[i, 6], roots[i, 7], roots[i, 8],
-        )  # fmt: skip
-        q, cs = _solution(g, search_k, pre, roots[i, 0], branch_of[i], f, known)
+        q, cs = _solution(g, search_k, pre, roots[i, 0], branch_of[i], f, _known(roots, i))
         for j in range(6):
             raw[row, j] = q[j]
         if _reaches(g, tool, cs, p, r):
@@ -330,5 +344,88 @@ def nearest_many(k, tool, limits, positions, rotations, refs, q, row, mask):
         best, bits = nearest_of(raw, ok, limits, refs[n], out)
         row[n] = best
         mask[n] = bits
+        for j in range(6):
+            q[n, j] = out[j] if best >= 0 else np.nan
+
+
+@jit
+def _lazy_nearest(g, tool, limits, p, r, f, ref, roots, branch_of, work, bounds, out):
+    """The solution nearest ``ref`` (written into ``out``) as :func:`nearest_of` chooses it
+    among all of :func:`_branches`, solving and checking only the roots that can win: each
+    root's cost over θ1, θ2, θ3, θ6 (known from the search: the same angles and the same
+    terms as its full cost, in the same order, so never above it) bounds its full cost from
+    below; the roots are solved in the order of that bound, until it exceeds the best full
+    cost found (ties to the lower root, as to the lower row). Returns the index of the root
+    among the sorted roots (its row among the solutions unless a root before it failed the
+    FK check), −1 if none is within the limits. ``bounds`` (SLOTS,) is scratch."""
+    pre = pose_terms(g, p, r)
+    count, _, search_k = _sorted_roots(g, pre, f, roots, branch_of, work)
+    for i in range(count):
+        bounds[i] = 0.0  # not known: solved in its turn
+        if roots[i, 1] != roots[i, 1]:
+            continue
+        cm, sm, c2, s2, c3, s3 = (
+            roots[i, 3],
+            roots[i, 4],
+            roots[i, 5],
+            roots[i, 6],
+            roots[i, 7],
+            roots[i, 8],
+        )
+        partial = (math.atan2(-sm, cm), math.atan2(s2, c2), math.atan2(s3, c3), wrap(roots[i, 0]))
+        cost = 0.0
+        for j, joint in enumerate((0, 1, 2, 5)):
+            value = _choice(partial[j], ref[joint], limits[0, joint], limits[1, joint])
+            if value != value:
+                cost = np.inf
+                break
+            cost += limits[2, joint] * (value - ref[joint]) * (value - ref[joint])
+        bounds[i] = cost
+    best, best_cost = -1, np.inf
+    for _ in range(count):
+        i = -1
+        for m in range(count):  # the least bound left, ties to the lower root
+            if bounds[m] == bounds[m] and (i < 0 or bounds[m] < bounds[i]):
+                i = m
+        if i < 0 or bounds[i] > best_cost or bounds[i] == np.inf:
+            break
+        bounds[i] = np.nan  # taken
+        q, cs = _solution(g, search_k, pre, roots[i, 0], branch_of[i], f, _known(roots, i))
+        if not _reaches(g, tool, cs, p, r):
+            continue
+        cost = 0.0
+        for joint in range(6):
+            value = _choice(q[joint], ref[joint], limits[0, joint], limits[1, joint])
+            if value != value:
+                cost = np.inf
+                break
+            cost += limits[2, joint] * (value - ref[joint]) * (value - ref[joint])
+        if cost < best_cost or (cost == best_cost and cost < np.inf and i < best):
+            best, best_cost = i, cost
+            for joint in range(6):
+                out[joint] = q[joint]
+    if best >= 0:
+        for joint in range(6):
+            out[joint] = _choice(out[joint], ref[joint], limits[0, joint], limits[1, joint])
+    return best
+
+
+@jit
+def nearest_lazy_many(k, tool, limits, positions, rotations, refs, q, row, mask):
+    """:func:`nearest_many` without the masks (``mask`` written 0), solving only the roots
+    that can be nearest (:func:`_lazy_nearest`): the same ``q``; ``row`` the nearest root's
+    index among the sorted roots (−1: none)."""
+    out = np.empty(6)
+    bounds = np.empty(SLOTS)
+    g, tool_rows = geometry(k), _tool(tool)
+    roots, branch_of = np.empty((SLOTS, 9)), np.empty(SLOTS, dtype=np.int64)
+    work = workspace()  # allocated once a batch
+    for n in range(positions.shape[0]):
+        p, r, f = _pose(positions, rotations, refs, n)
+        ref = (refs[n, 0], refs[n, 1], refs[n, 2], refs[n, 3], refs[n, 4], refs[n, 5])
+        best = _lazy_nearest(g, tool_rows, limits, p, r, f, ref, roots, branch_of, work,
+                             bounds, out)  # fmt: skip
+        row[n] = best
+        mask[n] = 0
         for j in range(6):
             q[n, j] = out[j] if best >= 0 else np.nan

@@ -247,6 +247,48 @@ def test_nearest_follows_the_closed_form_rule(folder, kind, which):
 
 
 @pytest.mark.parametrize("kind, which", ALL, ids=ALL_IDS)
+def test_the_lazy_nearest_equals_the_full_one(folder, kind, which):
+    """Without the masks (``ik_batch``'s way), the kernel solves only the roots whose cost over
+    θ1, θ2, θ3, θ6 does not exceed the best full cost so far; its answer is the full
+    nearest's to the bit, over 1,000 random targets: references at
+    random, on a solution (the nearest at cost ~0), and halfway between two solutions (ties
+    near), with the URDF's limits and with halved limits and random weights."""
+    robot = robot_for(kind, which, folder)
+    solver = robot.closed_form_ik
+    rng = np.random.default_rng(83)
+    count = 1000
+    qs = np.array([robot.random_configuration(rng) for _ in range(count)])
+    poses = [robot.fk(q) for q in qs]
+    positions = np.array([t.translation for t in poses])
+    rotations = np.array([t.rotation for t in poses])
+    refs = np.array([robot.random_configuration(rng) for _ in range(count)])
+    refs[::3] = qs[::3]  # on a solution
+    for n in range(1, count, 3):  # halfway between two solutions
+        found = solver.solutions(positions[n], rotations[n])
+        if len(found) >= 2:
+            refs[n] = 0.5 * (found[0] + found[1])
+    saved = solver._limits.copy()
+    try:
+        for halved in (False, True):
+            if halved:
+                middle = 0.5 * (np.clip(saved[0], -np.pi, np.pi) + np.clip(saved[1], -np.pi, np.pi))
+                solver._limits[0] = middle - 0.25 * np.minimum(saved[1] - saved[0], 2 * np.pi)
+                solver._limits[1] = middle + 0.25 * np.minimum(saved[1] - saved[0], 2 * np.pi)
+                solver._limits[2] = rng.uniform(0.5, 2.0, 6)
+            full = solver.nearest_many(positions, rotations, refs, masks=True)
+            lazy = solver.nearest_many(positions, rotations, refs, masks=False)
+            np.testing.assert_array_equal(lazy[0], full[0])
+            # the row: the root's among the sorted roots, at or past its row among the
+            # solutions (a root before it may have failed the FK check)
+            np.testing.assert_array_equal(lazy[1] >= 0, full[1] >= 0)
+            assert (lazy[1] >= full[1]).all()
+            assert (full[1] >= 0).sum() > (20 if halved else 900)  # limits exercised
+            assert not lazy[2].any()
+    finally:
+        solver._limits[:] = saved
+
+
+@pytest.mark.parametrize("kind, which", ALL, ids=ALL_IDS)
 def test_unreachable_targets_give_no_solution(folder, kind, which):
     robot = robot_for(kind, which, folder)
     solver = robot.closed_form_ik
