@@ -112,8 +112,8 @@ def check_missed_targets_solved_numerically(
             return None
         return nearest(position, rotation, q_ref, *args, **kwargs)
 
-    def missing_many(positions, rotations, q_ref):
-        out = list(nearest_many(positions, rotations, q_ref))
+    def missing_many(positions, rotations, q_ref, *args, **kwargs):
+        out = list(nearest_many(positions, rotations, q_ref, *args, **kwargs))
         for p in missing:
             hit = np.flatnonzero((positions == p).all(axis=1))
             out[1][hit] = -1 if out[1].dtype.kind == "i" else False  # none found
