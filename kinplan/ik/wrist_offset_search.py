@@ -771,27 +771,35 @@ def _sampled(k, pre, fill, n, coarser, values, reached, turns):
 
 
 @inline
-def _too_fast(reached, turns, i):
-    """Whether θ1, θ2 or θ3 of a branch reached at samples i and i + 1 turns by more than
-    MAX_TURN between them."""
+def _too_fast(reached, turns, i, j):
+    """Whether θ1, θ2 or θ3 of a branch reached at samples i and j turns by more than MAX_TURN
+    between them."""
     for b in range(4):
-        if not (reached[i, b] and reached[i + 1, b]):
+        if not (reached[i, b] and reached[j, b]):
             continue
         for a in range(0, 6, 2):
-            turned = turns[i, b, a] * turns[i + 1, b, a]
-            turned += turns[i, b, a + 1] * turns[i + 1, b, a + 1]
+            turned = turns[i, b, a] * turns[j, b, a]
+            turned += turns[i, b, a + 1] * turns[j, b, a + 1]
             if turned < COS_TURN:
                 return True
     return False
 
 
 @inline
-def _leaves_reach(reached, i):
-    """Whether a branch reaches at one of samples i, i + 1 and not at the other."""
+def _leaves_reach(reached, i, j):
+    """Whether a branch reaches at one of samples i, j and not at the other."""
     for b in range(4):
-        if reached[i, b] != reached[i + 1, b]:
+        if reached[i, b] != reached[j, b]:
             return True
     return False
+
+
+@jit
+def _grown(array, capacity):
+    """A copy of ``array`` with ``capacity`` rows (the rows past its own left unset)."""
+    out = np.empty((capacity,) + array.shape[1:], dtype=array.dtype)
+    out[: array.shape[0]] = array
+    return out
 
 
 @jit
@@ -802,7 +810,9 @@ def _refined(k, pre, fill, values, reached, turns):
     GRADE times as wide as a neighbour, again and again until none is, or it is one of
     MAX_SAMPLES. The samples elsewhere stay as they are: a Fanuc CRX-10iA pose whose branch
     angles turn fast near one θ6 used to sample the whole turn as densely as there (up to
-    2,048 samples where a few dozen more do).
+    2,048 samples where a few dozen more do). Each pass decides its halvings on the samples
+    before it; the samples are kept in a list linked in the order of θ6 (a new one appended,
+    none moved) and gathered in order once at the end.
 
     Returns:
         (rows (n + 1: the samples' rows of CIRCLE, rising, the last MAX_SAMPLES: θ6 = π, the
@@ -811,61 +821,95 @@ def _refined(k, pre, fill, values, reached, turns):
     """
     n = values.shape[0] - 1
     every = MAX_SAMPLES // n
-    rows = np.empty(n + 1, dtype=np.int64)
+    # room for four times the samples at first (a few dozen kilobytes: the 2,049 rows a pose
+    # may need at most took a megabyte, and the page faults of its first use cost more than
+    # the samples), doubled when a pass needs more
+    capacity = 4 * (n + 1)
+    all_values = np.empty((capacity, 4))
+    all_reached = np.empty((capacity, 4), dtype=np.bool_)
+    all_turns = np.empty((capacity, 4, COLUMNS))
+    rows = np.empty(capacity, dtype=np.int64)
+    after = np.empty(capacity, dtype=np.int64)  # the next sample in θ6 (−1 after the last)
+    split = np.zeros(capacity, dtype=np.bool_)
     for i in range(n + 1):
         rows[i] = i * every
+        after[i] = i + 1
+        for b in range(4):
+            all_values[i, b] = values[i, b]
+            all_reached[i, b] = reached[i, b]
+            for a in range(COLUMNS):
+                all_turns[i, b, a] = turns[i, b, a]
+    end, before_end, used = n, n - 1, n + 1  # the sample at θ6 = π, the one before it
+    after[end] = -1
     singular = False
     while True:
-        split = np.zeros(n, dtype=np.bool_)
         more = 0
-        for i in range(n):
-            width = rows[i + 1] - rows[i]
-            if width == 1:
-                continue
-            left = rows[i] - rows[i - 1] if i > 0 else rows[n] - rows[n - 1]
-            right = rows[i + 2] - rows[i + 1] if i + 1 < n else rows[1] - rows[0]
-            if (
+        i = 0
+        left = rows[end] - rows[before_end]  # periodic: the last interval's width
+        while i != end:
+            j = after[i]
+            width = rows[j] - rows[i]
+            right = rows[after[j]] - rows[j] if j != end else rows[after[0]] - rows[0]
+            split[i] = width > 1 and (
                 width > GRADE * min(left, right)
-                or (width > EDGE_ROWS and _leaves_reach(reached, i))
-                or _too_fast(reached, turns, i)
-            ):
-                split[i] = True
-                more += 1
+                or (width > EDGE_ROWS and _leaves_reach(all_reached, i, j))
+                or _too_fast(all_reached, all_turns, i, j)
+            )
+            more += split[i]
+            left = width
+            i = j
         if more == 0:
-            return rows, values, reached, turns, singular
-        finer_rows = np.empty(n + 1 + more, dtype=np.int64)
-        finer_values = np.empty((n + 1 + more, 4))
-        finer_reached = np.empty((n + 1 + more, 4), dtype=np.bool_)
-        finer_turns = np.empty((n + 1 + more, 4, COLUMNS))
-        j = 0
-        for i in range(n + 1):
-            finer_rows[j] = rows[i]
-            for b in range(4):
-                finer_values[j, b] = values[i, b]
-                finer_reached[j, b] = reached[i, b]
-                for a in range(COLUMNS):
-                    finer_turns[j, b, a] = turns[i, b, a]
-            j += 1
-            if i == n or not split[i]:
-                continue
-            middle = (rows[i] + rows[i + 1]) // 2
-            c6, s6 = CIRCLE[middle, 0], CIRCLE[middle, 1]
-            free, fs, oks, ts, rooms = sample(k, pre, c6, s6, fill)
-            singular = singular or free
-            finer_rows[j] = middle
-            finer_values[j, 0], finer_values[j, 1] = fs[0], fs[1]
-            finer_values[j, 2], finer_values[j, 3] = fs[2], fs[3]
-            finer_reached[j, 0], finer_reached[j, 1] = oks[0], oks[1]
-            finer_reached[j, 2], finer_reached[j, 3] = oks[2], oks[3]
-            t0, t1, t2, t3 = ts
-            for a in range(6):
-                finer_turns[j, 0, a], finer_turns[j, 1, a] = t0[a], t1[a]
-                finer_turns[j, 2, a], finer_turns[j, 3, a] = t2[a], t3[a]
-            finer_turns[j, 0, ROOM], finer_turns[j, 1, ROOM] = rooms[0], rooms[1]
-            finer_turns[j, 2, ROOM], finer_turns[j, 3, ROOM] = rooms[2], rooms[3]
-            j += 1
-        rows, values, reached, turns = finer_rows, finer_values, finer_reached, finer_turns
-        n += more
+            break
+        if used + more > capacity:
+            capacity = max(2 * capacity, used + more)
+            all_values = _grown(all_values, capacity)
+            all_reached = _grown(all_reached, capacity)
+            all_turns = _grown(all_turns, capacity)
+            rows, after, split = (
+                _grown(rows, capacity),
+                _grown(after, capacity),
+                _grown(split, capacity),
+            )
+        i = 0
+        while i != end:
+            j = after[i]
+            if split[i]:
+                m = used
+                used += 1
+                middle = (rows[i] + rows[j]) // 2
+                c6, s6 = CIRCLE[middle, 0], CIRCLE[middle, 1]
+                free, fs, oks, ts, rooms = sample(k, pre, c6, s6, fill)
+                singular = singular or free
+                rows[m] = middle
+                for b in range(4):
+                    all_values[m, b] = fs[b]
+                    all_reached[m, b] = oks[b]
+                    all_turns[m, b, ROOM] = rooms[b]
+                t0, t1, t2, t3 = ts
+                for a in range(6):
+                    all_turns[m, 0, a], all_turns[m, 1, a] = t0[a], t1[a]
+                    all_turns[m, 2, a], all_turns[m, 3, a] = t2[a], t3[a]
+                after[i], after[m] = m, j
+                split[i] = split[m] = False
+                if j == end:
+                    before_end = m
+            i = j
+    count = used
+    out_rows = np.empty(count, dtype=np.int64)
+    out_values = np.empty((count, 4))
+    out_reached = np.empty((count, 4), dtype=np.bool_)
+    out_turns = np.empty((count, 4, COLUMNS))
+    i, r = 0, 0
+    while i != -1:
+        out_rows[r] = rows[i]
+        for b in range(4):
+            out_values[r, b] = all_values[i, b]
+            out_reached[r, b] = all_reached[i, b]
+            for a in range(COLUMNS):
+                out_turns[r, b, a] = all_turns[i, b, a]
+        i = after[i]
+        r += 1
+    return out_rows, out_values, out_reached, out_turns, singular
 
 
 @inline
