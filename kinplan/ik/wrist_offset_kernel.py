@@ -306,8 +306,10 @@ def raw_many(k, tool, positions, rotations, fills, raw, singular):
 # ---------------------------------------------------------------------------- the nearest one
 @jit
 def nearest(k, tool, limits, position, rotation, ref, out):
-    """The solution nearest ``ref`` [rad] (6,) written into ``out``; returns its row, −1 when
-    none is within the limits, :data:`NOT_FINITE` for an input with a NaN or inf.
+    """The solution nearest ``ref`` [rad] (6,) written into ``out``, solving only the roots
+    that can be nearest (:func:`_lazy_nearest`); returns its root's index among the sorted
+    roots, −1 when none is within the limits, :data:`NOT_FINITE` for an input with a NaN or
+    inf.
 
     Args:
         k, tool: As :func:`branches`.
@@ -319,13 +321,11 @@ def nearest(k, tool, limits, position, rotation, ref, out):
     """
     if not pose_finite(position, rotation, ref):
         return NOT_FINITE
-    raw = np.empty((SLOTS, 6))
-    ok = np.empty(SLOTS, dtype=np.bool_)
     roots, branch_of = np.empty((SLOTS, 9)), np.empty(SLOTS, dtype=np.int64)
     p, r, f = _one_pose(position, rotation, ref)
-    _branches(geometry(k), _tool(tool), p, r, f, raw, ok, roots, branch_of, workspace())
-    best, _ = nearest_of(raw, ok, limits, ref, out)
-    return best
+    refs = (ref[0], ref[1], ref[2], ref[3], ref[4], ref[5])
+    return _lazy_nearest(geometry(k), _tool(tool), limits, p, r, f, refs, roots, branch_of,
+                         workspace(), np.empty(SLOTS), out)  # fmt: skip
 
 
 @jit
