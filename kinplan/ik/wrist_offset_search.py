@@ -794,6 +794,16 @@ def _leaves_reach(reached, i, j):
     return False
 
 
+@inline
+def _reach_ends(reached, n):
+    """Whether a branch reaches at one of two neighbouring samples (of the n + 1) and not at
+    the other."""
+    for i in range(n):
+        if _leaves_reach(reached, i, i + 1):
+            return True
+    return False
+
+
 @jit
 def _grown(array, capacity):
     """A copy of ``array`` with ``capacity`` rows (the rows past its own left unset)."""
@@ -955,6 +965,8 @@ def search(k, pre, fill, roots, branch_of, work):
         if n == COARSE and least >= COS_STILL:
             break
         if n > COARSE:  # halve the intervals where a turn exceeds MAX_TURN or reach ends
+            if least >= COS_TURN and not _reach_ends(reached, n):
+                break  # nothing to halve (most poses): no work arrays
             rows, finer_values, finer_reached, finer_turns, free = _refined(
                 k, pre, fill, values, reached, turns
             )
