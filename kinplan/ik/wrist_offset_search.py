@@ -954,8 +954,8 @@ def search(k, pre, fill, roots, branch_of, work):
     Returns:
         (count, singular): the roots found, and whether a free angle took its ``fill`` value.
     """
-    # θ1–θ3 nearly still: f is nearly a sinusoid of θ6, COARSE samples do; else SAMPLES, then
-    # DENSER times as many while some turn exceeds MAX_TURN (the samples before kept)
+    # θ1–θ3 nearly still: f is nearly a sinusoid of θ6, COARSE samples do; else SAMPLES (the
+    # samples before kept), then halved where needed (_refined)
     n, coarser, singular = np.int64(COARSE), np.int64(0), False  # int64, not literal
     values, reached, turns, xs, found = work
     refined = False
@@ -1104,8 +1104,8 @@ def search(k, pre, fill, roots, branch_of, work):
                 count = _end_of_reach(k, pre, fill, b, inside, outside, width,
                                       roots, branch_of, count)  # fmt: skip
         # gaps of reach narrower than the samples: at a local minimum of the room (reached at
-        # three samples) below WINDOW or whose parabola dips towards 0, a point out of reach
-        # is sought, then both ends of the gap are searched (an HSR BR609 pose: a gap of 0.04
+        # three samples) whose parabola dips below half of it, a point out of reach is
+        # sought, then both ends of the gap are searched (an HSR BR609 pose: a gap of 0.04
         # rad between samples 0.2 rad apart, a root 0.007 rad from its end)
         for i in range(n):
             before = i - 1 if i > 0 else n - 1
