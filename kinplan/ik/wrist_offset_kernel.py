@@ -26,7 +26,7 @@ import numpy as np
 from kinplan.compiled import numba
 from kinplan.ik import wrist_offset_branches
 from kinplan.ik.screws import TAU
-from kinplan.ik.spherical_wrist_kernel import _choice, nearest_of, pose_finite
+from kinplan.ik.spherical_wrist_kernel import _choice, branch_cost, nearest_of, pose_finite
 from kinplan.ik.wrist_offset_branches import (
     angle_to3,
     branch,
@@ -325,7 +325,7 @@ def nearest(k, tool, limits, position, rotation, ref, out):
     p, r, f = _one_pose(position, rotation, ref)
     refs = (ref[0], ref[1], ref[2], ref[3], ref[4], ref[5])
     return _lazy_nearest(geometry(k), _tool(tool), limits, p, r, f, refs, roots, branch_of,
-                         workspace(), np.empty(SLOTS), out)  # fmt: skip
+                         workspace(), np.empty(SLOTS), np.empty((SLOTS, 6)), out)  # fmt: skip
 
 
 @jit
@@ -349,7 +349,7 @@ def nearest_many(k, tool, limits, positions, rotations, refs, q, row, mask):
 
 
 @jit
-def _lazy_nearest(g, tool, limits, p, r, f, ref, roots, branch_of, work, bounds, out):
+def _lazy_nearest(g, tool, limits, p, r, f, ref, roots, branch_of, work, bounds, raw, out):
     """The solution nearest ``ref`` (written into ``out``) as :func:`nearest_of` chooses it
     among all of :func:`_branches`, solving and checking only the roots that can win: each
     root's cost over θ1, θ2, θ3, θ6 (known from the search: the same angles and the same
@@ -357,7 +357,8 @@ def _lazy_nearest(g, tool, limits, p, r, f, ref, roots, branch_of, work, bounds,
     below; the roots are solved in the order of that bound, until it exceeds the best full
     cost found (ties to the lower root, as to the lower row). Returns the index of the root
     among the sorted roots (its row among the solutions unless a root before it failed the
-    FK check), −1 if none is within the limits. ``bounds`` (SLOTS,) is scratch."""
+    FK check), −1 if none is within the limits. ``bounds`` (SLOTS,) and ``raw`` (SLOTS, 6)
+    are scratch."""
     pre = pose_terms(g, p, r)
     count, _, search_k = _sorted_roots(g, pre, f, roots, branch_of, work)
     for i in range(count):
@@ -393,20 +394,14 @@ def _lazy_nearest(g, tool, limits, p, r, f, ref, roots, branch_of, work, bounds,
         q, cs = _solution(g, search_k, pre, roots[i, 0], branch_of[i], f, _known(roots, i))
         if not _reaches(g, tool, cs, p, r):
             continue
-        cost = 0.0
         for joint in range(6):
-            value = _choice(q[joint], ref[joint], limits[0, joint], limits[1, joint])
-            if value != value:
-                cost = np.inf
-                break
-            cost += limits[2, joint] * (value - ref[joint]) * (value - ref[joint])
+            raw[i, joint] = q[joint]
+        cost = branch_cost(raw, i, limits, ref, 0.0)
         if cost < best_cost or (cost == best_cost and cost < np.inf and i < best):
             best, best_cost = i, cost
-            for joint in range(6):
-                out[joint] = q[joint]
     if best >= 0:
         for joint in range(6):
-            out[joint] = _choice(out[joint], ref[joint], limits[0, joint], limits[1, joint])
+            out[joint] = _choice(raw[best, joint], ref[joint], limits[0, joint], limits[1, joint])
     return best
 
 
@@ -416,7 +411,7 @@ def nearest_lazy_many(k, tool, limits, positions, rotations, refs, q, row, mask)
     that can be nearest (:func:`_lazy_nearest`): the same ``q``; ``row`` the nearest root's
     index among the sorted roots (−1: none)."""
     out = np.empty(6)
-    bounds = np.empty(SLOTS)
+    bounds, raw = np.empty(SLOTS), np.empty((SLOTS, 6))
     g, tool_rows = geometry(k), _tool(tool)
     roots, branch_of = np.empty((SLOTS, 9)), np.empty(SLOTS, dtype=np.int64)
     work = workspace()  # allocated once a batch
@@ -424,7 +419,7 @@ def nearest_lazy_many(k, tool, limits, positions, rotations, refs, q, row, mask)
         p, r, f = _pose(positions, rotations, refs, n)
         ref = (refs[n, 0], refs[n, 1], refs[n, 2], refs[n, 3], refs[n, 4], refs[n, 5])
         best = _lazy_nearest(g, tool_rows, limits, p, r, f, ref, roots, branch_of, work,
-                             bounds, out)  # fmt: skip
+                             bounds, raw, out)  # fmt: skip
         row[n] = best
         mask[n] = 0
         for j in range(6):
