@@ -598,7 +598,7 @@ def _edge(k, pre, b, fill, inside, outside):
 def _end_of_reach(k, pre, fill, b, inside, outside, width, roots, branch_of, count):
     """The roots of branch b and its partner (the other sign of the stage that fails) within
     ``width`` [rad] of the end of their reach between θ6 = ``inside`` and ``outside``,
-    searched on the joined curve θ6 = θ_end ∓ s²; the new count."""
+    searched on the joined curve θ6 = θ_end ∓ s²: (the new count, the partner)."""
     end, level = _edge(k, pre, b, fill, inside, outside)
     partner = b ^ 2 if level == 1 else b ^ 1  # searched from both: its window may be narrow
     curve = (1.0, float(b), float(partner), end, 1.0 if outside > inside else -1.0)
@@ -609,7 +609,7 @@ def _end_of_reach(k, pre, fill, b, inside, outside, width, roots, branch_of, cou
     for j in range(LOOP_POINTS + 1):
         xs[j] = -reach + 2.0 * reach * j / LOOP_POINTS
         fs[j, 0], ok[j, 0] = _at(k, pre, fill, curve, xs[j])
-    return _scan(k, pre, fill, curve, xs, fs, ok, 0, False, roots, branch_of, count)
+    return _scan(k, pre, fill, curve, xs, fs, ok, 0, False, roots, branch_of, count), partner
 
 
 @inline
@@ -1068,12 +1068,6 @@ def search(k, pre, fill, roots, branch_of, work):
             if _dips(f0, f1, f2, h0, h1):  # the roots near a local minimum of |f|
                 count = _bracket(k, pre, fill, curve, x0, f0, xs[i + 1], f2,
                                  roots, branch_of, count)  # fmt: skip
-        for i in range(n):
-            if reached[i, b] != reached[i + 1, b]:
-                inside, outside = (xs[i], xs[i + 1]) if reached[i, b] else (xs[i + 1], xs[i])
-                width = 2.0 * (xs[i + 1] - xs[i] if refined else step)
-                count = _end_of_reach(k, pre, fill, b, inside, outside, width,
-                                      roots, branch_of, count)  # fmt: skip
         # windows of reach narrower than the samples: at a local maximum of the margin (< 0
         # at three samples) above −WINDOW or whose parabola rises towards 0 (the margins of
         # two stages may meet there, with a corner), a point of reach is sought, then both
@@ -1101,8 +1095,8 @@ def search(k, pre, fill, roots, branch_of, work):
                 continue
             width = 2.0 * max(h0, h1) if refined else 2.0 * gap
             for outside in (left, xs[i + 1]):
-                count = _end_of_reach(k, pre, fill, b, inside, outside, width,
-                                      roots, branch_of, count)  # fmt: skip
+                count, _ = _end_of_reach(k, pre, fill, b, inside, outside, width,
+                                         roots, branch_of, count)  # fmt: skip
         # gaps of reach narrower than the samples: at a local minimum of the room (reached at
         # three samples) whose parabola dips below half of it, a point out of reach is
         # sought, then both ends of the gap are searched (an HSR BR609 pose: a gap of 0.04
@@ -1124,6 +1118,19 @@ def search(k, pre, fill, roots, branch_of, work):
             below, above = (left, xs[i]) if outside < xs[i] else (xs[i], xs[i + 1])
             for inside in (below, above):
                 width = 2.0 * abs(outside - inside)
-                count = _end_of_reach(k, pre, fill, b, inside, outside, width,
-                                      roots, branch_of, count)  # fmt: skip
+                count, _ = _end_of_reach(k, pre, fill, b, inside, outside, width,
+                                         roots, branch_of, count)  # fmt: skip
+    # ends of reach between two samples, searched once for a branch and its partner (the
+    # partner's end is the same: the stage that fails is theirs both; searched from each,
+    # the joined curve was sampled twice, a third of a Fanuc CRX-10iA's search)
+    for i in range(n):
+        covered = 0  # bit b: branch b's end here searched already (as a partner)
+        for b in range(4):
+            if reached[i, b] == reached[i + 1, b] or covered & (1 << b):
+                continue
+            inside, outside = (xs[i], xs[i + 1]) if reached[i, b] else (xs[i + 1], xs[i])
+            width = 2.0 * (xs[i + 1] - xs[i] if refined else step)
+            count, partner = _end_of_reach(k, pre, fill, b, inside, outside, width,
+                                           roots, branch_of, count)  # fmt: skip
+            covered |= 1 << partner
     return count, singular
