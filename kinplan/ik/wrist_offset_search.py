@@ -588,18 +588,11 @@ def _edge_of(k, pre, fill, curve, inside, outside):
 
 
 @jit
-def _edge(k, pre, b, fill, inside, outside):
-    """The end of branch b's reach between θ6 = ``inside`` (reached) and ``outside`` (not):
-    (θ6 of the last reached value, 1 or 2: the stage that fails beyond)."""
-    return _edge_of(k, pre, fill, _branch_curve(b), inside, outside)
-
-
-@jit
 def _end_of_reach(k, pre, fill, b, inside, outside, width, roots, branch_of, count):
     """The roots of branch b and its partner (the other sign of the stage that fails) within
     ``width`` [rad] of the end of their reach between θ6 = ``inside`` and ``outside``,
     searched on the joined curve θ6 = θ_end ∓ s²: (the new count, the partner)."""
-    end, level = _edge(k, pre, b, fill, inside, outside)
+    end, level = _edge_of(k, pre, fill, _branch_curve(b), inside, outside)
     partner = b ^ 2 if level == 1 else b ^ 1  # searched from both: its window may be narrow
     curve = (1.0, float(b), float(partner), end, 1.0 if outside > inside else -1.0)
     reach = math.sqrt(width)
@@ -613,13 +606,6 @@ def _end_of_reach(k, pre, fill, b, inside, outside, width, roots, branch_of, cou
 
 
 @inline
-def _margin(k, pre, fill, b, x):
-    """(Whether branch b reaches at θ6 = x, else the failing stage's margin < 0)."""
-    ok, stage, m1, m2 = _reaches_call(k, pre, fill, _branch_curve(b), x)
-    return ok, (m1 if stage == 1 else m2)
-
-
-@inline
 def _room(k, pre, fill, b, x):
     """(Whether branch b reaches at θ6 = x, its room there: the least margin of its two
     stages where it reaches, the failing stage's where not.)"""
@@ -630,63 +616,37 @@ def _room(k, pre, fill, b, x):
 
 
 @jit
-def _reach_point(k, pre, fill, b, a, c):
-    """A θ6 in [a, c] where branch b reaches, by golden-section ascent of its margin (the
-    failing stage's, < 0), or NaN: a window of reach narrower than the samples."""
+def _switch_point(k, pre, fill, b, a, c, reaching):
+    """A θ6 in [a, c] where branch b reaches (``reaching``: a window of reach narrower than
+    the samples, by golden-section ascent of the failing stage's margin, < 0 there) or where
+    it does not (a gap of reach, by golden-section descent of its room, ≥ 0 there), or NaN."""
     ratio = 0.6180339887498949
+    sign = 1.0 if reaching else -1.0  # the room is ascended: +margin, or −room
     x1, x2 = c - ratio * (c - a), a + ratio * (c - a)
-    ok, m1 = _margin(k, pre, fill, b, x1)
-    if ok:
+    ok, m1 = _room(k, pre, fill, b, x1)
+    if ok == reaching:
         return x1
-    ok, m2 = _margin(k, pre, fill, b, x2)
-    if ok:
+    ok, m2 = _room(k, pre, fill, b, x2)
+    if ok == reaching:
         return x2
+    m1, m2 = sign * m1, sign * m2
     for _ in range(GOLDEN_STEPS):
         if m1 > m2:
             c, x2, m2 = x2, x1, m1
             x1 = c - ratio * (c - a)
-            ok, m1 = _margin(k, pre, fill, b, x1)
-            if ok:
+            ok, m1 = _room(k, pre, fill, b, x1)
+            if ok == reaching:
                 return x1
+            m1 *= sign
         else:
             a, x1, m1 = x1, x2, m2
             x2 = a + ratio * (c - a)
-            ok, m2 = _margin(k, pre, fill, b, x2)
-            if ok:
+            ok, m2 = _room(k, pre, fill, b, x2)
+            if ok == reaching:
                 return x2
+            m2 *= sign
         if c - a < 1e-7:
-            break  # a window narrower than this holds no root the verification would pass
-    return np.nan
-
-
-@jit
-def _gap_point(k, pre, fill, b, a, c):
-    """A θ6 in [a, c] where branch b does not reach, by golden-section descent of its room
-    (the least margin of its stages, ≥ 0 where it reaches), or NaN: a gap of reach narrower
-    than the samples (:func:`_reach_point` the other way round)."""
-    ratio = 0.6180339887498949
-    x1, x2 = c - ratio * (c - a), a + ratio * (c - a)
-    ok, r1 = _room(k, pre, fill, b, x1)
-    if not ok:
-        return x1
-    ok, r2 = _room(k, pre, fill, b, x2)
-    if not ok:
-        return x2
-    for _ in range(GOLDEN_STEPS):
-        if r1 < r2:
-            c, x2, r2 = x2, x1, r1
-            x1 = c - ratio * (c - a)
-            ok, r1 = _room(k, pre, fill, b, x1)
-            if not ok:
-                return x1
-        else:
-            a, x1, r1 = x1, x2, r2
-            x2 = a + ratio * (c - a)
-            ok, r2 = _room(k, pre, fill, b, x2)
-            if not ok:
-                return x2
-        if c - a < 1e-7:
-            break  # a gap narrower than this hides no root the verification would miss
+            break  # a window (gap) this narrow holds (hides) no root the FK check would pass
     return np.nan
 
 
@@ -760,29 +720,22 @@ def _sampled(k, pre, fill, n, coarser, values, reached, turns):
     if coarser == 0:
         return _turned(least, before_ok, first_ok, before_turns, first_turns), singular
     for i in range(n):
-        for b in range(4):
-            if not (reached[i, b] and reached[i + 1, b]):
-                continue
-            for a in range(0, 6, 2):
-                turned = turns[i, b, a] * turns[i + 1, b, a]
-                turned += turns[i, b, a + 1] * turns[i + 1, b, a + 1]
-                least = min(least, turned)
+        least = _least_turn(least, reached, turns, i, i + 1)
     return least, singular
 
 
 @inline
-def _too_fast(reached, turns, i, j):
-    """Whether θ1, θ2 or θ3 of a branch reached at samples i and j turns by more than MAX_TURN
-    between them."""
+def _least_turn(least, reached, turns, i, j):
+    """``least``, or the least cosine of the turn of θ1, θ2 or θ3 of a branch reached at
+    samples i and j (rows of ``reached``, ``turns``) if smaller."""
     for b in range(4):
         if not (reached[i, b] and reached[j, b]):
             continue
         for a in range(0, 6, 2):
             turned = turns[i, b, a] * turns[j, b, a]
             turned += turns[i, b, a + 1] * turns[j, b, a + 1]
-            if turned < COS_TURN:
-                return True
-    return False
+            least = min(least, turned)
+    return least
 
 
 @inline
@@ -863,7 +816,7 @@ def _refined(k, pre, fill, values, reached, turns):
             split[i] = width > 1 and (
                 width > GRADE * min(left, right)
                 or (width > EDGE_ROWS and _leaves_reach(all_reached, i, j))
-                or _too_fast(all_reached, all_turns, i, j)
+                or _least_turn(1.0, all_reached, all_turns, i, j) < COS_TURN
             )
             more += split[i]
             left = width
@@ -1090,7 +1043,7 @@ def search(k, pre, fill, roots, branch_of, work):
                 continue
             if m1 < -WINDOW and -least < 0.5 * m1:
                 continue  # far from reaching, and the parabola does not rise towards it
-            inside = _reach_point(k, pre, fill, b, left, xs[i + 1])
+            inside = _switch_point(k, pre, fill, b, left, xs[i + 1], True)
             if inside != inside:
                 continue
             width = 2.0 * max(h0, h1) if refined else 2.0 * gap
@@ -1112,7 +1065,7 @@ def search(k, pre, fill, roots, branch_of, work):
             upwards, least = _vertex(r0, r1, r2, xs[i] - left, xs[i + 1] - xs[i])
             if not upwards or least > 0.5 * r1:
                 continue  # the parabola does not dip towards a gap
-            outside = _gap_point(k, pre, fill, b, left, xs[i + 1])
+            outside = _switch_point(k, pre, fill, b, left, xs[i + 1], False)
             if outside != outside:
                 continue
             below, above = (left, xs[i]) if outside < xs[i] else (xs[i], xs[i + 1])
