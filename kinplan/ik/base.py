@@ -13,7 +13,14 @@ import numpy as np
 import pinocchio as pin
 
 from kinplan.errors import InputError
-from kinplan.ik.screws import LIMIT_TOL, TAU, compose_scan, wrap_angle, wrap_near
+from kinplan.ik.screws import (
+    DISTINCT_TOL,
+    LIMIT_TOL,
+    TAU,
+    compose_scan,
+    wrap_angle,
+    wrap_near,
+)
 from kinplan.model.arm import Arm
 
 logger = logging.getLogger(__name__)
@@ -191,10 +198,18 @@ class ClosedFormIK:
     def _distinct(self, raw: np.ndarray) -> np.ndarray:
         """The rows of ``raw`` (S, nq) that have an equivalent within the limits, each once, as
         the equivalent nearest mid-range."""
+        from kinplan.ik import spherical_wrist_kernel  # numba loads with the first call
+
+        if spherical_wrist_kernel.available():
+            out = np.empty(raw.shape)
+            kept = spherical_wrist_kernel.distinct(
+                np.ascontiguousarray(raw, dtype=float), self._middle, self.lower, self.upper, out
+            )
+            return out[:kept]
         canonical = wrap_near(raw, self._middle, self.lower, self.upper)
         found = canonical[np.all(np.isfinite(canonical), axis=1)]
         gap = np.abs(wrap_angle(found[:, None, :] - found[None, :, :])).max(axis=-1)
-        repeated = np.triu(gap <= 1e-9, k=1).any(axis=0)  # equal to an earlier row
+        repeated = np.triu(gap <= DISTINCT_TOL, k=1).any(axis=0)  # equal to an earlier row
         return found[~repeated]
 
     def nearest(

@@ -31,6 +31,9 @@ STRUCTURE_TOL = 1e-9
 #: Joint values this far outside a limit [rad] are accepted and clipped onto it.
 LIMIT_TOL = 1e-12
 
+#: Two solutions of a pose closer than this [rad, every joint, modulo 2π] are one.
+DISTINCT_TOL = 1e-9
+
 #: Tolerance [m, rad] for the out-of-plane offset and the orientation of a planar 2R target.
 PLANAR_TOL = 1e-9
 
