@@ -152,18 +152,13 @@ class SphericalWristIK(ClosedFormIK):
         if self._compiled and rotation is not None:
             position = np.asarray(position, dtype=float)
             rotation = np.asarray(rotation, dtype=float)
-            if (
-                position.shape == (3,)
-                and rotation.shape == (3, 3)
-                and np.isfinite(position.sum() + rotation.sum())
-            ):
-                raw, ok = np.empty((8, 6)), np.empty(8, dtype=bool)
-                self._kernel.branches(
-                    self._constants, position, rotation, self._neutral, raw, ok,
-                    np.empty((12, 3)), self._limits,
+            if position.shape == (3,) and rotation.shape == (3, 3):
+                found = self._kernel.solutions(
+                    self._constants, self._limits, self._middle, position, rotation,
+                    self._neutral,
                 )  # fmt: skip
-                raw[~ok] = np.nan
-                return self._distinct(raw)
+                if found is not None:  # else the checks below say what is wrong
+                    return found
         return super().solutions(position, rotation)
 
     solutions.__doc__ = ClosedFormIK.solutions.__doc__

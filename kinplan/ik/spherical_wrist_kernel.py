@@ -372,6 +372,23 @@ def pose_finite(position, rotation, ref):
 
 
 @jit
+def solutions(k, limits, middle, position, rotation, fill):
+    """Every distinct solution of one pose within the limits, each as its equivalent nearest
+    ``middle`` (:meth:`kinplan.ik.base.ClosedFormIK.solutions`: :func:`branches` then
+    :func:`distinct`, in one call): (k, 6) [rad], or None for an input with a NaN or inf (the
+    caller reports it). ``fill`` [rad] (6,): the values of joints free at a singularity."""
+    if not pose_finite(position, rotation, fill):
+        return None
+    raw, ok = np.empty((8, 6)), np.empty(8, dtype=np.bool_)
+    branches(k, position, rotation, fill, raw, ok, np.empty((12, 3)), limits)
+    for b in range(8):
+        if not ok[b]:
+            raw[b, :] = np.nan
+    out = np.empty((8, 6))
+    return out[: distinct(raw, middle, limits[0], limits[1], out)]
+
+
+@jit
 def nearest(k, limits, position, rotation, ref, out):
     """The solution nearest ``ref`` [rad] (6,) written into ``out``; returns its branch, −1
     when no branch has a solution within the limits, :data:`NOT_FINITE` for an input with a

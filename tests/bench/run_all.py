@@ -29,6 +29,7 @@ SCRIPTS = [
     ("Start-up of the console command", ["bench_startup.py"]),
     ("Industrial arms beside rtb", ["bench_industrial_ik.py", "--synthetic"]),
     ("Completeness of the 1-D search", ["bench_1d_search_completeness.py"]),
+    ("Closed forms beside IK-Geo", ["bench_ikgeo.py"]),
     ("Seam planning with a free roll", ["bench_seam.py"]),
     ("Collision-free transit moves beside OMPL", ["bench_free_motion.py"]),
 ]
