@@ -765,6 +765,17 @@ def _grown(array, capacity):
     return out
 
 
+@inline
+def _halved(width, left, right, reached, turns, i, j):
+    """Whether the interval of samples i, j (``width`` rows of CIRCLE wide, its neighbours
+    ``left`` and ``right``) is to be halved (:func:`_refined`)."""
+    return width > 1 and (
+        width > GRADE * min(left, right)
+        or (width > EDGE_ROWS and _leaves_reach(reached, i, j))
+        or _least_turn(1.0, reached, turns, i, j) < COS_TURN
+    )
+
+
 @jit
 def _refined(k, pre, fill, values, reached, turns):
     """The SAMPLES uniform samples refined where they are too sparse: an interval is halved
@@ -774,8 +785,11 @@ def _refined(k, pre, fill, values, reached, turns):
     MAX_SAMPLES. The samples elsewhere stay as they are: a Fanuc CRX-10iA pose whose branch
     angles turn fast near one θ6 used to sample the whole turn as densely as there (up to
     2,048 samples where a few dozen more do). Each pass decides its halvings on the samples
-    before it; the samples are kept in a list linked in the order of θ6 (a new one appended,
-    none moved) and gathered in order once at the end.
+    before it; the samples are kept in a list linked both ways in the order of θ6 (a new one
+    appended, none moved) and gathered in order once at the end. The first pass looks at
+    every interval, the next ones only at those whose decision can have changed: the halves
+    of an interval halved and its two neighbours (the others' widths, neighbours and samples
+    are as before: the same decisions as a pass over all, at a fraction of the cost).
 
     Returns:
         (rows (n + 1: the samples' rows of CIRCLE, rising, the last MAX_SAMPLES: θ6 = π, the
@@ -793,34 +807,39 @@ def _refined(k, pre, fill, values, reached, turns):
     all_turns = np.empty((capacity, 4, COLUMNS))
     rows = np.empty(capacity, dtype=np.int64)
     after = np.empty(capacity, dtype=np.int64)  # the next sample in θ6 (−1 after the last)
-    split = np.zeros(capacity, dtype=np.bool_)
+    before = np.empty(capacity, dtype=np.int64)  # the one before (−1 before the first)
+    queued = np.zeros(capacity, dtype=np.bool_)  # the interval it starts is to be decided
+    check = np.empty(capacity, dtype=np.int64)  # the intervals to decide, by first sample
+    following = np.empty(capacity, dtype=np.int64)  # those of the next pass
     for i in range(n + 1):
         rows[i] = i * every
         after[i] = i + 1
+        before[i] = i - 1
         for b in range(4):
             all_values[i, b] = values[i, b]
             all_reached[i, b] = reached[i, b]
             for a in range(COLUMNS):
                 all_turns[i, b, a] = turns[i, b, a]
-    end, before_end, used = n, n - 1, n + 1  # the sample at θ6 = π, the one before it
+    end, used = n, n + 1  # the sample at θ6 = π (the first one again)
     after[end] = -1
+    for i in range(n):
+        check[i] = i
+        queued[i] = True
+    checks = n
     singular = False
     while True:
-        more = 0
-        i = 0
-        left = rows[end] - rows[before_end]  # periodic: the last interval's width
-        while i != end:
+        more = 0  # the intervals to halve, first samples into check[:more] (in place)
+        for c in range(checks):
+            i = check[c]
+            queued[i] = False
             j = after[i]
             width = rows[j] - rows[i]
+            # the neighbours, periodic: before the first, the last; after the last, the first
+            left = rows[i] - rows[before[i]] if i != 0 else rows[end] - rows[before[end]]
             right = rows[after[j]] - rows[j] if j != end else rows[after[0]] - rows[0]
-            split[i] = width > 1 and (
-                width > GRADE * min(left, right)
-                or (width > EDGE_ROWS and _leaves_reach(all_reached, i, j))
-                or _least_turn(1.0, all_reached, all_turns, i, j) < COS_TURN
-            )
-            more += split[i]
-            left = width
-            i = j
+            if _halved(width, left, right, all_reached, all_turns, i, j):
+                check[more] = i
+                more += 1
         if more == 0:
             break
         if used + more > capacity:
@@ -828,35 +847,49 @@ def _refined(k, pre, fill, values, reached, turns):
             all_values = _grown(all_values, capacity)
             all_reached = _grown(all_reached, capacity)
             all_turns = _grown(all_turns, capacity)
-            rows, after, split = (
+            rows, after, before = (
                 _grown(rows, capacity),
                 _grown(after, capacity),
-                _grown(split, capacity),
+                _grown(before, capacity),
             )
-        i = 0
-        while i != end:
+            queued, check = _grown(queued, capacity), _grown(check, capacity)
+            following = np.empty(capacity, dtype=np.int64)
+            for i in range(used, capacity):
+                queued[i] = False
+        halved = more
+        for c in range(halved):  # the halvings (the intervals' first samples stay first)
+            i = check[c]
             j = after[i]
-            if split[i]:
-                m = used
-                used += 1
-                middle = (rows[i] + rows[j]) // 2
-                c6, s6 = CIRCLE[middle, 0], CIRCLE[middle, 1]
-                free, fs, oks, ts, rooms = sample(k, pre, c6, s6, fill)
-                singular = singular or free
-                rows[m] = middle
-                for b in range(4):
-                    all_values[m, b] = fs[b]
-                    all_reached[m, b] = oks[b]
-                    all_turns[m, b, ROOM] = rooms[b]
-                t0, t1, t2, t3 = ts
-                for a in range(6):
-                    all_turns[m, 0, a], all_turns[m, 1, a] = t0[a], t1[a]
-                    all_turns[m, 2, a], all_turns[m, 3, a] = t2[a], t3[a]
-                after[i], after[m] = m, j
-                split[i] = split[m] = False
-                if j == end:
-                    before_end = m
-            i = j
+            m = used
+            used += 1
+            middle = (rows[i] + rows[j]) // 2
+            c6, s6 = CIRCLE[middle, 0], CIRCLE[middle, 1]
+            free, fs, oks, ts, rooms = sample(k, pre, c6, s6, fill)
+            singular = singular or free
+            rows[m] = middle
+            for b in range(4):
+                all_values[m, b] = fs[b]
+                all_reached[m, b] = oks[b]
+                all_turns[m, b, ROOM] = rooms[b]
+            t0, t1, t2, t3 = ts
+            for a in range(6):
+                all_turns[m, 0, a], all_turns[m, 1, a] = t0[a], t1[a]
+                all_turns[m, 2, a], all_turns[m, 3, a] = t2[a], t3[a]
+            after[i], after[m], before[m], before[j] = m, j, i, m
+            queued[m] = False
+        checks = 0  # next: the halves and their neighbours, each once (≤ the samples)
+        for c in range(halved):
+            i = check[c]
+            m = after[i]
+            j = after[m]
+            left = before[i] if i != 0 else before[end]
+            right = j if j != end else 0
+            for first in (left, i, m, right):
+                if not queued[first]:
+                    queued[first] = True
+                    following[checks] = first
+                    checks += 1
+        check, following = following, check
     count = used
     out_rows = np.empty(count, dtype=np.int64)
     out_values = np.empty((count, 4))
