@@ -876,7 +876,6 @@ def _refined(k, pre, fill, values, reached, turns):
                 all_turns[m, 0, a], all_turns[m, 1, a] = t0[a], t1[a]
                 all_turns[m, 2, a], all_turns[m, 3, a] = t2[a], t3[a]
             after[i], after[m], before[m], before[j] = m, j, i, m
-            queued[m] = False
         checks = 0  # next: the halves and their neighbours, each once (≤ the samples)
         for c in range(halved):
             i = check[c]

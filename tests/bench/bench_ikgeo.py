@@ -37,10 +37,11 @@ import numpy as np
 import pinocchio as pin
 
 import kinplan
-from kinplan.ik.screws import Screws, screws_at_zero
+from kinplan.ik.screws import Screws, line_meet, parallel, screws_at_zero
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "ik"))
 from corpus.fetch_arms import corpus_arms  # noqa: E402
+from ik_checks import contains, pose_errors  # noqa: E402
 
 #: IK-Geo's decompositions, closed forms first (its table: closed form for three intersecting
 #: or three parallel axes, a 1-D search for two, a 2-D search for the general 6R arm).
@@ -74,15 +75,10 @@ EXACT = 1e-9
 
 def _meeting_point(p: np.ndarray, u: np.ndarray, q: np.ndarray, v: np.ndarray) -> np.ndarray | None:
     """Where the lines (p, u) and (q, v) meet (within 1e-9 m), else None."""
-    w = p - q
-    b = float(u @ v)
-    denominator = 1.0 - b * b
-    if denominator < 1e-12:
+    if parallel(u, v):
         return None
-    s = (b * float(v @ w) - float(u @ w)) / denominator
-    t = (float(v @ w) - b * float(u @ w)) / denominator
-    a, c = p + s * u, q + t * v
-    return 0.5 * (a + c) if np.linalg.norm(a - c) < 1e-9 else None
+    point, gap = line_meet(p, u, q, v)
+    return point if gap < 1e-9 else None
 
 
 def geo_kinematics(screws: Screws, reverse: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -133,27 +129,25 @@ def _geo_solutions(solver, rotation: np.ndarray, position: np.ndarray, reverse: 
 
 
 def _error(robot: kinplan.Robot, q: np.ndarray, target: pin.SE3) -> float:
-    if not np.all(np.isfinite(q)):
-        return np.inf
-    pose = robot.fk(q)
-    position = float(np.linalg.norm(pose.translation - target.translation))
-    return max(position, float(np.linalg.norm(pin.log3(pose.rotation.T @ target.rotation))))
+    """The larger of the position [m] and rotation [rad] errors of ``q`` (inf if not finite)."""
+    return max(pose_errors(robot, q, target)) if np.all(np.isfinite(q)) else np.inf
 
 
 def _matches(solutions, q: np.ndarray) -> bool:
-    return any(
-        np.max(np.abs((np.asarray(s) - q + np.pi) % (2 * np.pi) - np.pi)) <= MATCH
-        for s in solutions
-    )
+    return contains(solutions, q, MATCH)
 
 
-def _distinct(solutions: list) -> list:
-    """The solutions, each once (modulo 2π, within 1e-9 rad)."""
+def _exact(robot: kinplan.Robot, solutions, target: pin.SE3) -> tuple[list, int]:
+    """The distinct solutions within EXACT of the target by kinplan's FK (each once, within
+    EXACT rad modulo 2π), and how many were farther."""
     kept: list = []
+    off = 0
     for s in solutions:
-        if not any(np.max(np.abs((s - k + np.pi) % (2 * np.pi) - np.pi)) <= EXACT for k in kept):
+        if _error(robot, s, target) > EXACT:
+            off += 1
+        elif not contains(kept, s, EXACT):
             kept.append(s)
-    return kept
+    return kept, off
 
 
 def choose_decomposition(robot, screws, qs, targets):
@@ -224,8 +218,8 @@ def bench_arm(arm, path: Path, count: int) -> dict:
     for q, target in zip(qs, targets):
         exact, ls, spent = _geo_solutions(solver, *_geo_pose(target, reverse, r0), reverse)
         geo_time += spent
-        good = _distinct([s for s in exact if _error(robot, s, target) <= EXACT])
-        geo_off += sum(1 for s in exact if _error(robot, s, target) > EXACT)
+        good, off = _exact(robot, exact, target)
+        geo_off += off
         geo_found += _matches(good, q)
         geo_count += len(good)
         geo_ls += ls
@@ -243,7 +237,7 @@ def bench_arm(arm, path: Path, count: int) -> dict:
         raw, _ = closed.all_branches(positions, rotations, fill)
         batch_time = min(batch_time, time.perf_counter() - started)
     for q, target, rows in zip(qs, targets, raw):  # every solution, limits aside, as IK-Geo's
-        good = _distinct([s for s in rows if _error(robot, s, target) <= EXACT])
+        good, _ = _exact(robot, rows, target)
         kin_found += _matches(good, q)
         kin_count += len(good)
     row.update(
