@@ -12,9 +12,15 @@ the polished idealised branches only when
 
 * no joint of the idealised arm is free (a singularity),
 * its wrist centre is farther than the window (:data:`~kinplan.ik.near_wrist_geometry.WINDOW`
-  times δ) from a boundary of the shoulder's and the elbow's reach, and its wrist is not just
-  short of a solution (there the URDF may have solutions the idealised arm has not),
-* and every branch's polish is certified.
+  times δ) from a boundary of the shoulder's reach and not outside one of an elbow's reach by
+  less, and its wrist is not just short of a solution (there the URDF may have a pair of
+  solutions the idealised arm has not),
+* every branch's polish is certified,
+* and, where the wrist centre is *inside* an elbow's reach by less than the window (the pair
+  of branches either side of the fold is close), the wrist has its two solutions at both
+  elbows (near the fold the elbow's angle, and so the wrist's, moves by far more than δ) and
+  no two polished solutions are one (:data:`APART`): each branch found its own solution of
+  the URDF.
 
 Otherwise the exact 1-D search (:mod:`~kinplan.ik.wrist_offset_kernel`, on arms whose axes 4
 and 5 meet exactly) answers it, or, without one, nobody (the caller's numerical solve).
@@ -60,6 +66,13 @@ SETTLED = 1e-8
 RESIDUAL = 1e-12
 #: How a pose was answered (returned by :func:`pose_branches`).
 POLISHED, EXACT, LEFT = 0, 1, 2
+#: Two polished solutions nearer than this [rad, per joint, modulo 2π] are one solution of the
+#: URDF that two branches reached (certified solutions are exact to 1e-12): near a boundary of
+#: reach, the pose then goes to the exact solver.
+APART = 1e-8
+#: What :func:`_certain` returns: the polish may not answer; it may; it may when no two
+#: polished solutions are one (the wrist centre inside a boundary of reach within the window).
+UNCERTAIN, CERTAIN, NEAR = 0, 1, 2
 
 #: ``rotate_cs(v, axis, c, s)`` (:mod:`kinplan.ik.panda_geometry`) compiled into its callers.
 _rotate = inline(rotate_cs)
@@ -126,12 +139,18 @@ def polish(q, position, rotation, directions, points, tool, settle, work, out):
     """Newton's method from ``q`` [rad] (6,) to the URDF's solution of the pose, into ``out``:
     whether it is certified (see the module's text).
 
+    At most three steps: the first at most :data:`DRIFT`, each next at most
+    :data:`CONTRACTION` times the one before; the polish ends after a step below
+    :data:`SETTLED` (``settle``), or where an evaluation finds the residual within
+    :data:`RESIDUAL` after the second or third step (a first step of 1e-3 rad, near a
+    singularity, leaves ~1e-11 after two).
+
     Args:
         q: A solution of the idealised arm [rad].
         position, rotation: The target in the world frame [m], (3,), (3, 3).
         directions, points, tool: The URDF's screws at q = 0 (6, 3), (6, 3) and tool (4, 4).
-        settle: Whether a second step below :data:`SETTLED` ends it (a branch away from
-            singularities); else the third evaluation checks the residual.
+        settle: Whether a step below :data:`SETTLED` ends it (a branch away from
+            singularities); else an evaluation checks the residual.
         work: Scratch space (4, 8, 8) (or more).
         out: Written with the polished solution [rad] (6,).
     """
@@ -139,26 +158,29 @@ def polish(q, position, rotation, directions, points, tool, settle, work, out):
     error, step = work[3, 0, :6], work[3, 1, :6]
     for j in range(6):
         out[j] = q[j]
-    first = 0.0
-    for iteration in range(3):
+    previous = 0.0
+    for iteration in range(4):
         screw_kinematics(out, directions, points, tool, pose, jacobian)
         miss, turn = _error(position, rotation, pose, error, spin)
-        if iteration == 2:
-            return miss <= RESIDUAL and turn <= RESIDUAL
+        if iteration >= 2:
+            if miss <= RESIDUAL and turn <= RESIDUAL:
+                return True
+            if iteration == 3 or previous <= SETTLED:  # settled (or three steps) and still off
+                return False
         if not _solve6(jacobian, error, step):
             return False
         size = 0.0
         for j in range(6):
             size = max(size, abs(step[j]))
             out[j] += step[j]
-        if not size <= DRIFT:  # also NaN
-            return False
         if iteration == 0:
-            first = size
-        elif size > CONTRACTION * first + STEP_FLOOR:
+            if not size <= DRIFT:  # also NaN
+                return False
+        elif not size <= CONTRACTION * previous + STEP_FLOOR:  # also NaN
             return False
-        elif settle and size <= SETTLED:  # quadratic convergence: the rest is rounding
+        if settle and iteration >= 1 and size <= SETTLED:  # quadratic: the rest is rounding
             return True
+        previous = size
     return False  # not reached
 
 
@@ -235,8 +257,10 @@ def pose_branches(constants, tools, limits, position, rotation, fill, raw, ok, w
             (polished, idealised costs, start, branch probe) (:func:`_nearest_polished`).
     """
     ideal, screws, exact = constants
-    certain = _certain(ideal, screws, limits, position, rotation, fill, raw, ok, work)
+    decision = _certain(ideal, screws, limits, position, rotation, fill, raw, ok, work)
+    certain = decision != UNCERTAIN
     if certain:
+        polished = 0
         for b in range(8):
             if ok[b]:
                 fragile = _is_fragile(constants, work, raw, b, newton[4, 3, :7])
@@ -244,6 +268,9 @@ def pose_branches(constants, tools, limits, position, rotation, fill, raw, ok, w
                                       newton):  # fmt: skip
                     certain = False
                     break
+                polished |= 1 << b
+        if certain and decision == NEAR:
+            certain = _apart(raw, polished)
     if certain:
         return POLISHED, False
     if screws[12, 2] != 0.0:
@@ -257,15 +284,49 @@ def pose_branches(constants, tools, limits, position, rotation, fill, raw, ok, w
 @jit
 def _certain(ideal, screws, limits, position, rotation, fill, raw, ok, work):
     """The idealised arm's branches into rows 0–7 of ``raw``, ``ok`` (rows 8 on: False);
-    whether the pose is one the polish may answer: no free joint, the wrist centre outside the
-    window of the reach's boundaries, the wrist not just short of a solution."""
+    whether the pose is one the polish may answer (:data:`UNCERTAIN`, :data:`CERTAIN` or
+    :data:`NEAR`): no free joint, the wrist centre outside the window of the shoulder's
+    boundaries and not outside an elbow's reach by less than the window (:data:`NEAR` when
+    inside it by less and every branch of that elbow has its wrist), the wrist not just short
+    of a solution."""
     singular = spherical_wrist_kernel.branches(
         ideal, position, rotation, fill, raw, ok, work, limits
     )
     for b in range(8, SLOTS):
         ok[b] = False
-    boundary = min(work[10, 0], work[10, 1], work[10, 2])
-    return not singular and boundary > screws[12, 0] and work[11, 0] > screws[12, 1]
+    if singular or not work[11, 0] > screws[12, 1]:
+        return UNCERTAIN
+    window = screws[12, 0]
+    if not work[10, 0] > window:  # a shoulder tangency amplifies the elbows' differences
+        return UNCERTAIN
+    decision = CERTAIN
+    for s in range(2):
+        if not work[10, 1 + s] > window:
+            if work[11, 1 + s] != 1.0:  # outside the elbow's reach
+                return UNCERTAIN
+            for b in range(4 * s, 4 * s + 4):  # near the fold the elbow's angle, and so what
+                if not ok[b]:  # the wrist must turn, moves by far more than δ: a wrist
+                    return UNCERTAIN  # without a solution may have one on the URDF
+            decision = NEAR
+    return decision
+
+
+@jit
+def _apart(raw, polished):
+    """Whether the rows of ``raw`` in the bit mask ``polished`` are pairwise :data:`APART`
+    (modulo 2π)."""
+    for b in range(8):
+        if not (polished >> b) & 1:
+            continue
+        for c in range(b + 1, 8):
+            if not (polished >> c) & 1:
+                continue
+            gap = 0.0
+            for j in range(6):
+                gap = max(gap, abs(_wrap(raw[b, j] - raw[c, j])))
+            if gap < APART:
+                return False
+    return True
 
 
 @jit
@@ -286,20 +347,24 @@ def raw_many(constants, tools, limits, positions, rotations, fills, raw, singula
 
 @jit
 def _nearest_polished(constants, tools, limits, position, rotation, ref, raw, ok, work, newton,
-                      out):  # fmt: skip
+                      out, near):  # fmt: skip
     """The nearest solution of a pose whose idealised branches are certain (see
     :func:`pose_branches`), polishing only the branches that can be nearest: every fragile
     branch; then the others in order of the idealised cost, until the next one's cost, less
     the most a polish of DRIFT per joint can lower it, exceeds the best polished one's.
-    Returns (row (−1: none within the limits; −2: a polish not certified, or a branch that is
-    not fragile moved by more than ROBUST_DRIFT), mask (bit b: branch b within the limits:
-    polished rows exactly, the others as their idealised solution))."""
+    Returns (row (−1: none within the limits; −2: a polish not certified, a branch that is
+    not fragile moved by more than ROBUST_DRIFT, or, ``near`` a boundary of reach, two
+    polished solutions one), mask (bit b: branch b within the limits: polished rows exactly,
+    the others as their idealised solution)).
+
+    Near a boundary (``near``), the branches either side of its fold are fragile (within the
+    fragile distance), so polished here and compared."""
     weight = 0.0
     for j in range(6):
         weight += limits[2, j]
     reach = DRIFT * math.sqrt(weight)  # the most a polish moves a solution, weighted
     costs = newton[4, 1, :8]  # idealised costs of branches not yet polished, else inf
-    mask = 0
+    mask = polished = 0
     best, best_cost = -1, np.inf
     for b in range(8):
         costs[b] = np.inf
@@ -308,6 +373,7 @@ def _nearest_polished(constants, tools, limits, position, rotation, ref, raw, ok
         if _is_fragile(constants, work, raw, b, newton[4, 3, :7]):
             if not _polish_branch(constants, tools, position, rotation, raw, b, True, newton):
                 return -2, 0
+            polished |= 1 << b
             exact = branch_cost(raw, b, limits, ref, 0.0)
             if exact < np.inf:
                 mask |= 1 << b
@@ -334,6 +400,8 @@ def _nearest_polished(constants, tools, limits, position, rotation, ref, raw, ok
             mask &= ~(1 << b)
         if exact < best_cost or (exact == best_cost and b < best):
             best, best_cost = b, exact
+    if near and not _apart(raw, polished):
+        return -2, 0
     if best >= 0:
         for j in range(6):
             out[j] = _choice(raw[best, j], ref[j], limits[0, j], limits[1, j])
@@ -344,10 +412,12 @@ def _nearest_polished(constants, tools, limits, position, rotation, ref, raw, ok
 def _nearest(constants, tools, limits, position, rotation, ref, raw, ok, work, newton, out):
     """:func:`nearest` with its work arrays: (row, mask)."""
     ideal, screws, exact = constants
-    if _certain(ideal, screws, limits, position, rotation, ref, raw, ok, work):
+    decision = _certain(ideal, screws, limits, position, rotation, ref, raw, ok, work)
+    if decision != UNCERTAIN:
         best, mask = _nearest_polished(
-            constants, tools, limits, position, rotation, ref, raw, ok, work, newton, out
-        )
+            constants, tools, limits, position, rotation, ref, raw, ok, work, newton, out,
+            decision == NEAR,
+        )  # fmt: skip
         if best != -2:
             return best, mask
     if screws[12, 2] != 0.0:

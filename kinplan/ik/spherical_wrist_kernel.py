@@ -125,7 +125,9 @@ def branches(k, position, rotation, fill, raw, ok, work, limits):
             row 10 the distances [m] of the wrist centre from a boundary of the shoulder's
             subproblem 4, and from one of the elbow's reach for the first and the second θ1
             (inf where not computed); row 11 (the least shortfall of a wrist without a
-            solution: subproblem 2's ``rest`` < 0, inf when none, 0, 0).
+            solution: subproblem 2's ``rest`` < 0, inf when none; then 1.0 where the elbow
+            reaches for the first and the second θ1, else 0.0: row 10's elbow margin is then
+            inside the reach, not outside it).
         limits: Rows lower, upper [rad] (and weights), shape (3, 6): for θ4 at the wrist
             singularity (:func:`free_wrist`).
 
@@ -201,6 +203,7 @@ def branches(k, position, rotation, fill, raw, ok, work, limits):
         cosine = (d2 - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
         if abs(cosine) > 1.0 + CLAMP:
             continue
+        work[11, 1 + s] = 1.0  # the elbow reaches: the margin is inside its reach
         elbow = math.acos(min(max(cosine, -1.0), 1.0))
         for el in range(2):
             psi_b = (elbow if el == 0 else -elbow) + offset_b
