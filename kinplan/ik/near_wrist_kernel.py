@@ -184,6 +184,22 @@ def polish(q, position, rotation, directions, points, tool, settle, work, out):
     return False  # not reached
 
 
+@inline
+def _has_equivalents(raw, row, limits, ref):
+    """Whether every joint of row ``row`` of ``raw`` has a 2π-equivalent within the limits
+    (``branch_cost(raw, row, limits, ref, 0.0) < inf``, the same answer): a joint whose
+    limits span a turn or more always has one (and :func:`_choice`'s three candidates about
+    the reference reach it), so only the others are looked at."""
+    for j in range(6):
+        lower, upper = limits[0, j], limits[1, j]
+        if upper - lower >= TAU:
+            continue
+        value = _choice(raw[row, j], ref[j], lower, upper)
+        if value != value:  # NaN: none
+            return False
+    return True
+
+
 @jit
 def _wrap(angle):
     return angle - TAU * np.round(angle / TAU)
@@ -381,7 +397,7 @@ def _nearest_polished(constants, tools, limits, position, rotation, ref, raw, ok
                 best, best_cost = b, exact
         else:
             costs[b] = branch_cost(raw, b, limits, ref, DRIFT)
-            if branch_cost(raw, b, limits, ref, 0.0) < np.inf:
+            if _has_equivalents(raw, b, limits, ref):
                 mask |= 1 << b
     while True:
         b, low = -1, np.inf
