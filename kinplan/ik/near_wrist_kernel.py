@@ -67,11 +67,11 @@ RESIDUAL = 1e-12
 #: How a pose was answered (returned by :func:`pose_branches`).
 POLISHED, EXACT, LEFT = 0, 1, 2
 #: Two polished solutions nearer than this [rad, per joint, modulo 2π] are one solution of the
-#: URDF that two branches reached (certified solutions are exact to 1e-12): near a boundary of
-#: reach, the pose then goes to the exact solver.
+#: URDF that two branches reached (certified solutions are exact to 1e-12): inside an elbow's
+#: reach within the window, the pose then goes to the exact solver.
 APART = 1e-8
 #: What :func:`_certain` returns: the polish may not answer; it may; it may when no two
-#: polished solutions are one (the wrist centre inside a boundary of reach within the window).
+#: polished solutions are one (the wrist centre inside an elbow's reach within the window).
 UNCERTAIN, CERTAIN, NEAR = 0, 1, 2
 
 #: ``rotate_cs(v, axis, c, s)`` (:mod:`kinplan.ik.panda_geometry`) compiled into its callers.
