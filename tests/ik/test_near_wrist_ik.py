@@ -379,7 +379,7 @@ def test_inside_an_elbow_boundary_the_polish_answers(folder, name):
             for s in mine:
                 position_error, rotation_error = pose_errors(robot, s, target)
                 assert position_error <= 1e-12 and rotation_error <= 1e-12
-    assert near_polished >= 50, near_polished  # (98–142 of the arms here; the old rule: none)
+    assert near_polished >= 50, near_polished  # (98–142 poses on these arms; the old rule: 0)
 
 
 # ---------------------------------------------------------------------------- through Robot
@@ -451,7 +451,7 @@ def test_the_wrap_of_polished_angles(folder):
 #: idealised distance although, near the wrist singularity, its polish moved it by ~1 rad
 #: (now: such a fragile branch is always polished). Without, the polish was certified with a
 #: pair of solutions missing, 10–22 arm differences from a shoulder tangency (now: a window of
-#: 100 differences). The last four (a fuzz of 300 arms near the elbow's boundaries, when the
+#: 100 differences). The last four (a fuzz of 200 arms near the elbow's boundaries, when the
 #: polish first answered inside them): the idealised elbow inside its reach by 0.01–20
 #: differences but a wrist without a solution there, where the URDF has a pair (near the
 #: fold the elbow's angle, and so the wrist's, moves by far more than the difference; now:
