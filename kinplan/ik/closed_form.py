@@ -138,7 +138,7 @@ def _six_joint_form(
     lower, upper = robot.lower, robot.upper
     geometry = ur_geometry(screws)
     if geometry is not None:
-        ur = URIK(geometry, lower, upper, weights)
+        ur = URIK(geometry, lower, upper, weights, screws=screws)
         description = "closed form: UR family (axes 2 ∥ 3 ∥ 4)"
         if ur._fast is None:
             description += ", without the single-pose fast path (axes not orthonormal)"

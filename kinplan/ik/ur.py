@@ -94,7 +94,10 @@ class URIK(ClosedFormIK):
     (:meth:`_fast_raw`, :meth:`_nearest_fast`), with the answer of the vectorised path
     (:meth:`_nearest_batch_path`) to 1e-9 rad; near singularities, for a geometry whose axes
     are not orthonormal to ``_FAST_DEFECT`` and for negative weights they use the vectorised
-    path itself. Limits and weights are read once, at construction. With numba (and not
+    path itself. Between EXACT_DEFECT and FAST_DEFECT (π/2 written rounded), given the URDF's
+    screws, :meth:`solutions` polishes the fast path's rows by Newton's method on them
+    (:meth:`_polished`), the vectorised path where a polish is not certified. Limits and
+    weights are read once, at construction. With numba (and not
     ``KINPLAN_JIT=0``) :meth:`nearest`, :meth:`nearest_many` and :meth:`branch_many` run the
     same formulas compiled (:mod:`~kinplan.ik.ur_kernel`: the same answers to ~1e-15 rad, the
     same branches and left poses); the plain-float and numpy code is then the fallback.
@@ -112,9 +115,20 @@ class URIK(ClosedFormIK):
         lower: np.ndarray,
         upper: np.ndarray,
         weights: np.ndarray | None = None,
+        screws: Screws | None = None,
     ) -> None:
         super().__init__(lower, upper, weights)
         self.geometry = geometry
+        #: The URDF's joint screws and tool pose at q = 0 (world frame), when given: a
+        #: geometry within FAST_DEFECT of orthonormal then lists its solutions by the fast path,
+        #: each Newton-polished on them (:meth:`_polished`).
+        self._screws = None
+        if screws is not None:
+            self._screws = (
+                np.ascontiguousarray(screws.directions, dtype=float),
+                np.ascontiguousarray(screws.points, dtype=float),
+                np.ascontiguousarray(screws.tool.homogeneous, dtype=float),
+            )
         self._fast = _ur_fast_constants(geometry)
         #: The fast path is exact (else only ``nearest`` takes it, see EXACT_DEFECT).
         self._fast_exact = fast_defect(geometry) <= EXACT_DEFECT
@@ -133,16 +147,42 @@ class URIK(ClosedFormIK):
 
     # ------------------------------------------------------------ single pose, plain floats
     def solutions(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
-        if self._fast is not None and self._fast_exact:
+        if self._fast is not None and (self._fast_exact or self._screws is not None):
             try:
                 raw = self._fast_all_branches(position, rotation)
             except NeedsBatch:
                 pass
             else:
-                return self._distinct(raw)
+                if self._fast_exact or self._polished(raw, position, rotation):
+                    return self._distinct(raw)
         return super().solutions(position, rotation)
 
     solutions.__doc__ = ClosedFormIK.solutions.__doc__
+
+    def _polished(self, raw: np.ndarray, position: np.ndarray, rotation: np.ndarray | None) -> bool:
+        """Each row of ``raw`` (8, 6) [rad] (NaN: no solution) polished in place by Newton's
+        method on the URDF's screws (:func:`kinplan.ik.near_wrist_kernel.polish`: first step
+        ≤ 1e-2 rad, each next ≤ 1e-2 of the one before, residual ≤ 1e-12 m and rad); whether
+        every row was. The fast path assumes orthonormal axes; a geometry up to FAST_DEFECT
+        from them (π/2 written rounded) misses the pose by ~1e-10, which one step removes."""
+        from kinplan.ik import near_wrist_kernel  # numba loads with the first solver
+
+        if self._screws is None or rotation is None or not near_wrist_kernel.available():
+            return False
+
+        directions, points, tool = self._screws
+        position = np.ascontiguousarray(position, dtype=float)
+        rotation = np.ascontiguousarray(rotation, dtype=float)
+        work, out = np.empty((5, 8, 8)), np.empty(6)
+        for row in raw:
+            if np.isnan(row[0]):
+                continue
+            if not near_wrist_kernel.polish(
+                row, position, rotation, directions, points, tool, False, work, out
+            ):
+                return False
+            row[:] = out
+        return True
 
     def nearest(
         self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray
