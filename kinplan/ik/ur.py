@@ -130,7 +130,8 @@ class URIK(ClosedFormIK):
                 np.ascontiguousarray(screws.tool.homogeneous, dtype=float),
             )
         self._fast = _ur_fast_constants(geometry)
-        #: The fast path is exact (else only ``nearest`` takes it, see EXACT_DEFECT).
+        #: The fast path is exact (else ``nearest`` takes it, and ``solutions`` only polished
+        #: on the URDF's screws, see EXACT_DEFECT).
         self._fast_exact = fast_defect(geometry) <= EXACT_DEFECT
         self._limits = (tuple(self.lower.tolist()), tuple(self.upper.tolist()))
         self._weight_floats = tuple(self.weights.tolist())

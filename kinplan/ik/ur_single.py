@@ -44,7 +44,8 @@ FAST_WRIST = 1e-4
 FAST_DEFECT = 1e-9
 #: Below this defect the fast path is exact to rounding; above it (up to FAST_DEFECT)
 #: :meth:`URIK.solutions <kinplan.ik.ur.URIK.solutions>`, which lists every branch to be
-#: checked, takes the vectorised path (exact for any axes), and only ``nearest`` the fast one.
+#: checked, takes the fast path only with each row Newton-polished on the URDF's screws (else
+#: the vectorised path, exact for any axes); ``nearest`` takes the fast one as it is.
 EXACT_DEFECT = 1e-12
 
 
