@@ -45,13 +45,6 @@ NEAR_ANGLE = 1e-4
 #: missed a solution of the URDF had its wrist centre outside a boundary (at most 95
 #: differences, beside a shoulder tangency).
 WINDOW = 100.0
-#: The most a polish may move a solution that is not *fragile* [rad, per joint]: a branch
-#: nearer a singularity than this allows (the wrist centre within 2·difference/ROBUST_DRIFT
-#: of axis 1's boundary or the elbow's, or the wrist's sine below
-#: 4·difference/(ROBUST_DRIFT·shorter link)) is fragile. The nearest-solution search skips
-#: only branches that are not fragile, by their idealised distance; a polish that moves one
-#: further sends the pose to the exact solver.
-ROBUST_DRIFT = 5e-3
 #: Least shortfall of the idealised wrist (subproblem 2 without a solution, for wrists whose
 #: axes are not perpendicular) under which the exact solver decides, for the same reason.
 WRIST_WINDOW = 1e-3
@@ -81,21 +74,27 @@ class NearWristGeometry:
 
     def constants(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The geometry packed for :mod:`~kinplan.ik.near_wrist_kernel`: (the idealised arm's
-        spherical-wrist constants (22, 3); the URDF's screws (14, 3): rows 0–5 axes, 6–11
-        points, 12 (window [m], wrist window, 1.0 when there is an exact solver), 13 (the
-        distance [m] from a boundary and the wrist's sine under which a branch is fragile,
-        0); the exact solver's constants (36, 3), zeros without one)."""
-        shorter = min(float(np.hypot(*self.ideal.r23)), float(np.hypot(*self.ideal.r3c)))
+        spherical-wrist constants (22, 3); the URDF's screws and what the kernel's estimate
+        of a polish's move reads (16, 3): rows 0–5 axes, 6–11 points, 12 (window [m], wrist
+        window, 1.0 when there is an exact solver), 13 (the difference [m], the rotation part
+        of it [rad] (axis 3 turned), 0), 14 (the idealised elbow's two lengths [m] and the
+        angle [rad] between them at θ3 = 0, as the closed form's), 15 (the unit normal of the
+        idealised axes 4 and 5 at q = 0); the exact solver's constants (36, 3), zeros without
+        one)."""
+        ideal = self.ideal
+        normal = np.cross(ideal.axes[3], ideal.axes[4])
         screws = np.vstack(
             [
                 self.screws.directions,
                 self.screws.points,
                 [WINDOW * self.difference, WRIST_WINDOW, float(self.exact is not None)],
+                [self.difference, math.pi * self.turn, 0.0],
                 [
-                    2.0 * self.difference / ROBUST_DRIFT,
-                    4.0 * self.difference / (ROBUST_DRIFT * shorter),
-                    0.0,
+                    float(np.hypot(*ideal.r23)),
+                    float(np.hypot(*ideal.r3c)),
+                    math.atan2(ideal.r23[1], ideal.r23[0]) - math.atan2(ideal.r3c[1], ideal.r3c[0]),
                 ],
+                normal / np.linalg.norm(normal),
             ]
         )
         exact = np.zeros((36, 3)) if self.exact is None else self.exact.constants()

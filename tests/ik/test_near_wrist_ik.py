@@ -31,7 +31,7 @@ from wrist_arms import wrist_arm_urdf
 
 import kinplan
 from kinplan.compiled import screw_kinematics
-from kinplan.ik import near_wrist_kernel, spherical_wrist_kernel, wrap_angle
+from kinplan.ik import near_wrist_kernel, spherical_wrist_kernel, wrap_angle, wrist_offset_kernel
 from kinplan.ik.near_wrist import NearWristIK
 from kinplan.ik.near_wrist_geometry import NEAR_LENGTH, near_wrist_geometry
 from kinplan.ik.screws import screws_at_zero
@@ -325,6 +325,64 @@ def test_the_limits_check_of_a_branch_not_polished():
         assert near_wrist_kernel._has_equivalents(raw, 0, limits, ref) == expected
         without += not expected
     assert 2000 < without < 18000, without
+
+
+def _sensitive_configurations(robot: kinplan.Robot, rng: np.random.Generator, count: int):
+    """Random configurations, every third with the elbow 1e-4–0.3 rad from straight or folded
+    and every third with θ5 as far from 0 or ±π (where the branches' estimates grow)."""
+    ideal = robot.closed_form_ik.geometry.ideal.constants()
+    offset = np.arctan2(ideal[17, 1], ideal[17, 0]) - np.arctan2(ideal[18, 1], ideal[18, 0])
+    qs = np.array([robot.random_configuration(rng) for _ in range(count)])
+    near = rng.choice([-1.0, 1.0], count) * 10.0 ** rng.uniform(-4.0, -0.5, count)
+    folds = ideal[16, 1] * (offset + np.pi * rng.integers(0, 2, count))
+    qs[1::3, 2] = wrap_angle(folds + near)[1::3]
+    qs[2::3, 4] = (np.pi * rng.integers(-1, 2, count) + near)[2::3]
+    return np.clip(qs, robot.lower, robot.upper)
+
+
+@pytest.mark.parametrize("name", [a[0] for a in EXACT])
+def test_the_estimate_bounds_how_far_a_polish_moves(folder, name):
+    """The nearest-solution search skips a branch that is not fragile by its idealised cost
+    less MOVE_BOUND times its estimated move: over 1,500 configurations per arm (a third near
+    the elbow's folds, a third near the wrist singularity), every idealised branch that is not
+    fragile has a solution of the exact 1-D search within that bound, and its certified polish
+    moves it by at most 1.5 times the estimate (here 0.05–0.24; the fuzz of 1.2 million
+    branches: 1.24)."""
+    robot = robot_of(name, folder)
+    solver = robot.closed_form_ik
+    ideal, screws, exact = solver._constants
+    tool = solver._tool[0]
+    rng = np.random.default_rng(83)
+    qs = _sensitive_configurations(robot, rng, 1500)
+    positions, rotations = poses(robot, qs)
+    slots = near_wrist_kernel.SLOTS
+    raw, ok, work = np.empty((slots, 6)), np.empty(slots, dtype=bool), np.empty((12, 3))
+    theirs, found = np.empty_like(raw), np.empty_like(ok)
+    newton, out = np.empty((5, 8, 8)), np.empty(6)
+    checked = fragile = 0
+    worst = 0.0
+    for position, rotation, q in zip(positions, rotations, qs):
+        rotation = np.ascontiguousarray(rotation)
+        decision = near_wrist_kernel._certain(ideal, screws, solver._limits, position, rotation,
+                                              q, raw, ok, work)  # fmt: skip
+        if decision == near_wrist_kernel.UNCERTAIN:
+            continue
+        wrist_offset_kernel.branches(exact, solver._tool[1], position, rotation, q, theirs, found)
+        solutions = theirs[found]
+        for b in np.flatnonzero(ok[:8]):
+            bound = near_wrist_kernel._fragile_bound(ideal, screws, work, raw, b)
+            if bound == np.inf:
+                fragile += 1
+                continue
+            checked += 1
+            gaps = np.abs(wrap_angle(solutions - raw[b])).max(axis=1)
+            assert gaps.min() <= bound, (q, b, gaps.min(), bound)
+            if near_wrist_kernel.polish(raw[b].copy(), position, rotation, screws[0:6],
+                                        screws[6:12], tool, False, newton, out):  # fmt: skip
+                moved = np.abs(wrap_angle(out - raw[b])).max()
+                worst = max(worst, moved / (bound / near_wrist_kernel.MOVE_BOUND))
+    assert worst <= 1.5, worst
+    assert checked >= 4000, (checked, fragile)  # 4,880–8,566 (fragile 1,022–5,744)
 
 
 def _elbow_boundary_poses(robot: kinplan.Robot, rng: np.random.Generator, count: int):
