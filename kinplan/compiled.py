@@ -114,7 +114,7 @@ def product(a, b):
 
 
 @jit
-def screw_kinematics(q, directions, points, tool, pose, jacobian):
+def screw_kinematics(q, directions, points, tool, pose, jacobian, trig=None):
     """Tool pose (4, 4) and LOCAL_WORLD_ALIGNED Jacobian (6, nq) at ``q`` [rad] by the product
     of exponentials T(q) = exp(S1 q1) ⋯ exp(Sn qn) M of the joint screws at q = 0 (unit axes
     ``directions`` through ``points`` [m], tool pose ``tool`` at q = 0), written into ``pose``
@@ -122,7 +122,9 @@ def screw_kinematics(q, directions, points, tool, pose, jacobian):
 
     The running rotation and translation are kept in numbers, not arrays (no allocation, no
     reference counts: this runs once an iteration of the numerical IK): per joint the
-    Rodrigues rotation, then the running rotation times it as :func:`product_into` sums."""
+    Rodrigues rotation, then the running rotation times it as :func:`product_into` sums.
+    ``trig`` (nq, 2), if given, holds cos qᵢ and sin qᵢ (a Newton polish updates them by its
+    small steps instead of calling them again; compiled apart from the call without it)."""
     nq = q.shape[0]
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
     t0 = t1 = t2 = 0.0
@@ -136,7 +138,10 @@ def screw_kinematics(q, directions, points, tool, pose, jacobian):
         jacobian[0, i] = r00 * px + r01 * py + r02 * pz + t0
         jacobian[1, i] = r10 * px + r11 * py + r12 * pz + t1
         jacobian[2, i] = r20 * px + r21 * py + r22 * pz + t2
-        c, s = np.cos(q[i]), np.sin(q[i])
+        if trig is None:
+            c, s = np.cos(q[i]), np.sin(q[i])
+        else:
+            c, s = trig[i, 0], trig[i, 1]
         t = 1.0 - c
         s00, s01, s02 = c + x * x * t, x * y * t - z * s, x * z * t + y * s
         s10, s11, s12 = y * x * t + z * s, c + y * y * t, y * z * t - x * s

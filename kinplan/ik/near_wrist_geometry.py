@@ -74,27 +74,17 @@ class NearWristGeometry:
 
     def constants(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The geometry packed for :mod:`~kinplan.ik.near_wrist_kernel`: (the idealised arm's
-        spherical-wrist constants (22, 3); the URDF's screws and what the kernel's estimate
-        of a polish's move reads (16, 3): rows 0–5 axes, 6–11 points, 12 (window [m], wrist
-        window, 1.0 when there is an exact solver), 13 (the difference [m], the rotation part
-        of it [rad] (axis 3 turned), 0), 14 (the idealised elbow's two lengths [m] and the
-        angle [rad] between them at θ3 = 0, as the closed form's), 15 (the unit normal of the
-        idealised axes 4 and 5 at q = 0); the exact solver's constants (36, 3), zeros without
+        spherical-wrist constants (22, 3); the URDF's screws (14, 3): rows 0–5 axes, 6–11
+        points, 12 (window [m], wrist window, 1.0 when there is an exact solver), 13 (the
+        difference [m], its rotation part [rad] (axis 3 turned), 0), read by the kernel's
+        estimate of a polish's move; the exact solver's constants (36, 3), zeros without
         one)."""
-        ideal = self.ideal
-        normal = np.cross(ideal.axes[3], ideal.axes[4])
         screws = np.vstack(
             [
                 self.screws.directions,
                 self.screws.points,
                 [WINDOW * self.difference, WRIST_WINDOW, float(self.exact is not None)],
                 [self.difference, math.pi * self.turn, 0.0],
-                [
-                    float(np.hypot(*ideal.r23)),
-                    float(np.hypot(*ideal.r3c)),
-                    math.atan2(ideal.r23[1], ideal.r23[0]) - math.atan2(ideal.r3c[1], ideal.r3c[0]),
-                ],
-                normal / np.linalg.norm(normal),
             ]
         )
         exact = np.zeros((36, 3)) if self.exact is None else self.exact.constants()

@@ -41,9 +41,14 @@ import numpy as np
 from kinplan.compiled import inline, jit, numba, screw_kinematics
 from kinplan.ik import spherical_wrist_kernel, wrist_offset_kernel
 from kinplan.ik.numeric_kernel import log3
-from kinplan.ik.panda_geometry import rotate_cs
 from kinplan.ik.screws import TAU
-from kinplan.ik.spherical_wrist_kernel import _choice, branch_cost, nearest_of, pose_finite
+from kinplan.ik.spherical_wrist_kernel import (
+    WORK_ROWS,
+    _choice,
+    branch_cost,
+    nearest_of,
+    pose_finite,
+)
 
 #: Solution rows per pose (the exact 1-D search's; the idealised arm fills the first 8).
 SLOTS = wrist_offset_kernel.SLOTS
@@ -78,6 +83,10 @@ STEP_FLOOR = 1e-13
 SETTLED = 1e-8
 #: Largest position [m] and rotation [rad] error of a polished solution (third evaluation).
 RESIDUAL = 1e-12
+#: What the residual check leaves for rounding [m, rad]: another forward kinematics (Pinocchio's)
+#: of a polished solution differs from the polish's (cosines and sines updated by its steps) by
+#: a few units in the last place, so the polish certifies at RESIDUAL less this.
+ROUNDING = 1e-14
 #: How a pose was answered (returned by :func:`pose_branches`).
 POLISHED, EXACT, LEFT = 0, 1, 2
 #: Two polished solutions nearer than this [rad, per joint, modulo 2π] are one solution of the
@@ -87,9 +96,6 @@ APART = 1e-8
 #: What :func:`_certain` returns: the polish may not answer; it may; it may when no two
 #: polished solutions are one (the wrist centre inside an elbow's reach within the window).
 UNCERTAIN, CERTAIN, NEAR = 0, 1, 2
-
-#: ``rotate_cs(v, axis, c, s)`` (:mod:`kinplan.ik.panda_geometry`) compiled into its callers.
-_rotate = inline(rotate_cs)
 
 #: Private switch for tests and benchmarks: False makes :func:`available` False.
 ENABLED = os.environ.get("KINPLAN_JIT", "1") != "0"
@@ -148,6 +154,22 @@ def _error(position, rotation, pose, error, spin):
     )
 
 
+#: :func:`kinplan.compiled.screw_kinematics` compiled into the polish (a call would pass
+#: seven arrays, each reference-counted).
+_kinematics = screw_kinematics if numba is None else inline(screw_kinematics.py_func)
+
+
+@inline
+def _turned(c, s, step):
+    """cos(θ + step), sin(θ + step) from c = cos θ, s = sin θ: the angle sum with the step's
+    Taylor series (to step⁷ and step⁸: below 1e-17 relative for a step ≤ :data:`DRIFT`, whose
+    polish stops there); the polish's second and third evaluations call no cos or sin."""
+    t = step * step
+    sine = step * (1.0 - t / 6.0 * (1.0 - t / 20.0 * (1.0 - t / 42.0)))
+    cosine = 1.0 - t / 2.0 * (1.0 - t / 12.0 * (1.0 - t / 30.0 * (1.0 - t / 56.0)))
+    return c * cosine - s * sine, s * cosine + c * sine
+
+
 @jit
 def polish(q, position, rotation, directions, points, tool, settle, work, out):
     """Newton's method from ``q`` [rad] (6,) to the URDF's solution of the pose, into ``out``:
@@ -165,19 +187,22 @@ def polish(q, position, rotation, directions, points, tool, settle, work, out):
         directions, points, tool: The URDF's screws at q = 0 (6, 3), (6, 3) and tool (4, 4).
         settle: Whether a step below :data:`SETTLED` ends it (a branch away from
             singularities); else an evaluation checks the residual.
-        work: Scratch space (4, 8, 8) (or more).
+        work: Scratch space (4, 8, 8) (or more); ``work[3, 2:8, :2]`` holds the cosines and
+            sines of ``out``.
         out: Written with the polished solution [rad] (6,).
     """
     pose, jacobian, spin = work[0, :4, :4], work[1, :6, :6], work[2, :3, :3]
     error, step = work[3, 0, :6], work[3, 1, :6]
+    trig = work[3, 2:8, :2]  # cos, sin of out: updated by each step (see _turned)
     for j in range(6):
         out[j] = q[j]
+        trig[j, 0], trig[j, 1] = math.cos(q[j]), math.sin(q[j])
     previous = 0.0
     for iteration in range(4):
-        screw_kinematics(out, directions, points, tool, pose, jacobian)
+        _kinematics(out, directions, points, tool, pose, jacobian, trig)
         miss, turn = _error(position, rotation, pose, error, spin)
         if iteration >= 2:
-            if miss <= RESIDUAL and turn <= RESIDUAL:
+            if miss <= RESIDUAL - ROUNDING and turn <= RESIDUAL - ROUNDING:
                 return True
             if iteration == 3 or previous <= SETTLED:  # settled (or three steps) and still off
                 return False
@@ -187,6 +212,7 @@ def polish(q, position, rotation, directions, points, tool, settle, work, out):
         for j in range(6):
             size = max(size, abs(step[j]))
             out[j] += step[j]
+            trig[j, 0], trig[j, 1] = _turned(trig[j, 0], trig[j, 1], step[j])
         if iteration == 0:
             if not size <= DRIFT:  # also NaN
                 return False
@@ -220,37 +246,28 @@ def _wrap(angle):
 
 
 @jit
-def _estimate(ideal, screws, work, raw, b):
-    """How far [rad, per joint] the polish may move branch b's row of ``raw``, to first
-    order: the difference ε (``screws[13]``) moves the wrist centre, which the arm follows by
-    ε over each of its sensitivities (the wrist centre's margin from the shoulder's boundary,
-    ``work[10, 0]``; the elbow's l₁·l₂·|sin e|/r; its distance r from axis 2), and the wrist
-    turns to undo the arm's turn (and axis 3's), amplified by the inverse of the determinant
-    of its axes (axis 6 turned by θ5 about axis 5, against their normal: ``screws[15]``).
-    inf or NaN at a singularity."""
-    l1, l2, offset = screws[14, 0], screws[14, 1], screws[14, 2]
-    cosine = math.cos(ideal[16, 1] * raw[b, 2] - offset)  # of the elbow's angle (sign3·θ3)
-    reach = math.sqrt(max(l1 * l1 + l2 * l2 + 2.0 * l1 * l2 * cosine, 0.0))
-    sine = math.sqrt(max(1.0 - cosine * cosine, 0.0))
-    difference = screws[13, 0]
-    arm = difference * (1.0 / work[10, 0] + reach / (l1 * l2 * sine) + 1.0 / reach)
-    h5, h6, normal = ideal[4], ideal[5], screws[15]
-    x, y, z = _rotate(  # R(h5, θ5) h6, in scalars (inlined: no arrays passed)
-        (h6[0], h6[1], h6[2]), (h5[0], h5[1], h5[2]), math.cos(raw[b, 4]), math.sin(raw[b, 4])
-    )
-    determinant = abs(normal[0] * x + normal[1] * y + normal[2] * z)
+def _estimate(screws, work, b):
+    """How far [rad, per joint] the polish may move branch b, to first order: the difference
+    ε (``screws[13]``) moves the wrist centre, which the arm follows by ε times its
+    sensitivities (1/m of the shoulder's margin ``work[10, 0]``, the elbow's and axis 2's
+    ``work[12]``), and the wrist turns to undo the arm's turn (and axis 3's), amplified by
+    the inverse of the determinant of its axes (``work[13:15]``; see
+    :func:`~kinplan.ik.spherical_wrist_kernel.branches`). inf or NaN at a singularity."""
+    shoulder, elbow = b // 4, (b // 2) % 2
+    arm = screws[13, 0] * (1.0 / work[10, 0] + work[12, shoulder])
+    determinant = work[13 + shoulder, elbow]
     return arm + WRIST_GAIN * (screws[13, 1] + SQRT3 * arm) / determinant
 
 
 @jit
-def _fragile_bound(ideal, screws, work, raw, b):
+def _fragile_bound(screws, work, b):
     """The most a polish may move branch b [rad, per joint] (:data:`MOVE_BOUND` times
     :func:`_estimate`), or inf when it is fragile: estimated beyond :data:`FRAGILE_MOVE`, or
     its elbow inside its reach within the window (the pair either side of the fold are
     polished and compared)."""
     if not work[10, 1 + b // 4] > screws[12, 0]:
         return np.inf
-    estimate = _estimate(ideal, screws, work, raw, b)
+    estimate = _estimate(screws, work, b)
     if not estimate <= FRAGILE_MOVE:  # also NaN
         return np.inf
     return MOVE_BOUND * estimate
@@ -288,7 +305,8 @@ def pose_branches(constants, tools, limits, position, rotation, fill, raw, ok, w
         position, rotation: The target in the world frame [m], (3,), (3, 3).
         fill: Values [rad] (6,) of joints free at a singularity.
         raw, ok: Written.
-        work: Scratch space (12, 3) for the idealised closed form.
+        work: Scratch space (WORK_ROWS, 3) for the idealised closed form
+            (:data:`~kinplan.ik.spherical_wrist_kernel.WORK_ROWS`).
         newton: Scratch space (5, 8, 8) for the polish: rows 0–3 Newton's method's, row 4
             (polished, idealised costs, start, branch probe) (:func:`_nearest_polished`).
     """
@@ -299,7 +317,7 @@ def pose_branches(constants, tools, limits, position, rotation, fill, raw, ok, w
         polished = 0
         for b in range(8):
             if ok[b]:
-                bound = _fragile_bound(ideal, screws, work, raw, b)
+                bound = _fragile_bound(screws, work, b)
                 if not _polish_branch(constants, tools, position, rotation, raw, b, bound,
                                       newton):  # fmt: skip
                     certain = False
@@ -370,7 +388,7 @@ def raw_many(constants, tools, limits, positions, rotations, fills, raw, singula
     """:func:`pose_branches` of many poses: ``raw`` (N, SLOTS, 6) [rad] with NaN rows where no
     solution, ``singular`` (N,)."""
     ok = np.empty(SLOTS, dtype=np.bool_)
-    work, newton = np.empty((12, 3)), np.empty((5, 8, 8))
+    work, newton = np.empty((WORK_ROWS, 3)), np.empty((5, 8, 8))
     for n in range(positions.shape[0]):
         _, singular[n] = pose_branches(
             constants, tools, limits, positions[n], rotations[n], fills[n], raw[n], ok, work,
@@ -395,7 +413,7 @@ def _nearest_polished(constants, tools, limits, position, rotation, ref, raw, ok
 
     Near a boundary (``near``), the branches of that elbow are fragile, so polished here and
     compared."""
-    ideal, screws, _ = constants
+    _, screws, _ = constants
     weight = 0.0
     for j in range(6):
         weight += limits[2, j]
@@ -407,7 +425,7 @@ def _nearest_polished(constants, tools, limits, position, rotation, ref, raw, ok
         lows[b] = np.inf
         if not ok[b]:
             continue
-        bound = _fragile_bound(ideal, screws, work, raw, b)
+        bound = _fragile_bound(screws, work, b)
         if bound == np.inf:
             if not _polish_branch(constants, tools, position, rotation, raw, b, bound, newton):
                 return -2, 0
@@ -476,8 +494,8 @@ def nearest(constants, tools, limits, position, rotation, ref, out):
     raw = np.empty((SLOTS, 6))
     ok = np.empty(SLOTS, dtype=np.bool_)
     best, _ = _nearest(
-        constants, tools, limits, position, rotation, ref, raw, ok, np.empty((12, 3)),
-        np.empty((5, 8, 8)), out,
+        constants, tools, limits, position, rotation, ref, raw, ok,
+        np.empty((WORK_ROWS, 3)), np.empty((5, 8, 8)), out,
     )  # fmt: skip
     return best
 
@@ -489,7 +507,7 @@ def nearest_many(constants, tools, limits, positions, rotations, refs, q, row, m
     raw = np.empty((SLOTS, 6))
     ok = np.empty(SLOTS, dtype=np.bool_)
     out = np.empty(6)
-    work, newton = np.empty((12, 3)), np.empty((5, 8, 8))
+    work, newton = np.empty((WORK_ROWS, 3)), np.empty((5, 8, 8))
     for n in range(positions.shape[0]):
         best, bits = _nearest(
             constants, tools, limits, positions[n], rotations[n], refs[n], raw, ok, work,

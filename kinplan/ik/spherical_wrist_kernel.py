@@ -27,6 +27,8 @@ from kinplan.ik.subproblems import FREE_ROOM
 #: What :func:`nearest` returns for an input with a NaN or inf (the caller reports it).
 NOT_FINITE = -2
 
+#: Rows of :func:`branches`' scratch space ``work`` (WORK_ROWS, 3).
+WORK_ROWS = 15
 #: Private switch for tests and benchmarks: False makes :func:`available` False.
 ENABLED = os.environ.get("KINPLAN_JIT", "1") != "0"
 
@@ -120,14 +122,22 @@ def branches(k, position, rotation, fill, raw, ok, work, limits):
         rotation: Tool rotation in the world frame (3, 3).
         fill: Values [rad] (6,) of joints that are free at a singularity (θ1, θ2, θ4 only).
         raw, ok: Written.
-        work: Scratch space, shape (12, 3); rows 10 and 11 are written with the pose's
-            margins from the branches' boundaries, read by :mod:`~kinplan.ik.near_wrist_kernel`:
+        work: Scratch space, shape (:data:`WORK_ROWS`, 3); rows 10–14 are written with the
+            pose's margins from the branches' boundaries and its sensitivities, read by
+            :mod:`~kinplan.ik.near_wrist_kernel`:
             row 10 the distances [m] of the wrist centre from a boundary of the shoulder's
             subproblem 4, and from one of the elbow's reach for the first and the second θ1
             (inf where not computed); row 11 (the least shortfall of a wrist without a
             solution: subproblem 2's ``rest`` < 0, inf when none; then 1.0 where the elbow
             reaches for the first and the second θ1, else 0.0: row 10's elbow margin is then
-            inside the reach, not outside it).
+            inside the reach, not outside it); row 12 (for the first and
+            the second θ1, how much the arm turns per metre the wrist centre moves, from the
+            elbow and from axis 2: r/(l₁·l₂·|sin e|) + 1/r [1/m], r the wrist centre's
+            distance from axis 2 and e the elbow's angle; inf where the elbow does not reach);
+            rows 13 and 14 (for the first and the second θ1, of the two elbows: the
+            determinant of the wrist's axes 4, 5, 6 turned by θ5, the same for both wrists,
+            |(h₄ × h₅)/|h₄ × h₅| · R(h₅, θ5) h₆| = √rest of subproblem 2, NaN where the wrist
+            has no solution).
         limits: Rows lower, upper [rad] (and weights), shape (3, 6): for θ4 at the wrist
             singularity (:func:`free_wrist`).
 
@@ -160,7 +170,7 @@ def branches(k, position, rotation, fill, raw, ok, work, limits):
     rhs = lateral - hk * kp
     margins = work[10]
     margins[0] = abs(radius - abs(rhs))
-    margins[1] = margins[2] = work[11, 0] = np.inf
+    margins[1] = margins[2] = work[11, 0] = work[12, 0] = work[12, 1] = np.inf
     work[11, 1] = work[11, 2] = 0.0
     if radius < FREE_TOL:
         if abs(rhs) > FREE_ROOM:
@@ -204,6 +214,8 @@ def branches(k, position, rotation, fill, raw, ok, work, limits):
         if abs(cosine) > 1.0 + CLAMP:
             continue
         work[11, 1 + s] = 1.0  # the elbow reaches: the margin is inside its reach
+        sine = math.sqrt(max(1.0 - cosine * cosine, 0.0))
+        work[12, s] = reach / (l1 * l2 * sine) + 1.0 / reach
         elbow = math.acos(min(max(cosine, -1.0), 1.0))
         for el in range(2):
             psi_b = (elbow if el == 0 else -elbow) + offset_b
@@ -231,6 +243,7 @@ def branches(k, position, rotation, fill, raw, ok, work, limits):
             beta = (kq - c45 * kp5) / n2
             length2 = 0.5 * (_dot(h6, h6) + _dot(w6, w6))
             rest = length2 - alpha * alpha - beta * beta - 2.0 * alpha * beta * c45
+            work[13 + s, el] = math.sqrt(rest) if rest >= 0.0 else np.nan
             if rest < 0.0:
                 work[11, 0] = min(work[11, 0], -rest)
             if rest < -CLAMP * max(length2, 1e-300):
@@ -383,7 +396,7 @@ def solutions(k, limits, middle, position, rotation, fill):
     if not pose_finite(position, rotation, fill):
         return None
     raw, ok = np.empty((8, 6)), np.empty(8, dtype=np.bool_)
-    branches(k, position, rotation, fill, raw, ok, np.empty((12, 3)), limits)
+    branches(k, position, rotation, fill, raw, ok, np.empty((WORK_ROWS, 3)), limits)
     for b in range(8):
         if not ok[b]:
             raw[b, :] = np.nan
@@ -409,7 +422,7 @@ def nearest(k, limits, position, rotation, ref, out):
         return NOT_FINITE
     raw = np.empty((8, 6))
     ok = np.empty(8, dtype=np.bool_)
-    branches(k, position, rotation, ref, raw, ok, np.empty((12, 3)), limits)
+    branches(k, position, rotation, ref, raw, ok, np.empty((WORK_ROWS, 3)), limits)
     best, _ = nearest_of(raw, ok, limits, ref, out)
     return best
 
@@ -421,7 +434,7 @@ def nearest_many(k, limits, positions, rotations, refs, q, branch, mask):
     raw = np.empty((8, 6))
     ok = np.empty(8, dtype=np.bool_)
     out = np.empty(6)
-    work = np.empty((12, 3))
+    work = np.empty((WORK_ROWS, 3))
     for i in range(positions.shape[0]):
         branches(k, positions[i], rotations[i], refs[i], raw, ok, work, limits)
         best, bits = nearest_of(raw, ok, limits, refs[i], out)

@@ -158,8 +158,8 @@ def answered_by(solver: NearWristIK, target: pin.SE3) -> int:
     raw, ok = np.empty((solver.slots, 6)), np.empty(solver.slots, dtype=bool)
     kind, _ = near_wrist_kernel.pose_branches(
         solver._constants, solver._tool, solver._limits, target.translation,
-        np.ascontiguousarray(target.rotation), np.zeros(6), raw, ok, np.empty((12, 3)),
-        np.empty((5, 8, 8)),
+        np.ascontiguousarray(target.rotation), np.zeros(6), raw, ok,
+        np.empty((spherical_wrist_kernel.WORK_ROWS, 3)), np.empty((5, 8, 8)),
     )  # fmt: skip
     return int(kind)
 
@@ -356,7 +356,11 @@ def test_the_estimate_bounds_how_far_a_polish_moves(folder, name):
     qs = _sensitive_configurations(robot, rng, 1500)
     positions, rotations = poses(robot, qs)
     slots = near_wrist_kernel.SLOTS
-    raw, ok, work = np.empty((slots, 6)), np.empty(slots, dtype=bool), np.empty((12, 3))
+    raw, ok, work = (
+        np.empty((slots, 6)),
+        np.empty(slots, dtype=bool),
+        np.empty((spherical_wrist_kernel.WORK_ROWS, 3)),
+    )
     theirs, found = np.empty_like(raw), np.empty_like(ok)
     newton, out = np.empty((5, 8, 8)), np.empty(6)
     checked = fragile = 0
@@ -370,7 +374,7 @@ def test_the_estimate_bounds_how_far_a_polish_moves(folder, name):
         wrist_offset_kernel.branches(exact, solver._tool[1], position, rotation, q, theirs, found)
         solutions = theirs[found]
         for b in np.flatnonzero(ok[:8]):
-            bound = near_wrist_kernel._fragile_bound(ideal, screws, work, raw, b)
+            bound = near_wrist_kernel._fragile_bound(screws, work, b)
             if bound == np.inf:
                 fragile += 1
                 continue
@@ -414,7 +418,7 @@ def test_inside_an_elbow_boundary_the_polish_answers(folder, name):
     rng = np.random.default_rng(71)
     near_polished = 0
     raw, ok = np.empty((solver.slots, 6)), np.empty(solver.slots, dtype=bool)
-    work = np.empty((12, 3))
+    work = np.empty((spherical_wrist_kernel.WORK_ROWS, 3))
     for q in _elbow_boundary_poses(robot, rng, 2000):
         target = robot.fk(q)
         position, rotation = target.translation, np.ascontiguousarray(target.rotation)
