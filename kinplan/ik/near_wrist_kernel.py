@@ -72,6 +72,7 @@ MOVE_BOUND = 3.0
 #: The wrist's amplification, per the determinant of its axes: the least singular value of
 #: three unit columns is at least |det| / 1.5.
 WRIST_GAIN = 1.5
+#: √3: the arm's turn per radian of its three joints, at most (unit axes).
 SQRT3 = math.sqrt(3.0)
 #: Largest ratio of the second Newton step to the first of a certified polish (Kantorovich's
 #: h ≈ 2·second/first ≤ 0.02: one solution near the start, quadratic convergence).
@@ -308,7 +309,7 @@ def pose_branches(constants, tools, limits, position, rotation, fill, raw, ok, w
         work: Scratch space (WORK_ROWS, 3) for the idealised closed form
             (:data:`~kinplan.ik.spherical_wrist_kernel.WORK_ROWS`).
         newton: Scratch space (5, 8, 8) for the polish: rows 0–3 Newton's method's, row 4
-            (polished, idealised costs, start, branch probe) (:func:`_nearest_polished`).
+            (polished, lower bounds, start, move bounds) (:func:`_nearest_polished`).
     """
     ideal, screws, exact = constants
     decision = _certain(ideal, screws, limits, position, rotation, fill, raw, ok, work)
