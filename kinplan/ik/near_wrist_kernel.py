@@ -38,9 +38,9 @@ import os
 
 import numpy as np
 
-from kinplan.compiled import inline, jit, numba, screw_kinematics
+from kinplan.compiled import inline, jit, numba
 from kinplan.ik import spherical_wrist_kernel, wrist_offset_kernel
-from kinplan.ik.numeric_kernel import log3
+from kinplan.ik.numeric_kernel import kinematics, log3
 from kinplan.ik.screws import TAU
 from kinplan.ik.spherical_wrist_kernel import (
     WORK_ROWS,
@@ -155,11 +155,6 @@ def _error(position, rotation, pose, error, spin):
     )
 
 
-#: :func:`kinplan.compiled.screw_kinematics` compiled into the polish (a call would pass
-#: seven arrays, each reference-counted).
-_kinematics = screw_kinematics if numba is None else inline(screw_kinematics.py_func)
-
-
 @inline
 def _turned(c, s, step):
     """cos(θ + step), sin(θ + step) from c = cos θ, s = sin θ: the angle sum with the step's
@@ -200,7 +195,7 @@ def polish(q, position, rotation, directions, points, tool, settle, work, out):
         trig[j, 0], trig[j, 1] = math.cos(q[j]), math.sin(q[j])
     previous = 0.0
     for iteration in range(4):
-        _kinematics(out, directions, points, tool, pose, jacobian, trig)
+        kinematics(out, directions, points, tool, pose, jacobian, trig)  # inlined
         miss, turn = _error(position, rotation, pose, error, spin)
         if iteration >= 2:
             if miss <= RESIDUAL - ROUNDING and turn <= RESIDUAL - ROUNDING:

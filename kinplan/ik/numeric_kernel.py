@@ -31,8 +31,9 @@ import numpy as np
 from kinplan.compiled import inline, jit, numba, screw_kinematics
 from kinplan.ik.screws import TAU
 
-#: :func:`kinplan.compiled.screw_kinematics` inlined into the iteration (a call there passed six
-#: arrays, each with its reference count kept: see :func:`kinplan.compiled.inline`).
+#: :func:`kinplan.compiled.screw_kinematics` inlined into the iteration and the rounded
+#: wrist's polish (a call passed six arrays, each with its reference count kept: see
+#: :func:`kinplan.compiled.inline`).
 kinematics = screw_kinematics if numba is None else inline(screw_kinematics.py_func)
 
 #: Private switch for tests and benchmarks: False makes :func:`available` False.
