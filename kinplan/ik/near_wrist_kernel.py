@@ -220,6 +220,23 @@ def polish(q, position, rotation, directions, points, tool, settle, work, out):
     return False  # not reached
 
 
+@jit
+def polish_rows(raw, position, rotation, directions, points, tool):
+    """Each row of ``raw`` (S, 6) [rad] that is not NaN polished in place by :func:`polish`
+    (every polish checking its residual, ``settle`` False); whether every one was certified.
+    For arms whose closed form is exact on an idealised geometry a rounding away from the
+    URDF's (the UR family's fast path, ``URIK.solutions``). Arguments as :func:`polish`."""
+    work, out = np.empty((5, 8, 8)), np.empty(6)
+    for r in range(raw.shape[0]):
+        if raw[r, 0] != raw[r, 0]:  # NaN: no solution
+            continue
+        if not polish(raw[r], position, rotation, directions, points, tool, False, work, out):
+            return False
+        for j in range(6):
+            raw[r, j] = out[j]
+    return True
+
+
 @inline
 def _has_equivalents(raw, row, limits, ref):
     """Whether every joint of row ``row`` of ``raw`` has a 2π-equivalent within the limits

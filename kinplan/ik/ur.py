@@ -98,8 +98,8 @@ class URIK(ClosedFormIK):
     screws, :meth:`solutions` polishes the fast path's rows by Newton's method on them
     (:meth:`_polished`), the vectorised path where a polish is not certified. Limits and
     weights are read once, at construction. With numba (and not
-    ``KINPLAN_JIT=0``) :meth:`nearest`, :meth:`nearest_many` and :meth:`branch_many` run the
-    same formulas compiled (:mod:`~kinplan.ik.ur_kernel`: the same answers to ~1e-15 rad, the
+    ``KINPLAN_JIT=0``) :meth:`nearest`, :meth:`nearest_many`, :meth:`branch_many` and
+    :meth:`solutions` run the same formulas compiled (:mod:`~kinplan.ik.ur_kernel`: the same answers to ~1e-15 rad, the
     same branches and left poses); the plain-float and numpy code is then the fallback.
 
     Args:
@@ -148,7 +148,13 @@ class URIK(ClosedFormIK):
 
     # ------------------------------------------------------------ single pose, plain floats
     def solutions(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
-        if self._fast is not None and (self._fast_exact or self._screws is not None):
+        fast = self._fast is not None and (self._fast_exact or self._screws is not None)
+        if fast and self._compiled and rotation is not None:
+            position = np.asarray(position, dtype=float)
+            rotation = np.asarray(rotation, dtype=float)
+            if position.shape == (3,) and rotation.shape == (3, 3):
+                return self._compiled_solutions(position, rotation)
+        if fast:
             try:
                 raw = self._fast_all_branches(position, rotation)
             except NeedsBatch:
@@ -159,6 +165,27 @@ class URIK(ClosedFormIK):
         return super().solutions(position, rotation)
 
     solutions.__doc__ = ClosedFormIK.solutions.__doc__
+
+    def _compiled_solutions(self, position: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+        """:meth:`solutions` by the compiled fast path (:func:`~kinplan.ik.ur_kernel.branches`,
+        the rows of :meth:`_fast_all_branches`), polished on the URDF's screws when the
+        geometry is not exactly orthonormal; the vectorised path near a singularity, for a NaN
+        or inf (it reports it) and where a polish is not certified."""
+        assert self._fast is not None  # only with the fast path
+        terms = self._fast.matrix.dot(rotation.reshape(9))
+        if self._fast_exact:
+            found = self._kernel.solutions(
+                self._constants, terms, position, self._middle, self.lower, self.upper
+            )
+            if found is not None:
+                return found
+        else:
+            raw = np.empty((8, 6))
+            if self._kernel.branches(self._constants, terms, position, raw) == 0 and (
+                self._polished(raw, position, rotation)
+            ):
+                return self._distinct(raw)
+        return ClosedFormIK.solutions(self, position, rotation)
 
     def _polished(self, raw: np.ndarray, position: np.ndarray, rotation: np.ndarray | None) -> bool:
         """Each row of ``raw`` (8, 6) [rad] (NaN: no solution) polished in place by Newton's
@@ -174,16 +201,9 @@ class URIK(ClosedFormIK):
         directions, points, tool = self._screws
         position = np.ascontiguousarray(position, dtype=float)
         rotation = np.ascontiguousarray(rotation, dtype=float)
-        work, out = np.empty((5, 8, 8)), np.empty(6)
-        for row in raw:
-            if np.isnan(row[0]):
-                continue
-            if not near_wrist_kernel.polish(
-                row, position, rotation, directions, points, tool, False, work, out
-            ):
-                return False
-            row[:] = out
-        return True
+        return bool(
+            near_wrist_kernel.polish_rows(raw, position, rotation, directions, points, tool)
+        )
 
     def nearest(
         self, position: np.ndarray, rotation: np.ndarray | None, q_ref: np.ndarray

@@ -1,6 +1,7 @@
 """The UR closed form for one pose, compiled (numba): the solution nearest a reference, for
-:meth:`URIK.nearest <kinplan.ik.ur.URIK.nearest>` and its batch form ``nearest_many``, and
-one given branch of many poses for ``URIK.branch_many``.
+:meth:`URIK.nearest <kinplan.ik.ur.URIK.nearest>` and its batch form ``nearest_many``, one
+given branch of many poses for ``URIK.branch_many``, and every branch of one pose for
+``URIK.solutions`` (:func:`branches`, :func:`solutions`).
 
 A twin of the fast path of :mod:`~kinplan.ik.ur_single` and :mod:`~kinplan.ik.ur_many` (the
 same steps: θ1, θ5, θ6, the planar target, θ2–θ4, in the frames of
@@ -32,6 +33,7 @@ import numpy as np
 
 from kinplan.compiled import inline, jit, numba
 from kinplan.ik.screws import CLAMP, HALF_TURN_SAFE, LIMIT_TOL, TAU, TINY
+from kinplan.ik.spherical_wrist_kernel import distinct
 from kinplan.ik.ur_single import FAST_EDGE, FAST_WRIST, URFast
 
 #: What :func:`nearest` returns for an input with a NaN or inf (the caller reports it).
@@ -446,6 +448,73 @@ def _fill(c, terms, along, i, values):
         values[12 + r] = terms[9 + r, i] + along[r, i] - c[_P1 + r]
 
 
+@inline
+def _fill_single(c, terms, position, values):
+    """``values`` (15,) of one pose, as :func:`_fill`, with the shoulder axes' products summed
+    in the order of :func:`~kinplan.ik.ur_single.fast_shoulder` (the plain-float path's
+    roundings). ``terms``: ``URFast.matrix @ R.ravel()`` (12,); ``position`` [m] (3,)."""
+    px, py, pz = position[0], position[1], position[2]
+    for r in range(12):
+        values[r] = terms[r]
+    for r in range(3):
+        a = 3 * r
+        values[12 + r] = terms[9 + r] + c[a] * px + c[a + 1] * py + c[a + 2] * pz - c[_P1 + r]
+
+
+@jit
+def branches(c, terms, position, raw):
+    """Every branch of one pose, as ``URIK._fast_all_branches`` (its plain-float roundings):
+    row ``4·shoulder + 2·wrist + elbow`` of ``raw`` (8, 6) [rad] (any 2π representative, NaN
+    where the branch has no solution). Returns 0, :data:`LEFT` for a pose near a singularity
+    (the shoulder's or the wrist's, or any elbow straight or folded, within ``FAST_EDGE`` /
+    ``FAST_WRIST``: the all-branch path decides), :data:`NOT_FINITE` for a NaN or inf.
+    ``terms``, ``position``: as :func:`nearest`."""
+    values = np.empty(15)
+    _fill_single(c, terms, position, values)
+    total = 0.0
+    for i in range(15):
+        total += values[i]
+    if not math.isfinite(total):
+        return NOT_FINITE
+    for b in range(8):
+        for j in range(6):
+            raw[b, j] = np.nan
+    work = np.empty((12, 12))
+    status = _pose(c, values, work, True)
+    if status == _NONE:
+        return 0
+    if status == _EDGE or work[_SHOULDER, 3] < FAST_WRIST or work[_SHOULDER + 1, 3] < FAST_WRIST:
+        return LEFT
+    for pair in range(4):
+        status = _elbow(c, values, work, pair, True, True)
+        if status == _EDGE:
+            return LEFT
+        if status == _NONE:
+            continue
+        s = pair >> 1
+        for e in range(2):
+            row = 2 * pair + e
+            raw[row, 0] = work[_SHOULDER + s, 0]
+            for j in range(3):
+                raw[row, 1 + j] = work[_ANGLES, 3 * e + j]
+            raw[row, 4], raw[row, 5] = work[_WRIST + pair, 0], work[_WRIST + pair, 1]
+    return 0
+
+
+@jit
+def solutions(c, terms, position, middle, lower, upper):
+    """Every distinct solution of one pose within the limits (``URIK.solutions`` on an
+    orthonormal geometry: :func:`branches`, then
+    :func:`~kinplan.ik.spherical_wrist_kernel.distinct`), (k, 6) [rad] each as its equivalent
+    nearest ``middle``; None near a singularity or for a NaN or inf (the all-branch path
+    decides or reports it). ``terms``, ``position``: as :func:`nearest`."""
+    raw = np.empty((8, 6))
+    if branches(c, terms, position, raw) != 0:
+        return None
+    out = np.empty((8, 6))
+    return out[: distinct(raw, middle, lower, upper, out)]
+
+
 @jit
 def nearest(c, limits, terms, position, ref, out):
     """The solution nearest ``ref`` [rad] (6,) written into ``out`` (6,), as
@@ -461,12 +530,7 @@ def nearest(c, limits, terms, position, ref, out):
         ref, out: As :func:`_nearest`.
     """
     values = np.empty(15)
-    px, py, pz = position[0], position[1], position[2]
-    for r in range(12):
-        values[r] = terms[r]
-    for r in range(3):  # in the order of fast_shoulder's sums
-        a = 3 * r
-        values[12 + r] = terms[9 + r] + c[a] * px + c[a + 1] * py + c[a + 2] * pz - c[_P1 + r]
+    _fill_single(c, terms, position, values)
     refs, q = ref.reshape((1, 6)), out.reshape((1, 6))
     if not _finite(values, refs, 0):
         return NOT_FINITE

@@ -17,6 +17,7 @@ solution (the tie rule of ``near_angle``). Checked:
   raises NeedsBatch), q to 1e-12 rad (single pose, compiled vs plain floats);
 * every solution reaches its target by Pinocchio's FK to 1e-9 m and 1e-9 rad;
 * ``branch_many``: the same edge flags and NaN rows, q equal modulo 2π to 1e-12 rad;
+* ``solutions()`` compiled: the plain-float path's rows and distinct solutions to 1e-12 rad;
 * the compiled FK check of ``ik_batch`` (``BatchKinematics.errors``): the numpy pass's errors.
 """
 
@@ -252,6 +253,48 @@ def test_compiled_single_pose_equals_plain_floats(name, setting):
         # URIK.nearest itself takes the compiled path
         np.testing.assert_array_equal(solver.nearest(position, rotation, seed), out)
     assert decided > len(targets) // 3 and left_count > 0
+
+
+@pytest.mark.parametrize(("name", "setting"), CASES, ids=[f"{n}-{s}" for n, s in CASES])
+def test_compiled_solutions_equal_plain_floats(name, setting):
+    """``URIK.solutions`` compiled (``ur_kernel.branches``, then ``distinct``; polished on the
+    URDF's screws for the airo arms): the plain-float path's rows (``_fast_all_branches``,
+    the kernel leaving a pose exactly when it raises NeedsBatch, the same NaN rows) and the
+    same distinct solutions to 1e-12 rad, each at its target by Pinocchio's FK (the polish's
+    1e-12 is checked in ``test_ur_variants``; near a singularity the vectorised path answers)."""
+    solver = solver_of(name, setting)
+    targets, _, _ = poses(name, solver, seed=13 * len(name) + len(setting))
+    arm = robot(name)
+    tolerance = FK_TOL if solver._fast_exact else FK_TOL_ROUNDED  # near singularities
+    raw = np.empty((8, 6))
+    listed = left_count = 0
+    for target in targets:
+        position, rotation = target[:3, 3].copy(), target[:3, :3].copy()
+        assert solver._fast is not None
+        terms = solver._fast.matrix.dot(rotation.reshape(9))
+        status = kernel.branches(solver._constants, terms, position, raw)
+        try:
+            plain_raw = solver._fast_all_branches(position, rotation)
+        except NeedsBatch:
+            assert status == kernel.LEFT
+            left_count += 1
+        else:
+            assert status == 0
+            np.testing.assert_array_equal(np.isnan(raw), np.isnan(plain_raw))
+            np.testing.assert_allclose(raw, plain_raw, rtol=0.0, atol=TOL)
+        found = solver.solutions(position, rotation)
+        solver._compiled = False
+        try:
+            plain = solver.solutions(position, rotation)
+        finally:
+            solver._compiled = True
+        assert found.shape == plain.shape
+        np.testing.assert_allclose(found, plain, rtol=0.0, atol=TOL)
+        listed += len(found) > 0
+        for q in found:
+            position_error, rotation_error = fk_error(arm, q, target)
+            assert position_error < tolerance and rotation_error < tolerance, q
+    assert listed > len(targets) // 3 and left_count > 0
 
 
 @pytest.mark.parametrize("name", ["ur5", "ur5_welding_tool"])
