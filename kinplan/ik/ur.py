@@ -97,9 +97,9 @@ class URIK(ClosedFormIK):
     path itself. Between EXACT_DEFECT and FAST_DEFECT (π/2 written rounded), given the URDF's
     screws, :meth:`solutions` polishes the fast path's rows by Newton's method on them
     (:meth:`_polished`), the vectorised path where a polish is not certified. Limits and
-    weights are read once, at construction. With numba (and not
-    ``KINPLAN_JIT=0``) :meth:`nearest`, :meth:`nearest_many`, :meth:`branch_many` and
-    :meth:`solutions` run the same formulas compiled (:mod:`~kinplan.ik.ur_kernel`: the same answers to ~1e-15 rad, the
+    weights are read once, at construction. With numba (and not ``KINPLAN_JIT=0``)
+    :meth:`nearest`, :meth:`nearest_many`, :meth:`branch_many` and :meth:`solutions` run the
+    same formulas compiled (:mod:`~kinplan.ik.ur_kernel`: the same answers to ~1e-15 rad, the
     same branches and left poses); the plain-float and numpy code is then the fallback.
 
     Args:
