@@ -502,7 +502,7 @@ def _parallel_first(k, vx, vy, vz, a, bb, ratio, radius, dx, dy, dz, first, fill
     tx, ty, d2, cosine = _parallel_elbow(k, vx, vy, vz, cm, sm)
     margin = 1.0 + CLAMP - abs(cosine)
     if margin < 0.0:
-        return margin, margin, False, _UNUSED, _UNUSED, False, margin
+        return margin, margin, False, STAGE_2, STAGE_2, False, margin
     p0, p1, p2 = _parallel_wrist(k, dx, dy, dz, cm, sm)
     fa = fb = 0.0
     ta = tb = _UNUSED
@@ -524,7 +524,7 @@ def _meeting_first(k, ratio, yx, yy, yz, dd, dx, dy, dz, first, fill):
     c3, s3, xx, xy, xz, gx, gy, gz = _meeting_third(k, ratio, first)
     mx, my, mz, gamma2, margin = _meeting_cone(k, xx, xy, xz, yx, yy, yz, dd)
     if margin < 0.0:
-        return margin, margin, False, _UNUSED, _UNUSED, False, margin
+        return margin, margin, False, STAGE_2, STAGE_2, False, margin
     fa = fb = 0.0
     ta = tb = _UNUSED
     free = False
@@ -543,6 +543,11 @@ def _meeting_first(k, ratio, yx, yy, yz, dd, dx, dy, dz, first, fill):
 
 #: The turns of a branch that does not reach (never read).
 _UNUSED = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+#: What :func:`sample` gives as the turns of a branch that does not reach: its first entry the
+#: stage that fails (1 or 2; the search tells a corner of the margin, where the failing stage
+#: changes between two samples, by it), the rest never read.
+STAGE_1 = (1.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+STAGE_2 = (2.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 @inline
@@ -606,5 +611,5 @@ def _failed(margin):
     """What :func:`sample` returns where the first stage fails for all four branches."""
     return (
         False, (margin, margin, margin, margin), (False, False, False, False),
-        (_UNUSED, _UNUSED, _UNUSED, _UNUSED), (margin, margin, margin, margin),
+        (STAGE_1, STAGE_1, STAGE_1, STAGE_1), (margin, margin, margin, margin),
     )  # fmt: skip

@@ -9,10 +9,15 @@
    branch stops reaching, is halved until it is not (down to one of :data:`MAX_SAMPLES`, or
    :data:`EDGE_ROWS` of them at an end of reach), and no interval stays more than
    :data:`GRADE` times as wide as a neighbour. Only there: the rest of the turn keeps its
-   samples.
+   samples. An interval one row wide across which a branch angle still turns by more than
+   MAX_TURN (axis 1 passing within micrometres of the meeting point) is halved below the rows
+   for its branch alone and scanned as 2 and 3 (:func:`_fine`).
 2. **Sign changes** between samples are refined by Brent's method to :data:`ROOT_TOL`; where
    ``|f_b|`` is below :data:`FLAT` at both ends, the half without the sign change is searched
-   for a hidden pair of roots as in 3 (:func:`_crossing`).
+   for a hidden pair of roots as in 3 (:func:`_crossing`); where it is below FLAT at both
+   ends of one sign and f bends both ways about the interval (an inflection: three roots
+   close together), the interval is halved while a function with f'' as large as its
+   neighbours' could reach 0 inside (:func:`_wiggle`).
 3. **Dips.** At a local minimum of ``|f_b|`` over the samples whose parabola dips towards 0,
    or that is below :data:`FLAT` (near a singularity a pair of roots can sit in a dip much
    narrower than the samples, which the parabola through three of them does not show: a Fanuc
@@ -28,7 +33,10 @@
    reach narrower than the samples (a local maximum of the failing stage's margin rising
    towards 0) is found by golden-section ascent of the margin, a gap of reach narrower than
    the samples (a local minimum of the branch's room, its least margin, whose parabola dips
-   towards 0) by golden-section descent, and both ends of either searched so.
+   towards 0) by golden-section descent, and both ends of either searched so. Where the stage
+   that fails changes between two samples out of reach, the margin has a corner between them
+   that no parabola shows: a window is sought there too (the ascent ranks every point where
+   stage 2 fails above every point where stage 1 does).
 
 Roots are listed once per branch (within 1e-10 rad), at most ``len(roots)``.
 """
@@ -64,7 +72,8 @@ MAX_SAMPLES = 2048
 #: samples were doubled over the whole turn until every turn was below it (the Fanuc CRX-10iA:
 #: 221 samples a pose on average, up to 2,048); refined where the turn is (:func:`_refined`),
 #: 39 a pose, and the CRX's batch runs 1.9× as fast, with 4 of the family's 128,000 random
-#: configurations missed instead of 9.
+#: configurations missed instead of 9 (none since :func:`_fine`, :func:`_wiggle` and the
+#: corners of the margin; 1 of 640,000 on two other seeds).
 MAX_TURN = 0.175
 COS_TURN = math.cos(MAX_TURN)
 #: Where the samples are refined (:func:`_refined`), an interval at most GRADE times as wide as
@@ -413,6 +422,63 @@ def _flat(k, pre, fill, curve, a, fa, c, fc, roots, branch_of, count):
     return _bracket(k, pre, fill, curve, a, fa, c, fc, roots, branch_of, count)
 
 
+#: Narrowest interval :func:`_wiggle` halves [rad] (the finest samples' spacing); the
+#: intervals it holds at most.
+WIGGLE_WIDTH = TAU / MAX_SAMPLES
+WIGGLE_STACK = 64
+
+
+@inline
+def _curvature(x0, f0, x1, f1, x2, f2):
+    """f'' of the parabola through three samples (x0 < x1 < x2)."""
+    return 2.0 * ((f2 - f1) / (x2 - x1) - (f1 - f0) / (x1 - x0)) / (x2 - x0)
+
+
+@jit
+def _wiggle(k, pre, fill, curve, a, fa, c, fc, half, roots, branch_of, count):
+    """An interval where |f| is small at both ends, of one sign, with an inflection inside (the
+    parabolas through it and either neighbour bend opposite ways: f wiggles, near three roots
+    close together, which the parabola of :func:`_flat` does not show: a Comau NJ4 220-2.7
+    pose had |f| < 2e-4 at both ends and the middle of an interval 0.2 rad wide, and roots
+    0.05 rad apart in it). Halved while a function through the ends whose |f''| stays below
+    ``2·half`` (the larger of the neighbours' curvatures) could reach 0 inside, down to
+    WIGGLE_WIDTH (then :func:`_flat`); a sign change at a middle gives two roots (Brent's
+    method). The new count."""
+    stack = np.empty((WIGGLE_STACK, 4))
+    stack[0, 0], stack[0, 1], stack[0, 2], stack[0, 3] = a, fa, c, fc
+    depth = 1
+    while depth > 0:
+        depth -= 1
+        u, fu, v, fv = stack[depth, 0], stack[depth, 1], stack[depth, 2], stack[depth, 3]
+        sign = 1.0 if fu > 0.0 else -1.0
+        gu, gv, bend = sign * fu, sign * fv, half * (v - u) * (v - u)
+        # the least of gu (1 − t) + gv t − bend t (1 − t) over 0 < t < 1
+        t = (bend - (gv - gu)) / (2.0 * bend) if bend > 0.0 else -1.0
+        if not (0.0 < t < 1.0) or gu + (gv - gu - bend) * t + bend * t * t > 0.0:
+            continue
+        if v - u < WIGGLE_WIDTH or depth + 2 > WIGGLE_STACK:
+            count = _flat(k, pre, fill, curve, u, fu, v, fv, roots, branch_of, count)
+            continue
+        m = 0.5 * (u + v)
+        fm, ok = _at(k, pre, fill, curve, m)
+        if not ok:
+            continue
+        if fm == 0.0:
+            count = _add(roots, branch_of, count, curve, m, UNKNOWN)
+            continue
+        if (fm < 0.0) != (fu < 0.0):
+            root, known = _brent(k, pre, fill, curve, u, fu, m, fm)
+            count = _add(roots, branch_of, count, curve, root, known)
+            root, known = _brent(k, pre, fill, curve, m, fm, v, fv)
+            count = _add(roots, branch_of, count, curve, root, known)
+            continue
+        stack[depth, 0], stack[depth, 1], stack[depth, 2], stack[depth, 3] = m, fm, v, fv
+        depth += 1
+        stack[depth, 0], stack[depth, 1], stack[depth, 2], stack[depth, 3] = u, fu, m, fm
+        depth += 1
+    return count
+
+
 @jit
 def _crossing(k, pre, fill, curve, a, fa, c, fc, roots, branch_of, count):
     """A sign change between ``a`` and ``c`` where |f| is below FLAT at both ends: f at the
@@ -606,13 +672,22 @@ def _end_of_reach(k, pre, fill, b, inside, outside, width, roots, branch_of, cou
 
 
 @inline
-def _room(k, pre, fill, b, x):
+def _room(k, pre, fill, b, x, reaching):
     """(Whether branch b reaches at θ6 = x, its room there: the least margin of its two
-    stages where it reaches, the failing stage's where not.)"""
+    stages where it reaches, the failing stage's where not.) With ``reaching`` (a window
+    sought), the room where it does not reach is ranked by the stage that fails first: in
+    (−1, 0) where stage 2 fails, in (−2, −1) where stage 1 does, rising with the margin (the
+    failing stage's margin jumps where stage 1 starts to pass, and the margin of stage 2 can
+    rise to a window of reach inside a window of stage 1 that its ascent would step past: a
+    Hyundai YL012 pose, a window 0.01 rad wide at the end of a window of stage 1 0.14 rad
+    wide, whose margin ascended to an end of the latter)."""
     ok, stage, m1, m2 = _reaches_call(k, pre, fill, _branch_curve(b), x)
     if ok:
         return True, min(m1, m2)
-    return False, (m1 if stage == 1 else m2)
+    margin = m1 if stage == 1 else m2
+    if reaching:
+        return False, 1.0 / (1.0 - margin) - (2.0 if stage == 1 else 1.0)
+    return False, margin
 
 
 @jit
@@ -623,10 +698,10 @@ def _switch_point(k, pre, fill, b, a, c, reaching):
     ratio = 0.6180339887498949
     sign = 1.0 if reaching else -1.0  # the room is ascended: +margin, or −room
     x1, x2 = c - ratio * (c - a), a + ratio * (c - a)
-    ok, m1 = _room(k, pre, fill, b, x1)
+    ok, m1 = _room(k, pre, fill, b, x1, reaching)
     if ok == reaching:
         return x1
-    ok, m2 = _room(k, pre, fill, b, x2)
+    ok, m2 = _room(k, pre, fill, b, x2, reaching)
     if ok == reaching:
         return x2
     m1, m2 = sign * m1, sign * m2
@@ -634,14 +709,14 @@ def _switch_point(k, pre, fill, b, a, c, reaching):
         if m1 > m2:
             c, x2, m2 = x2, x1, m1
             x1 = c - ratio * (c - a)
-            ok, m1 = _room(k, pre, fill, b, x1)
+            ok, m1 = _room(k, pre, fill, b, x1, reaching)
             if ok == reaching:
                 return x1
             m1 *= sign
         else:
             a, x1, m1 = x1, x2, m2
             x2 = a + ratio * (c - a)
-            ok, m2 = _room(k, pre, fill, b, x2)
+            ok, m2 = _room(k, pre, fill, b, x2, reaching)
             if ok == reaching:
                 return x2
             m2 *= sign
@@ -907,6 +982,76 @@ def _refined(k, pre, fill, values, reached, turns):
     return out_rows, out_values, out_reached, out_turns, singular
 
 
+#: Points of :func:`_fine` at most, and the narrowest interval it halves [rad].
+FINE_POINTS = 128
+FINE_WIDTH = 1e-12
+
+
+@inline
+def _branch_turn(turns, i, j, b):
+    """The least cosine of the turn of θ1, θ2 or θ3 of branch b between samples i and j (rows of
+    ``turns``; both reached)."""
+    least = 1.0
+    for a in range(0, 6, 2):
+        least = min(
+            least, turns[i, b, a] * turns[j, b, a] + turns[i, b, a + 1] * turns[j, b, a + 1]
+        )
+    return least
+
+
+@jit
+def _fine(k, pre, fill, b, x0, x1, values, turns, i, roots, branch_of, count):
+    """The roots of branch b between two neighbouring samples i, i + 1 at θ6 = ``x0`` < ``x1``
+    (rows of ``values``, ``turns``; reached at both) one row of CIRCLE apart across which θ1,
+    θ2 or θ3 still turns by more than MAX_TURN (the meeting point of axes 4 and 5 passing
+    within micrometres of axis 1: θ1 turns by π in 1e-4 rad of θ6, and f with it: a Fanuc
+    CRX-5iA pose had a spike of f across 0, two roots 2e-4 rad apart, between samples 0.003
+    rad apart where f was −0.16): the interval halved below the rows, as :func:`_refined`
+    halves them, until the turn is below MAX_TURN (down to FINE_WIDTH, at most FINE_POINTS
+    points), and the points scanned (:func:`_scan`). The new count."""
+    xs = np.empty(FINE_POINTS + 1)
+    fs = np.empty(FINE_POINTS + 1)
+    ok = np.empty(FINE_POINTS + 1, dtype=np.bool_)
+    ts = np.empty((FINE_POINTS + 1, 6))
+    stack = np.empty((FINE_POINTS + 1, 2), dtype=np.int64)
+    points = np.empty(FINE_POINTS + 1)
+    found = np.empty((FINE_POINTS + 1, 1))
+    reached = np.empty((FINE_POINTS + 1, 1), dtype=np.bool_)
+    xs[0], xs[1], fs[0], fs[1] = x0, x1, values[i, b], values[i + 1, b]
+    ok[0] = ok[1] = True
+    for a in range(6):
+        ts[0, a], ts[1, a] = turns[i, b, a], turns[i + 1, b, a]
+    used, depth, emitted = 2, 1, 0
+    stack[0, 0], stack[0, 1] = 0, 1
+    while depth > 0:
+        depth -= 1
+        left, right = stack[depth, 0], stack[depth, 1]
+        split = ok[left] and ok[right] and used < FINE_POINTS
+        split = split and xs[right] - xs[left] > FINE_WIDTH
+        if split:
+            least = 1.0
+            for a in range(0, 6, 2):
+                least = min(least, ts[left, a] * ts[right, a] + ts[left, a + 1] * ts[right, a + 1])
+            split = least < COS_TURN
+        if not split:  # the points come out in the order of θ6 (the left half first)
+            points[emitted], found[emitted, 0], reached[emitted, 0] = xs[left], fs[left], ok[left]
+            emitted += 1
+            continue
+        m = used
+        used += 1
+        x = 0.5 * (xs[left] + xs[right])
+        f, reach, _, cm, sm, c2, s2, c3, s3 = branch(k, pre, math.cos(x), math.sin(x), b, fill)
+        xs[m], fs[m], ok[m] = x, f, reach
+        ts[m, 0], ts[m, 1], ts[m, 2], ts[m, 3], ts[m, 4], ts[m, 5] = cm, sm, c2, s2, c3, s3
+        stack[depth, 0], stack[depth, 1] = m, right
+        stack[depth + 1, 0], stack[depth + 1, 1] = left, m
+        depth += 2
+    points[emitted], found[emitted, 0], reached[emitted, 0] = x1, fs[1], True
+    emitted += 1
+    return _scan(k, pre, fill, _branch_curve(b), points[:emitted], found[:emitted],
+                 reached[:emitted], 0, False, roots, branch_of, count)  # fmt: skip
+
+
 @inline
 def _keep(found, row, x, known):
     """Row ``row`` of ``found``: the root x and its cosines and sines."""
@@ -1039,8 +1184,22 @@ def search(k, pre, fill, roots, branch_of, work):
                     root, known = _brent(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1)
                 count = _add(roots, branch_of, count, curve, root, known)
             elif max(abs(f0), abs(f1)) < FLAT and f0 != 0.0:
-                count = _flat(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1,
-                              roots, branch_of, count)  # fmt: skip
+                # the neighbours (periodic): an inflection inside, _wiggle; else _flat
+                before = i - 1 if i > 0 else n - 1
+                beyond = i + 2 if i + 2 <= n else 1
+                x0 = xs[before] if i > 0 else xs[n - 1] - TAU
+                x3 = xs[beyond] if i + 2 <= n else xs[1] + TAU
+                bend0 = bend1 = 0.0
+                if reached[before, b] and reached[beyond, b]:
+                    bend0 = _curvature(x0, values[before, b], xs[i], f0, xs[i + 1], f1)
+                    bend1 = _curvature(xs[i], f0, xs[i + 1], f1, x3, values[beyond, b])
+                if (bend0 < 0.0 < bend1) or (bend1 < 0.0 < bend0):
+                    half = 0.5 * max(abs(bend0), abs(bend1))
+                    count = _wiggle(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1, half,
+                                    roots, branch_of, count)  # fmt: skip
+                else:
+                    count = _flat(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1,
+                                  roots, branch_of, count)  # fmt: skip
         for i in range(n):  # periodic
             before = i - 1 if i > 0 else n - 1
             if not (reached[before, b] and reached[i, b] and reached[i + 1, b]):
@@ -1053,6 +1212,17 @@ def search(k, pre, fill, roots, branch_of, work):
             if _dips(f0, f1, f2, h0, h1):  # the roots near a local minimum of |f|
                 count = _bracket(k, pre, fill, curve, x0, f0, xs[i + 1], f2,
                                  roots, branch_of, count)  # fmt: skip
+        # θ1, θ2 or θ3 turning by more than MAX_TURN across an interval _refined left one row
+        # wide: halved below the rows (_fine)
+        if refined:
+            for i in range(n):
+                if (
+                    reached[i, b]
+                    and reached[i + 1, b]
+                    and _branch_turn(turns, i, i + 1, b) < COS_TURN
+                ):
+                    count = _fine(k, pre, fill, b, xs[i], xs[i + 1], values, turns, i,
+                                  roots, branch_of, count)  # fmt: skip
         # windows of reach narrower than the samples: at a local maximum of the margin (< 0
         # at three samples) above −WINDOW or whose parabola rises towards 0 (the margins of
         # two stages may meet there, with a corner), a point of reach is sought, then both
@@ -1080,6 +1250,22 @@ def search(k, pre, fill, roots, branch_of, work):
                 continue
             width = 2.0 * max(h0, h1) if refined else 2.0 * gap
             for outside in (left, xs[i + 1]):
+                count, _ = _end_of_reach(k, pre, fill, b, inside, outside, width,
+                                         roots, branch_of, count)  # fmt: skip
+        # where the stage that fails changes between two samples out of reach (STAGE_1,
+        # STAGE_2 in the turns' first column), the margin has a corner between them (one
+        # stage's margin rising, the other's falling), which the parabolas above do not see:
+        # a window of reach is sought there too (a Hyundai YL012 pose: a window 0.08 rad wide
+        # between samples 0.39 rad apart at margins −0.08 and −0.05, whose parabola peaked at
+        # −0.04; another, one 0.02 rad wide beside a sample that was no local maximum)
+        for i in range(n):
+            if reached[i, b] or reached[i + 1, b] or turns[i, b, 0] == turns[i + 1, b, 0]:
+                continue
+            inside = _switch_point(k, pre, fill, b, xs[i], xs[i + 1], True)
+            if inside != inside:
+                continue
+            width = 2.0 * (xs[i + 1] - xs[i])
+            for outside in (xs[i], xs[i + 1]):
                 count, _ = _end_of_reach(k, pre, fill, b, inside, outside, width,
                                          roots, branch_of, count)  # fmt: skip
         # gaps of reach narrower than the samples: at a local minimum of the room (reached at
