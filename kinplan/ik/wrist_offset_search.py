@@ -443,7 +443,9 @@ def _wiggle(k, pre, fill, curve, a, fa, c, fc, half, roots, branch_of, count):
     0.05 rad apart in it). Halved while a function through the ends whose |f''| stays below
     ``2·half`` (the larger of the neighbours' curvatures) could reach 0 inside, down to
     WIGGLE_WIDTH (then :func:`_flat`); a sign change at a middle gives two roots (Brent's
-    method). The new count."""
+    method). A search in addition to :func:`_flat`'s of the whole interval (a bound from the
+    neighbours can be too small: a Motoman EPX2800R pose near the wrist singularity had two
+    roots there that only _flat found). The new count."""
     stack = np.empty((WIGGLE_STACK, 4))
     stack[0, 0], stack[0, 1], stack[0, 2], stack[0, 3] = a, fa, c, fc
     depth = 1
@@ -1184,7 +1186,11 @@ def search(k, pre, fill, roots, branch_of, work):
                     root, known = _brent(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1)
                 count = _add(roots, branch_of, count, curve, root, known)
             elif max(abs(f0), abs(f1)) < FLAT and f0 != 0.0:
-                # the neighbours (periodic): an inflection inside, _wiggle; else _flat
+                count = _flat(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1,
+                              roots, branch_of, count)  # fmt: skip
+                # the neighbours (periodic): an inflection inside, searched by _wiggle too
+                # (in addition: its curvature bound, the neighbours', can be too small where
+                # f turns sharply, near the wrist singularity, which _flat's parabola catches)
                 before = i - 1 if i > 0 else n - 1
                 beyond = i + 2 if i + 2 <= n else 1
                 x0 = xs[before] if i > 0 else xs[n - 1] - TAU
@@ -1197,9 +1203,6 @@ def search(k, pre, fill, roots, branch_of, work):
                     half = 0.5 * max(abs(bend0), abs(bend1))
                     count = _wiggle(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1, half,
                                     roots, branch_of, count)  # fmt: skip
-                else:
-                    count = _flat(k, pre, fill, curve, xs[i], f0, xs[i + 1], f1,
-                                  roots, branch_of, count)  # fmt: skip
         for i in range(n):  # periodic
             before = i - 1 if i > 0 else n - 1
             if not (reached[before, b] and reached[i, b] and reached[i + 1, b]):

@@ -211,6 +211,19 @@ SEARCH_REGRESSIONS = [
             -1.784658766445,
         ),
     ),
+    # ... (and _flat kept beside _wiggle: near the wrist singularity f turns more sharply than
+    # the neighbours' curvature says; _wiggle alone missed two roots here), ...
+    (
+        "Motoman_EPX2800R",
+        (
+            -0.322450839056,
+            0.089951276487,
+            1.155377220024,
+            -0.037102771638,
+            0.000879189677,
+            -5.279194463520,
+        ),
+    ),
     # ... windows of reach 0.01-0.08 rad wide where the failing stage changes (a corner of
     # the margin between samples 0.39 rad apart)
     (
