@@ -802,16 +802,24 @@ def _sampled(k, pre, fill, n, coarser, values, reached, turns):
 
 
 @inline
+def _branch_turn(turns, i, j, b):
+    """The least cosine of the turn of θ1, θ2 or θ3 of branch b between samples i and j (rows of
+    ``turns``, (cos, sin) of each in columns 0–5; both reached)."""
+    least = 1.0
+    for a in range(0, 6, 2):
+        turned = turns[i, b, a] * turns[j, b, a]
+        turned += turns[i, b, a + 1] * turns[j, b, a + 1]
+        least = min(least, turned)
+    return least
+
+
+@inline
 def _least_turn(least, reached, turns, i, j):
     """``least``, or the least cosine of the turn of θ1, θ2 or θ3 of a branch reached at
     samples i and j (rows of ``reached``, ``turns``) if smaller."""
     for b in range(4):
-        if not (reached[i, b] and reached[j, b]):
-            continue
-        for a in range(0, 6, 2):
-            turned = turns[i, b, a] * turns[j, b, a]
-            turned += turns[i, b, a + 1] * turns[j, b, a + 1]
-            least = min(least, turned)
+        if reached[i, b] and reached[j, b]:
+            least = min(least, _branch_turn(turns, i, j, b))
     return least
 
 
@@ -989,18 +997,6 @@ FINE_POINTS = 128
 FINE_WIDTH = 1e-12
 
 
-@inline
-def _branch_turn(turns, i, j, b):
-    """The least cosine of the turn of θ1, θ2 or θ3 of branch b between samples i and j (rows of
-    ``turns``; both reached)."""
-    least = 1.0
-    for a in range(0, 6, 2):
-        least = min(
-            least, turns[i, b, a] * turns[j, b, a] + turns[i, b, a + 1] * turns[j, b, a + 1]
-        )
-    return least
-
-
 @jit
 def _fine(k, pre, fill, b, x0, x1, values, turns, i, roots, branch_of, count):
     """The roots of branch b between two neighbouring samples i, i + 1 at θ6 = ``x0`` < ``x1``
@@ -1014,7 +1010,7 @@ def _fine(k, pre, fill, b, x0, x1, values, turns, i, roots, branch_of, count):
     xs = np.empty(FINE_POINTS + 1)
     fs = np.empty(FINE_POINTS + 1)
     ok = np.empty(FINE_POINTS + 1, dtype=np.bool_)
-    ts = np.empty((FINE_POINTS + 1, 6))
+    ts = np.empty((FINE_POINTS + 1, 1, 6))  # as the search's turns, for this branch alone
     stack = np.empty((FINE_POINTS + 1, 2), dtype=np.int64)
     points = np.empty(FINE_POINTS + 1)
     found = np.empty((FINE_POINTS + 1, 1))
@@ -1022,7 +1018,7 @@ def _fine(k, pre, fill, b, x0, x1, values, turns, i, roots, branch_of, count):
     xs[0], xs[1], fs[0], fs[1] = x0, x1, values[i, b], values[i + 1, b]
     ok[0] = ok[1] = True
     for a in range(6):
-        ts[0, a], ts[1, a] = turns[i, b, a], turns[i + 1, b, a]
+        ts[0, 0, a], ts[1, 0, a] = turns[i, b, a], turns[i + 1, b, a]
     used, depth, emitted = 2, 1, 0
     stack[0, 0], stack[0, 1] = 0, 1
     while depth > 0:
@@ -1030,11 +1026,7 @@ def _fine(k, pre, fill, b, x0, x1, values, turns, i, roots, branch_of, count):
         left, right = stack[depth, 0], stack[depth, 1]
         split = ok[left] and ok[right] and used < FINE_POINTS
         split = split and xs[right] - xs[left] > FINE_WIDTH
-        if split:
-            least = 1.0
-            for a in range(0, 6, 2):
-                least = min(least, ts[left, a] * ts[right, a] + ts[left, a + 1] * ts[right, a + 1])
-            split = least < COS_TURN
+        split = split and _branch_turn(ts, left, right, 0) < COS_TURN
         if not split:  # the points come out in the order of θ6 (the left half first)
             points[emitted], found[emitted, 0], reached[emitted, 0] = xs[left], fs[left], ok[left]
             emitted += 1
@@ -1044,7 +1036,8 @@ def _fine(k, pre, fill, b, x0, x1, values, turns, i, roots, branch_of, count):
         x = 0.5 * (xs[left] + xs[right])
         f, reach, _, cm, sm, c2, s2, c3, s3 = branch(k, pre, math.cos(x), math.sin(x), b, fill)
         xs[m], fs[m], ok[m] = x, f, reach
-        ts[m, 0], ts[m, 1], ts[m, 2], ts[m, 3], ts[m, 4], ts[m, 5] = cm, sm, c2, s2, c3, s3
+        ts[m, 0, 0], ts[m, 0, 1], ts[m, 0, 2], ts[m, 0, 3] = cm, sm, c2, s2
+        ts[m, 0, 4], ts[m, 0, 5] = c3, s3
         stack[depth, 0], stack[depth, 1] = m, right
         stack[depth + 1, 0], stack[depth + 1, 1] = left, m
         depth += 2
